@@ -1,0 +1,14 @@
+#pragma once
+// Each subcommand lives in its own app/cmd_*.cpp: it declares its options on the CLI11
+// subcommand and returns the function that runs it after parsing.
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace foldcast::app {
+
+struct Command {
+    CLI::App* sub = nullptr;
+    std::function<int()> run;  // returns the exit status: 0 ok, 1 failed check
+};
+
+}  // namespace foldcast::app

@@ -1,0 +1,43 @@
+// foldcast: one executable, git-style subcommands.  Only argument parsing lives in app/;
+// the work is done by the libraries.  Exit status: 0 ok, 1 failed check, 2 usage or input
+// error.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+#include "commands.hpp"
+#include "foldcast/core/error.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"foldcast: cloth folds, garment animation codec and garment renderer"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "foldcast 0.1.0");
+    std::vector<foldcast::app::Command> commands;
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "foldcast: %s\n", e.what());
+        std::fprintf(stderr, "Run with --help for usage.\n");
+        return 2;
+    }
+
+    try {
+        for (const auto& command : commands)
+            if (command.sub->parsed()) return command.run();
+    } catch (const foldcast::InputError& e) {
+        std::fprintf(stderr, "foldcast: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "foldcast: error: %s\n", e.what());
+        return 1;
+    }
+    return 2;
+}

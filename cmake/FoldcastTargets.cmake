@@ -1,0 +1,43 @@
+# Compile options shared by every foldcast target: warnings (our code only: third-party
+# headers come in through imported targets and are treated as system headers) and the
+# optional sanitizers.
+add_library(foldcast_options INTERFACE)
+target_compile_options(foldcast_options INTERFACE -Wall -Wextra -Wpedantic)
+if(FOLDCAST_WERROR)
+  target_compile_options(foldcast_options INTERFACE -Werror)
+endif()
+if(FOLDCAST_SANITIZE)
+  target_compile_options(foldcast_options INTERFACE
+    -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  target_link_options(foldcast_options INTERFACE -fsanitize=address,undefined)
+endif()
+
+# foldcast_module(NAME SOURCES... [DEPS ...]): a library foldcast_NAME with its public
+# headers in NAME/include.
+function(foldcast_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(foldcast_${name} STATIC ${ARG_SOURCES})
+  add_library(foldcast::${name} ALIAS foldcast_${name})
+  target_include_directories(foldcast_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
+                                              PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+  target_link_libraries(foldcast_${name} PUBLIC ${ARG_PUBLIC_DEPS}
+                                         PRIVATE foldcast_options ${ARG_PRIVATE_DEPS})
+endfunction()
+
+# foldcast_test(NAME SOURCES... LIBS... [LABELS ...]): a GoogleTest executable whose tests
+# are registered one by one with CTest.  Tests run from the source tree's tests/ folder so
+# they can find tests/data; FOLDCAST_SHARED_DATA points at ../shared/data when present.
+function(foldcast_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE foldcast_options ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+    FOLDCAST_TEST_DATA="${PROJECT_SOURCE_DIR}/tests/data"
+    FOLDCAST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    FOLDCAST_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  if(NOT ARG_LABELS)
+    set(ARG_LABELS unit)
+  endif()
+  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}/tests
+                       PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
+endfunction()
