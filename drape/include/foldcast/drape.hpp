@@ -1,0 +1,102 @@
+#pragma once
+// drape: tension-field wrinkle model of a cloth hanging from two supports (DESIGN.md,
+// "drape"), the garment grid built on its fold lines, and the animation of folds forming.
+//
+// Frame: origin midway between the supports, x to the right (supports at x = +/- l/2),
+// y up (the cloth hangs towards -y from y = 0), z out of the cloth plane towards the viewer.
+#include <string>
+#include <vector>
+
+#include "foldcast/core/mesh.hpp"
+#include "foldcast/core/progress.hpp"
+#include "foldcast/looks.hpp"
+
+namespace foldcast::drape {
+
+struct ClothParams {
+    double width_m = 0.5;    // L: top edge length
+    double height_m = 0.7;   // h
+    double inset_m = 0.1;    // d: supports are l = L - 2d apart
+    double thickness_m = 0.3e-3;
+    double young_pa = 5e6;
+    double poisson = 0.3;
+    double weight_n_per_m2 = 1.47;  // w
+    double load_constant = looks::default_load_constant();  // c
+
+    double support_span_m() const { return width_m - 2.0 * inset_m; }
+};
+
+ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, double height_m,
+                            double inset_m);
+
+// Throws InputError naming the parameter and the allowed range.
+void validate(const ClothParams& params);
+
+// One candidate number of folds and its solve of the length equations.
+struct FoldCandidate {
+    int folds = 0;
+    bool feasible = false;
+    double top_amplitude_m = 0.0;  // a_n
+    double zmax_m = 0.0;
+    double residual = 0.0;         // max relative residual of the length equations
+    std::string why_not;           // when infeasible
+};
+
+struct FoldSolution {
+    int folds = 0;      // n; 0 = no wrinkles (smooth sag) or no feasible n
+    double Q = 1.0;     // amplitude ratio a_{i-1}/a_i
+    double zmax_m = 0.0;
+    std::vector<double> amplitudes_m;  // a_0 (lowest fold line) .. a_n (top edge sag)
+    std::vector<int> feasible_folds;
+    std::vector<FoldCandidate> candidates;  // every n tried, for verbose output
+    double residual = 0.0;     // max relative residual of the chosen solution
+    double stress_ratio = 0.0; // S = sigma_cr t / (w h); S >= 1: no wrinkles
+    enum class Regime { wrinkled, no_wrinkles, no_feasible_folds } regime = Regime::wrinkled;
+    std::string explanation;   // one sentence for users, always set
+};
+
+// Pure function: no I/O.  Throws InputError for invalid params (see validate).
+FoldSolution solve_folds(const ClothParams& params);
+
+// A sampled fold line i (0 = lowest): points (x, -y_i(x), z_i(x)) in metres, and its sign
+// (+1 crest towards the viewer, -1 valley).
+struct FoldLine {
+    int index = 0;
+    int sign = 1;
+    std::vector<Eigen::Vector3d> points;
+};
+std::vector<FoldLine> fold_lines(const ClothParams& params, const FoldSolution& solution,
+                                 int samples = 129);
+
+struct GridSize {
+    int nu = 64;  // vertices across
+    int nv = 64;  // vertices down
+};
+
+struct Stretch {
+    double mean = 0.0;  // mean |len/rest - 1| over grid edges
+    double max = 0.0;
+};
+
+struct Garment {
+    Mesh mesh;                        // positions, triangles, UVs in metres, normals
+    std::vector<float> fold_sign;     // per vertex in [-1,1]: which way the local fold bulges
+    std::vector<int> support_vertices;  // fixed points
+    Stretch stretch;
+};
+
+Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid);
+
+struct AnimationOptions {
+    int frames = 60;
+    double fps = 30.0;
+    double sway_amplitude_m = 0.0;  // optional sway added on top; 0 = none
+    double sway_period_s = 2.0;
+};
+
+// Frames in which the supports move inward from d = 0 to params.inset_m (folds forming),
+// plus optional sway.  Deterministic.
+Animation animate(const ClothParams& params, GridSize grid, const AnimationOptions& options,
+                  const ProgressFn& progress = {});
+
+}  // namespace foldcast::drape
