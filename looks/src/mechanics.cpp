@@ -1,0 +1,14 @@
+#include <numbers>
+
+#include "foldcast/looks.hpp"
+
+namespace foldcast::looks {
+
+double default_load_constant() { return 23.9 * std::numbers::pi * std::numbers::pi / 12.0; }
+
+double Mechanics::weight_n_per_m2() const {
+    constexpr double kStandardGravity = 9.80665;  // m/s^2
+    return gsm * 1e-3 * kStandardGravity;
+}
+
+}  // namespace foldcast::looks
