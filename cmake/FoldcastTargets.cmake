@@ -24,11 +24,11 @@ function(foldcast_module name)
                                          PRIVATE foldcast_options ${ARG_PRIVATE_DEPS})
 endfunction()
 
-# foldcast_test(NAME SOURCES... LIBS... [LABELS ...]): a GoogleTest executable whose tests
+# foldcast_test(NAME SOURCES... LIBS... [LABELS ...] [ENVIRONMENT ...]): a GoogleTest executable whose tests
 # are registered one by one with CTest.  Tests run from the source tree's tests/ folder so
 # they can find tests/data; FOLDCAST_SHARED_DATA points at ../shared/data when present.
 function(foldcast_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE foldcast_options ${ARG_LIBS} GTest::gtest GTest::gtest_main)
   target_compile_definitions(${name} PRIVATE
@@ -39,5 +39,6 @@ function(foldcast_test name)
     set(ARG_LABELS unit)
   endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}/tests
-                       PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
+                       PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "${ARG_ENVIRONMENT}"
+                       DISCOVERY_TIMEOUT 60)
 endfunction()
