@@ -31,6 +31,7 @@ function(foldcast_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE foldcast_options ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/support)
   target_compile_definitions(${name} PRIVATE
     FOLDCAST_TEST_DATA="${PROJECT_SOURCE_DIR}/tests/data"
     FOLDCAST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
