@@ -1,6 +1,9 @@
 #include "container.hpp"
 
+#include <zstd.h>
+
 #include <cmath>
+#include <stdexcept>
 
 #include "byte_io.hpp"
 #include "crc32.hpp"
@@ -20,14 +23,25 @@ std::string header_payload(const Header& h) {
     w.put<double>(h.step);
     w.put<double>(h.threshold);
     w.put<std::uint32_t>(h.profile_param);
+    // Topology: triangle corners as differences from the previous triangle's (regular
+    // meshes repeat a few patterns) and the UVs, as one zstd frame.
     w.put<std::uint32_t>(static_cast<std::uint32_t>(h.topology.triangles.size()));
-    for (const auto& t : h.topology.triangles)
-        for (auto i : t) w.put<std::uint32_t>(i);
     w.put<std::uint8_t>(h.topology.uvs.empty() ? 0 : 1);
-    for (const auto& uv : h.topology.uvs) {
-        w.put<float>(uv.x());
-        w.put<float>(uv.y());
+    ByteWriter raw;
+    Triangle previous{0, 0, 0};
+    for (const auto& t : h.topology.triangles) {
+        for (int k = 0; k < 3; ++k) raw.put<std::uint32_t>(t[static_cast<std::size_t>(k)] - previous[static_cast<std::size_t>(k)]);
+        previous = t;
     }
+    for (const auto& uv : h.topology.uvs) {
+        raw.put<float>(uv.x());
+        raw.put<float>(uv.y());
+    }
+    std::string packed(ZSTD_compressBound(raw.size()), '\0');
+    const std::size_t size = ZSTD_compress(packed.data(), packed.size(), raw.bytes().data(), raw.size(), 19);
+    if (ZSTD_isError(size)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(size));
+    packed.resize(size);
+    w.put_bytes(packed);
     return std::move(w.bytes());
 }
 
@@ -66,22 +80,33 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
                std::to_string(file_bytes) + " bytes can hold (limit " + std::to_string(kMaxVertexFramesPerByte) +
                " vertex-frames per byte, " + std::to_string(kMaxVertexFrames) + " in all)");
     const auto triangles = r.get<std::uint32_t>("triangle count");
-    if (std::uint64_t(triangles) * 12 > r.remaining())
-        r.fail("header promises " + std::to_string(triangles) + " triangles but holds only " + std::to_string(r.remaining()) + " more bytes");
-    h.topology.triangles.resize(triangles);
-    for (auto& t : h.topology.triangles)
-        for (auto& i : t) {
-            i = r.get<std::uint32_t>("triangle");
-            if (i >= h.vertices) r.fail("triangle index " + std::to_string(i) + " >= vertex count " + std::to_string(h.vertices));
-        }
     const auto has_uvs = r.get<std::uint8_t>("UV flag");
     if (has_uvs > 1) r.fail("UV flag " + std::to_string(has_uvs) + " (allowed 0 or 1)");
+    const std::uint64_t raw_size = std::uint64_t(triangles) * 12 + (has_uvs ? std::uint64_t(h.vertices) * 8 : 0);
+    const std::string_view packed = r.get_bytes(r.remaining(), "topology");
+    if (raw_size > kMaxVertexFramesPerByte * (payload.size() + 1) || raw_size > (std::uint64_t(1) << 32))
+        r.fail(std::to_string(triangles) + " triangles and UVs are more than a " + std::to_string(payload.size()) +
+               "-byte header can hold");
+    const unsigned long long declared = ZSTD_getFrameContentSize(packed.data(), packed.size());
+    if (declared != raw_size) r.fail("topology block is malformed or does not match the triangle and UV counts");
+    std::string raw(static_cast<std::size_t>(raw_size), '\0');
+    const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
+    if (ZSTD_isError(got) || got != raw.size()) r.fail("topology block is corrupt");
+    ByteReader t(raw, r.what() + " topology");
+    h.topology.triangles.resize(triangles);
+    Triangle previous{0, 0, 0};
+    for (auto& tri : h.topology.triangles) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            tri[k] = previous[k] + t.get<std::uint32_t>("triangle");
+            if (tri[k] >= h.vertices) r.fail("triangle index " + std::to_string(tri[k]) + " >= vertex count " + std::to_string(h.vertices));
+        }
+        previous = tri;
+    }
     if (has_uvs) {
-        if (std::uint64_t(h.vertices) * 8 > r.remaining()) r.fail("header is too short for " + std::to_string(h.vertices) + " UVs");
         h.topology.uvs.resize(h.vertices);
         for (auto& uv : h.topology.uvs) {
-            uv.x() = r.get<float>("UV");
-            uv.y() = r.get<float>("UV");
+            uv.x() = t.get<float>("UV");
+            uv.y() = t.get<float>("UV");
             if (!std::isfinite(uv.x()) || !std::isfinite(uv.y())) r.fail("a UV is not finite");
         }
     }

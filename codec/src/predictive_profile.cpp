@@ -1,21 +1,18 @@
 #include "predictive_profile.hpp"
 
-#include <zstd.h>
-
 #include <algorithm>
+#include <bit>
 #include <map>
 #include <stdexcept>
 
 #include "byte_io.hpp"
 #include "profile_decoder.hpp"
+#include "range_coder.hpp"
 
 namespace foldcast::codec {
 namespace {
-constexpr int kZstdLevel = 19;
-constexpr std::size_t kMaxVarintBytes = 10;
-
-std::uint64_t zigzag(std::int64_t v) { return (static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63); }
-std::int64_t unzigzag(std::uint64_t u) { return static_cast<std::int64_t>(u >> 1) ^ -static_cast<std::int64_t>(u & 1); }
+constexpr int kNeighbourBuckets = 5;
+constexpr int kMaxLevelClasses = 22;
 
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
     const std::int64_t q = a / b;
@@ -49,6 +46,18 @@ inline std::int64_t spatial(const SpatialReference& s, const std::int64_t* resid
 }
 }  // namespace
 
+class ResidualContexts {
+public:
+    IntegerModel& model(int level_class, int coordinate, std::int64_t neighbour) {
+        const std::uint64_t mag = neighbour < 0 ? static_cast<std::uint64_t>(-neighbour) : static_cast<std::uint64_t>(neighbour);
+        const int bucket = std::min(static_cast<int>(std::bit_width(mag)), kNeighbourBuckets - 1);
+        return models_[static_cast<std::size_t>((std::min(level_class, kMaxLevelClasses - 1) * 3 + coordinate) * kNeighbourBuckets + bucket)];
+    }
+
+private:
+    std::vector<IntegerModel> models_ = std::vector<IntegerModel>(kMaxLevelClasses * 3 * kNeighbourBuckets);
+};
+
 int default_stride_log2(std::size_t frames) {
     int l = 0;
     while (l < 4 && (std::size_t(2) << l) < frames) ++l;
@@ -57,6 +66,7 @@ int default_stride_log2(std::size_t frames) {
 
 PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), stride(std::size_t(1) << stride_log2) {
     references.resize(t);
+    level_class.assign(t, 0);
     std::vector<std::size_t> keys;
     for (std::size_t f = 0; f < t; f += stride) keys.push_back(f);
     if (keys.back() != t - 1) keys.push_back(t - 1);
@@ -67,6 +77,7 @@ PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), 
         for (std::size_t h = stride / 2; h >= 1; h /= 2) {
             for (std::size_t f = start + h; f < std::min(start + stride, t - 1); f += 2 * h) {
                 group.push_back(f);
+                level_class[f] = 1 + std::bit_width(h) - 1;
                 TemporalReference& r = references[f];
                 // The cubic's outer right frame must already be decoded: inside this
                 // group's span, or a keyframe.
@@ -121,22 +132,23 @@ std::vector<SpatialReference> spatial_references(std::size_t n, const std::vecto
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& refs,
                                             std::size_t n, const std::vector<std::int32_t>& grid) {
     const std::size_t row = 3 * n;
-    std::vector<std::int64_t> residual(row);
+    std::vector<std::int64_t> residual(row), coded(row);
     std::vector<std::string> out;
+    ResidualContexts contexts;
     for (const auto& frames : layout.packets) {
-        ByteWriter raw;
+        RangeEncoder enc;
         for (std::size_t t : frames) {
             for (std::size_t k = 0; k < row; ++k)
                 residual[k] = grid[t * row + k] - predict(layout.references[t], t, grid.data(), row, k);
             for (int c = 0; c < 3; ++c)  // planar: all x, then y, then z
-                for (std::size_t v = 0; v < n; ++v)
-                    raw.put_varint(zigzag(residual[3 * v + static_cast<std::size_t>(c)] - spatial(refs[v], residual.data(), c)));
+                for (std::size_t v = 0; v < n; ++v) {
+                    const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+                    coded[k] = residual[k] - spatial(refs[v], residual.data(), c);
+                    const std::int64_t neighbour = refs[v].a < 0 ? 0 : coded[3 * static_cast<std::size_t>(refs[v].a) + static_cast<std::size_t>(c)];
+                    encode_integer(enc, contexts.model(layout.level_class[t], c, neighbour), coded[k]);
+                }
         }
-        std::string packed(ZSTD_compressBound(raw.size()), '\0');
-        const std::size_t size = ZSTD_compress(packed.data(), packed.size(), raw.bytes().data(), raw.size(), kZstdLevel);
-        if (ZSTD_isError(size)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(size));
-        packed.resize(size);
-        out.push_back(std::move(packed));
+        out.push_back(enc.finish());
     }
     return out;
 }
@@ -154,32 +166,28 @@ public:
         if (sequence >= layout_.packets.size()) r.fail("more data packets than the header implies");
         const auto& frames = layout_.packets[sequence];
         const std::size_t n = header_.vertices, row = 3 * n;
-        const std::size_t capacity = frames.size() * row * kMaxVarintBytes;
-        const unsigned long long declared = ZSTD_getFrameContentSize(payload.data(), payload.size());
-        if (declared == ZSTD_CONTENTSIZE_ERROR || declared == ZSTD_CONTENTSIZE_UNKNOWN || declared > capacity)
-            r.fail("compressed block is malformed or larger than " + std::to_string(frames.size()) + " frames can need");
-        std::string raw(static_cast<std::size_t>(declared), '\0');
-        const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), payload.data(), payload.size());
-        if (ZSTD_isError(got) || got != raw.size()) r.fail(std::string("compressed block is corrupt (zstd: ") +
-                                                          (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short") + ")");
-        ByteReader values(raw, r.what());
-        std::vector<std::int64_t> residual(row);
+        RangeDecoder dec(payload);
+        std::vector<std::int64_t> residual(row), coded(row);
         for (std::size_t t : frames) {
             for (int c = 0; c < 3; ++c)
                 for (std::size_t v = 0; v < n; ++v) {
-                    const std::int64_t e = unzigzag(values.get_varint("residual"));
-                    const std::int64_t s = spatial(refs_[v], residual.data(), c);
-                    if (e > 4 * kMaxGridValue || e < -4 * kMaxGridValue) values.fail("residual out of range");
-                    residual[3 * v + static_cast<std::size_t>(c)] = e + s;
+                    const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+                    const std::int64_t neighbour = refs_[v].a < 0 ? 0 : coded[3 * static_cast<std::size_t>(refs_[v].a) + static_cast<std::size_t>(c)];
+                    std::int64_t e = 0;
+                    if (!decode_integer(dec, contexts_.model(layout_.level_class[t], c, neighbour), e) ||
+                        e > 4 * kMaxGridValue || e < -4 * kMaxGridValue)
+                        r.fail("residual out of range (corrupt data)");
+                    coded[k] = e;
+                    residual[k] = e + spatial(refs_[v], residual.data(), c);
                 }
+            if (dec.overrun()) r.fail("residual data is truncated");
             for (std::size_t k = 0; k < row; ++k) {
                 const std::int64_t g = residual[k] + predict(layout_.references[t], t, grid_.data(), row, k);
-                if (g < 0 || g > kMaxGridValue) values.fail("position leaves the quantisation grid");
+                if (g < 0 || g > kMaxGridValue) r.fail("position leaves the quantisation grid");
                 grid_[t * row + k] = static_cast<std::int32_t>(g);
             }
             decoded_[t] = 1;
         }
-        values.expect_end("data packet");
         received_ = sequence + 1;
     }
 
@@ -231,6 +239,7 @@ private:
     std::vector<SpatialReference> refs_;
     std::vector<std::int32_t> grid_;
     std::vector<char> decoded_;
+    ResidualContexts contexts_;
     std::size_t received_ = 0;
 };
 }  // namespace

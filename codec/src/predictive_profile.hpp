@@ -27,6 +27,7 @@ struct PredictiveLayout {
     // packets[0] = keyframes; packets[g + 1] = refinement frames of group g, coarse to fine.
     std::vector<std::vector<std::size_t>> packets;
     std::vector<TemporalReference> references;  // per frame
+    std::vector<int> level_class;               // per frame: 0 keyframe, 1 + log2(h) for midpoints at spacing h
     std::vector<std::size_t> playable_after;    // frames final once packets [0, k) arrived
 };
 
@@ -41,6 +42,10 @@ int default_stride_log2(std::size_t frames);
 
 // Grid coordinates must stay below this so every intermediate fits comfortably in int64.
 constexpr std::int64_t kMaxGridValue = std::int64_t(1) << 30;
+
+// Adaptive models of the residuals, one per (frame level class, coordinate, magnitude of
+// the spatial neighbour's residual); they carry over from packet to packet.
+class ResidualContexts;
 
 // Packet payloads in streaming order; `grid` holds T x 3N grid coordinates (frame-major).
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& spatial,
