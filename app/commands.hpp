@@ -12,5 +12,6 @@ struct Command {
 };
 
 Command looks_command(CLI::App& app);
+Command drape_command(CLI::App& app);
 
 }  // namespace foldcast::app
