@@ -11,4 +11,6 @@ struct Command {
     std::function<int()> run;  // returns the exit status: 0 ok, 1 failed check
 };
 
+Command diff_command(CLI::App& app);
+
 }  // namespace foldcast::app
