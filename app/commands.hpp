@@ -12,5 +12,6 @@ struct Command {
 };
 
 Command diff_command(CLI::App& app);
+Command folds_command(CLI::App& app);
 
 }  // namespace foldcast::app
