@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
 
-#include "../core/test_paths.hpp"
+#include "test_paths.hpp"
 #include "compare_test_util.hpp"
 #include "foldcast/compare/image.hpp"
 

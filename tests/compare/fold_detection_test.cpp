@@ -4,7 +4,7 @@
 #include <cmath>
 #include <functional>
 
-#include "../core/test_paths.hpp"
+#include "test_paths.hpp"
 #include "compare_test_util.hpp"
 #include "foldcast/compare/folds.hpp"
 
