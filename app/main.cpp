@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
     std::vector<foldcast::app::Command> commands;
     commands.push_back(foldcast::app::looks_command(app));
     commands.push_back(foldcast::app::drape_command(app));
+    commands.push_back(foldcast::app::diff_command(app));
+    commands.push_back(foldcast::app::folds_command(app));
 
     try {
         app.parse(argc, argv);
