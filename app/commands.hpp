@@ -12,6 +12,10 @@ struct Command {
 };
 
 Command looks_command(CLI::App& app);
+Command drape_command(CLI::App& app);
+Command diff_command(CLI::App& app);
+Command folds_command(CLI::App& app);
+Command overlay_command(CLI::App& app);
 Command encode_command(CLI::App& app);
 Command decode_command(CLI::App& app);
 
