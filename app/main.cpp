@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::drape_command(app));
     commands.push_back(foldcast::app::diff_command(app));
     commands.push_back(foldcast::app::folds_command(app));
+    commands.push_back(foldcast::app::overlay_command(app));
 
     try {
         app.parse(argc, argv);
