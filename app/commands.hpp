@@ -11,6 +11,7 @@ struct Command {
     std::function<int()> run;  // returns the exit status: 0 ok, 1 failed check
 };
 
+Command looks_command(CLI::App& app);
 Command render_command(CLI::App& app);
 Command turntable_command(CLI::App& app);
 

@@ -24,13 +24,14 @@ function(foldcast_module name)
                                          PRIVATE foldcast_options ${ARG_PRIVATE_DEPS})
 endfunction()
 
-# foldcast_test(NAME SOURCES... LIBS... [LABELS ...]): a GoogleTest executable whose tests
+# foldcast_test(NAME SOURCES... LIBS... [LABELS ...] [ENVIRONMENT ...]): a GoogleTest executable whose tests
 # are registered one by one with CTest.  Tests run from the source tree's tests/ folder so
 # they can find tests/data; FOLDCAST_SHARED_DATA points at ../shared/data when present.
 function(foldcast_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE foldcast_options ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/support)
   target_compile_definitions(${name} PRIVATE
     FOLDCAST_TEST_DATA="${PROJECT_SOURCE_DIR}/tests/data"
     FOLDCAST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
@@ -39,5 +40,6 @@ function(foldcast_test name)
     set(ARG_LABELS unit)
   endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}/tests
-                       PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
+                       PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "${ARG_ENVIRONMENT}"
+                       DISCOVERY_TIMEOUT 60)
 endfunction()

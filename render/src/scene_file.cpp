@@ -142,6 +142,8 @@ private:
     std::set<std::string> used_;
 };
 
+constexpr const char* kDefaultLook = "linen";
+
 fs::path resolve(const fs::path& base_dir, const std::string& p) {
     const fs::path path(p);
     return path.is_absolute() ? path : base_dir / path;
@@ -241,25 +243,11 @@ SceneSpec load_scene(const fs::path& file) {
         Section s(*t, "garment", name);
         read_garment(s, scene.garment, dir);
     }
+    // look = "denim", or look = { base = "denim", appearance = { ... } } overriding keys.
     if (const toml::node* n = top.get("look")) {
-        const looks::Library library = looks::Library::load_default();
-        if (n->is_string()) {
-            scene.look = library.get(*n->value<std::string>());
-        } else if (const toml::table* t = n->as_table()) {
-            // An inline look: base = "name" plus keys overriding it.
-            toml::table overrides = *t;
-            std::string base = "cotton";
-            if (const toml::node* b = t->get("base")) {
-                if (!b->is_string()) top.fail(*b, "look.base", "must be the name of a look");
-                base = *b->value<std::string>();
-            }
-            overrides.erase("base");
-            scene.look = looks::override_look(library.get(base), overrides, name);
-        } else {
-            top.fail(*n, "look", "must be a look name (\"denim\") or a table of look keys with base = \"name\"");
-        }
+        scene.look = looks::resolve_look(looks::Library::load_default(), *n, name);
     } else {
-        scene.look = looks::Library::load_default().get("cotton");
+        scene.look = looks::Library::load_default().get(kDefaultLook);
     }
     if (const toml::table* t = top.subtable("camera")) {
         Section s(*t, "camera", name);

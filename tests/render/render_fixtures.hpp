@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "../core/test_paths.hpp"
+#include "test_paths.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/render.hpp"
 

@@ -3,7 +3,7 @@
 
 #include <fstream>
 
-#include "../core/test_paths.hpp"
+#include "test_paths.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/render.hpp"
 

@@ -1,0 +1,85 @@
+#pragma once
+// Catalogue rendering: garments x looks x views from a manifest, split deterministically
+// into shards so several machines can share it, resumable (finished, verified outputs are
+// skipped) and recorded in a JSON list of outputs with SHA-256 hashes.
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "foldcast/core/progress.hpp"
+
+namespace foldcast::render {
+
+struct BatchView {
+    std::string name;
+    double azimuth_deg = 0.0;    // camera orbit around the garment, 0 = front
+    double elevation_deg = 0.0;
+};
+
+struct BatchGarment {
+    std::string name;
+    std::filesystem::path scene;  // a scene file (absolute, resolved against the manifest)
+};
+
+struct BatchManifest {
+    std::filesystem::path path;        // the manifest file
+    std::filesystem::path output_dir;  // absolute, resolved against the manifest
+    std::vector<BatchGarment> garments;
+    std::vector<std::string> looks;
+    std::vector<BatchView> views;
+    int width = 640;
+    int height = 640;
+    int spp = 16;
+    unsigned seed = 1;
+};
+
+struct BatchJob {
+    std::size_t index = 0;  // position in the full, unsharded job list
+    BatchGarment garment;
+    std::string look;
+    BatchView view;
+    std::filesystem::path output;  // <output_dir>/<garment>/<look>/<view>.png
+};
+
+struct Shard {
+    int index = 0;  // 0-based, as Slurm array tasks from 0 and Kubernetes completion indices
+    int count = 1;
+};
+
+// Parses "I/N" (0 <= I < N); throws InputError naming the value otherwise.
+Shard parse_shard(const std::string& text);
+
+// Reads and validates a manifest (toml++); errors name the file, key and what is allowed.
+BatchManifest load_manifest(const std::filesystem::path& path);
+
+// Every job in manifest order (garments, then looks, then views); shard I of N takes the
+// jobs whose index is I modulo N, so shards are disjoint, cover everything and balance.
+std::vector<BatchJob> all_jobs(const BatchManifest& manifest);
+std::vector<BatchJob> shard_jobs(const BatchManifest& manifest, Shard shard);
+
+// Hex SHA-256 of a file's bytes.
+std::string sha256_file(const std::filesystem::path& path);
+
+// True when `output` exists with a sidecar `<output>.sha256` (sha256sum format) that
+// matches its bytes: a finished, verified output a resumed run may skip.
+bool is_finished(const std::filesystem::path& output);
+
+struct BatchOutput {
+    BatchJob job;
+    std::string sha256;
+    bool skipped = false;  // already finished before this run
+};
+
+// Renders the shard's jobs that are not finished with `render_job` (which must write the
+// image at job.output), writes each sidecar hash, and records every output of the shard in
+// `<output_dir>/outputs-<I>-of-<N>.json` (or outputs.json unsharded).  Returns the outputs.
+using JobRenderer = std::function<void(const BatchJob& job, const BatchManifest& manifest)>;
+std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard,
+                                   const JobRenderer& render_job, const ProgressFn& progress = {});
+
+// The JSON list of outputs of a run (what run_batch writes), for reports.
+std::string outputs_json(const BatchManifest& manifest, const std::vector<BatchOutput>& outputs);
+
+}  // namespace foldcast::render

@@ -1,0 +1,84 @@
+#pragma once
+// Fast rasterised previews through OpenGL on EGL with no display: Mesa's llvmpipe on CPU
+// machines, the GPU's driver where there is one.  The path tracer never needs this.
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "foldcast/core/mesh.hpp"
+
+namespace foldcast::render {
+
+// No EGL display or OpenGL 3.3 core context could be made here.  The message says why.
+class EglUnavailable : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct PreviewCamera {
+    Vec3f position{0.0f, 0.0f, 3.0f};
+    Vec3f target{0.0f, 0.0f, 0.0f};
+    Vec3f up{0.0f, 1.0f, 0.0f};
+    float vertical_fov_deg = 35.0f;
+};
+
+// The cloth shading of the path tracer, cut down to what a rasteriser does cheaply:
+// Lambert + Charlie sheen + isotropic GGX, all in linear RGB.
+struct PreviewMaterial {
+    Vec3f base_colour{0.6f, 0.6f, 0.6f};
+    float roughness = 0.8f;
+    Vec3f sheen_colour{0.0f, 0.0f, 0.0f};
+    float sheen_roughness = 0.5f;
+    float specular = 0.5f;
+};
+
+struct PreviewObject {
+    const Mesh* mesh = nullptr;  // positions, triangles, normals (computed if empty)
+    PreviewMaterial material;
+    bool casts_shadow = true;
+};
+
+// A point light standing in for an area light: radiant intensity in W/sr (linear RGB).
+// The first light is the key light and the only one that casts shadows.
+struct PreviewLight {
+    Vec3f position{2.0f, 3.0f, 3.0f};
+    Vec3f intensity{10.0f, 10.0f, 10.0f};
+};
+
+struct PreviewScene {
+    std::vector<PreviewObject> objects;
+    std::vector<PreviewLight> lights;  // at most 4 are used
+    PreviewCamera camera;
+    Vec3f ambient{0.05f, 0.05f, 0.05f};    // uniform environment radiance
+    Vec3f background{0.0f, 0.0f, 0.0f};    // linear RGB behind everything
+    bool transparent_background = false;   // alpha 0 where nothing was drawn
+};
+
+struct PreviewImage {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgba;  // 8-bit sRGB + alpha, top row first
+    std::vector<float> depth;        // distance from the camera in metres; +inf where empty
+};
+
+// Owns one EGL context and its framebuffers; render() may be called for many frames
+// (a turntable) without re-creating them.  Not thread-safe.
+class PreviewRenderer {
+public:
+    // Throws EglUnavailable when no EGL display / GL 3.3 core context can be made.
+    PreviewRenderer(int width, int height, int msaa_samples = 4);
+    ~PreviewRenderer();
+    PreviewRenderer(const PreviewRenderer&) = delete;
+    PreviewRenderer& operator=(const PreviewRenderer&) = delete;
+
+    PreviewImage render(const PreviewScene& scene);
+    // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe ..." for reports.
+    const std::string& device_description() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace foldcast::render

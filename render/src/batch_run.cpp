@@ -1,0 +1,94 @@
+#include <openssl/evp.h>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <fstream>
+#include <memory>
+
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/render/batch.hpp"
+
+namespace foldcast::render {
+namespace fs = std::filesystem;
+
+std::string sha256_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read '" + path.string() + "' to hash it");
+    std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> context(EVP_MD_CTX_new(), EVP_MD_CTX_free);
+    if (!context || EVP_DigestInit_ex(context.get(), EVP_sha256(), nullptr) != 1)
+        throw std::runtime_error("SHA-256 is not available from OpenSSL");
+    std::array<char, 1 << 16> buffer;
+    while (in) {
+        in.read(buffer.data(), buffer.size());
+        if (in.gcount() > 0) EVP_DigestUpdate(context.get(), buffer.data(), static_cast<std::size_t>(in.gcount()));
+    }
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    EVP_DigestFinal_ex(context.get(), digest, &length);
+    static const char* hex = "0123456789abcdef";
+    std::string text;
+    for (unsigned i = 0; i < length; ++i) {
+        text += hex[digest[i] >> 4];
+        text += hex[digest[i] & 15];
+    }
+    return text;
+}
+
+namespace {
+fs::path sidecar(const fs::path& output) {
+    fs::path s = output;
+    s += ".sha256";
+    return s;
+}
+}  // namespace
+
+bool is_finished(const fs::path& output) {
+    std::error_code ec;
+    if (!fs::is_regular_file(output, ec) || !fs::is_regular_file(sidecar(output), ec)) return false;
+    std::ifstream in(sidecar(output));
+    std::string recorded;
+    in >> recorded;
+    return recorded.size() == 64 && recorded == sha256_file(output);
+}
+
+std::string outputs_json(const BatchManifest& manifest, const std::vector<BatchOutput>& outputs) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const BatchOutput& o : outputs)
+        list.push_back({{"index", o.job.index},
+                        {"garment", o.job.garment.name},
+                        {"look", o.job.look},
+                        {"view", o.job.view.name},
+                        {"path", fs::relative(o.job.output, manifest.output_dir).generic_string()},
+                        {"sha256", o.sha256},
+                        {"skipped", o.skipped}});
+    return list.dump(2) + "\n";
+}
+
+std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, const JobRenderer& render_job,
+                                   const ProgressFn& progress) {
+    const std::vector<BatchJob> jobs = shard_jobs(manifest, shard);
+    std::vector<BatchOutput> outputs;
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        const BatchJob& job = jobs[i];
+        BatchOutput out{job, "", is_finished(job.output)};
+        if (!out.skipped) {
+            fs::create_directories(job.output.parent_path());
+            render_job(job, manifest);
+            out.sha256 = sha256_file(job.output);
+            write_file_atomically(sidecar(job.output), out.sha256 + "  " + job.output.filename().string() + "\n");
+        } else {
+            out.sha256 = sha256_file(job.output);
+        }
+        outputs.push_back(std::move(out));
+        if (progress) progress("batch", static_cast<double>(i + 1) / static_cast<double>(jobs.size()));
+    }
+    const std::string name = shard.count == 1 ? std::string("outputs.json")
+                                              : "outputs-" + std::to_string(shard.index) + "-of-" +
+                                                    std::to_string(shard.count) + ".json";
+    fs::create_directories(manifest.output_dir);
+    write_file_atomically(manifest.output_dir / name, outputs_json(manifest, outputs));
+    return outputs;
+}
+
+}  // namespace foldcast::render

@@ -1,0 +1,381 @@
+#include <Eigen/Geometry>
+#define GL_GLEXT_PROTOTYPES
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "egl_context.hpp"
+#include "foldcast/render/preview.hpp"
+#include "preview_shaders.hpp"
+
+namespace foldcast::render {
+
+namespace {
+
+constexpr int kShadowMapSize = 2048;
+constexpr int kMaxLights = 4;
+constexpr float kEmptyDistance = 1e30f;  // cleared distance; read back as +inf
+
+Eigen::Matrix4f look_at(const Vec3f& eye, const Vec3f& target, const Vec3f& up) {
+    const Vec3f f = (target - eye).normalized();
+    Vec3f s = f.cross(up);
+    if (s.squaredNorm() < 1e-12f) s = f.cross(Vec3f(1.0f, 0.0f, 0.0f));
+    s.normalize();
+    const Vec3f u = s.cross(f);
+    Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+    m.block<1, 3>(0, 0) = s.transpose();
+    m.block<1, 3>(1, 0) = u.transpose();
+    m.block<1, 3>(2, 0) = -f.transpose();
+    m(0, 3) = -s.dot(eye);
+    m(1, 3) = -u.dot(eye);
+    m(2, 3) = f.dot(eye);
+    return m;
+}
+
+Eigen::Matrix4f perspective(float vertical_fov_rad, float aspect, float near_m, float far_m) {
+    const float f = 1.0f / std::tan(vertical_fov_rad / 2.0f);
+    Eigen::Matrix4f m = Eigen::Matrix4f::Zero();
+    m(0, 0) = f / aspect;
+    m(1, 1) = f;
+    m(2, 2) = (far_m + near_m) / (near_m - far_m);
+    m(2, 3) = 2.0f * far_m * near_m / (near_m - far_m);
+    m(3, 2) = -1.0f;
+    return m;
+}
+
+void check_gl(const char* what) {
+    const GLenum error = glGetError();
+    if (error != GL_NO_ERROR)
+        throw std::runtime_error(std::string("OpenGL error during ") + what + ": " + std::to_string(error));
+}
+
+GLuint compile(GLenum type, const char* source) {
+    const GLuint shader = glCreateShader(type);
+    glShaderSource(shader, 1, &source, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[2048];
+        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+        glDeleteShader(shader);
+        throw std::runtime_error(std::string("preview shader does not compile: ") + log);
+    }
+    return shader;
+}
+
+GLuint link_program(const char* vertex, const char* fragment) {
+    const GLuint vs = compile(GL_VERTEX_SHADER, vertex);
+    const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment);
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, vs);
+    glAttachShader(program, fs);
+    glLinkProgram(program);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[2048];
+        glGetProgramInfoLog(program, sizeof log, nullptr, log);
+        glDeleteProgram(program);
+        throw std::runtime_error(std::string("preview shaders do not link: ") + log);
+    }
+    return program;
+}
+
+struct GpuMesh {
+    GLuint vao = 0, vbo = 0, ebo = 0;
+    GLsizei index_count = 0;
+    bool casts_shadow = true;
+    const PreviewMaterial* material = nullptr;
+};
+
+GpuMesh upload(const PreviewObject& object) {
+    const Mesh& mesh = *object.mesh;
+    const std::vector<Vec3f> normals = mesh.normals.size() == mesh.positions.size()
+                                           ? mesh.normals
+                                           : vertex_normals(mesh.positions, mesh.topology.triangles);
+    std::vector<float> interleaved;
+    interleaved.reserve(mesh.positions.size() * 6);
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        interleaved.insert(interleaved.end(), mesh.positions[i].data(), mesh.positions[i].data() + 3);
+        interleaved.insert(interleaved.end(), normals[i].data(), normals[i].data() + 3);
+    }
+    GpuMesh gpu;
+    gpu.casts_shadow = object.casts_shadow;
+    gpu.material = &object.material;
+    gpu.index_count = static_cast<GLsizei>(mesh.topology.triangles.size() * 3);
+    glGenVertexArrays(1, &gpu.vao);
+    glBindVertexArray(gpu.vao);
+    glGenBuffers(1, &gpu.vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, gpu.vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)),
+                 interleaved.data(), GL_STREAM_DRAW);
+    glGenBuffers(1, &gpu.ebo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.ebo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(mesh.topology.triangles.size() * sizeof(Triangle)),
+                 mesh.topology.triangles.data(), GL_STREAM_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          reinterpret_cast<const void*>(3 * sizeof(float)));
+    glBindVertexArray(0);
+    return gpu;
+}
+
+void release(GpuMesh& gpu) {
+    glDeleteBuffers(1, &gpu.vbo);
+    glDeleteBuffers(1, &gpu.ebo);
+    glDeleteVertexArrays(1, &gpu.vao);
+}
+
+void draw(const GpuMesh& gpu) {
+    glBindVertexArray(gpu.vao);
+    glDrawElements(GL_TRIANGLES, gpu.index_count, GL_UNSIGNED_INT, nullptr);
+}
+
+GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+
+}  // namespace
+
+struct PreviewRenderer::State {
+    EglContext egl;
+    int width = 0, height = 0, samples = 0;
+    GLuint shade_program = 0, distance_program = 0, shadow_program = 0;
+    GLuint msaa_fbo = 0, msaa_colour = 0, msaa_depth = 0;
+    GLuint resolve_fbo = 0, resolve_colour = 0;
+    GLuint distance_fbo = 0, distance_colour = 0, distance_depth = 0;
+    GLuint shadow_fbo = 0, shadow_map = 0;
+};
+
+PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
+    : state_(std::make_unique<State>()) {
+    if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+        throw std::invalid_argument("preview size must be in 1..16384 pixels");
+    State& s = *state_;
+    s.width = width;
+    s.height = height;
+    GLint max_samples = 1;
+    glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+    s.samples = std::clamp(msaa_samples, 1, std::max(1, static_cast<int>(max_samples)));
+
+    s.shade_program = link_program(shaders::kVertex, shaders::kShade);
+    s.distance_program = link_program(shaders::kVertex, shaders::kDistance);
+    s.shadow_program = link_program(shaders::kVertex, shaders::kEmpty);
+
+    glGenFramebuffers(1, &s.msaa_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.msaa_fbo);
+    glGenRenderbuffers(1, &s.msaa_colour);
+    glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_colour);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_RGBA8, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.msaa_colour);
+    glGenRenderbuffers(1, &s.msaa_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_depth);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_DEPTH_COMPONENT32F, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s.msaa_depth);
+
+    glGenFramebuffers(1, &s.resolve_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.resolve_fbo);
+    glGenRenderbuffers(1, &s.resolve_colour);
+    glBindRenderbuffer(GL_RENDERBUFFER, s.resolve_colour);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.resolve_colour);
+
+    glGenFramebuffers(1, &s.distance_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.distance_fbo);
+    glGenRenderbuffers(1, &s.distance_colour);
+    glBindRenderbuffer(GL_RENDERBUFFER, s.distance_colour);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32F, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.distance_colour);
+    glGenRenderbuffers(1, &s.distance_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, s.distance_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s.distance_depth);
+
+    glGenFramebuffers(1, &s.shadow_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.shadow_fbo);
+    glGenTextures(1, &s.shadow_map);
+    glBindTexture(GL_TEXTURE_2D, s.shadow_map);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize, 0,
+                 GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s.shadow_map, 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+
+    for (GLuint fbo : {s.msaa_fbo, s.resolve_fbo, s.distance_fbo, s.shadow_fbo}) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw EglUnavailable("EGL preview: the OpenGL driver cannot make the framebuffers it needs");
+    }
+    check_gl("framebuffer setup");
+}
+
+PreviewRenderer::~PreviewRenderer() {
+    State& s = *state_;
+    glDeleteProgram(s.shade_program);
+    glDeleteProgram(s.distance_program);
+    glDeleteProgram(s.shadow_program);
+    const GLuint fbos[] = {s.msaa_fbo, s.resolve_fbo, s.distance_fbo, s.shadow_fbo};
+    glDeleteFramebuffers(4, fbos);
+    const GLuint rbs[] = {s.msaa_colour, s.msaa_depth, s.resolve_colour, s.distance_colour, s.distance_depth};
+    glDeleteRenderbuffers(5, rbs);
+    glDeleteTextures(1, &s.shadow_map);
+}
+
+const std::string& PreviewRenderer::device_description() const { return state_->egl.description(); }
+
+PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
+    State& s = *state_;
+    s.egl.make_current();
+
+    // Scene bounds fix the depth range and the key light's shadow frustum.
+    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max());
+    Vec3f hi = -lo;
+    for (const PreviewObject& object : scene.objects)
+        for (const Vec3f& p : object.mesh->positions) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+    if (scene.objects.empty()) lo = hi = Vec3f::Zero();
+    const Vec3f centre = 0.5f * (lo + hi);
+    const float radius = std::max(0.5f * (hi - lo).norm(), 1e-3f);
+
+    const PreviewCamera& camera = scene.camera;
+    const float to_centre = (centre - camera.position).norm();
+    const float near_m = std::max(to_centre - 1.05f * radius, 1e-3f * radius);
+    const float far_m = to_centre + 1.05f * radius;
+    const float fov = camera.vertical_fov_deg * std::numbers::pi_v<float> / 180.0f;
+    const Eigen::Matrix4f view_proj =
+        perspective(fov, static_cast<float>(s.width) / static_cast<float>(s.height), near_m, far_m) *
+        look_at(camera.position, camera.target, camera.up);
+
+    Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
+    bool has_shadow = false;
+    if (!scene.lights.empty()) {
+        const Vec3f key = scene.lights.front().position;
+        const float distance = (centre - key).norm();
+        if (distance > radius * 1.01f) {
+            const float half_angle = std::asin(std::min(radius / distance, 0.99f)) * 1.05f;
+            light_view_proj = perspective(2.0f * half_angle, 1.0f, distance - radius, distance + radius) *
+                              look_at(key, centre, std::abs((centre - key).normalized().y()) > 0.99f
+                                                       ? Vec3f(1.0f, 0.0f, 0.0f)
+                                                       : Vec3f(0.0f, 1.0f, 0.0f));
+            has_shadow = true;
+        }
+    }
+
+    std::vector<GpuMesh> meshes;
+    meshes.reserve(scene.objects.size());
+    for (const PreviewObject& object : scene.objects) meshes.push_back(upload(object));
+
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+
+    if (has_shadow) {
+        glBindFramebuffer(GL_FRAMEBUFFER, s.shadow_fbo);
+        glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glUseProgram(s.shadow_program);
+        glUniformMatrix4fv(uniform(s.shadow_program, "u_view_proj"), 1, GL_FALSE, light_view_proj.data());
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(1.5f, 2.0f);
+        for (const GpuMesh& mesh : meshes)
+            if (mesh.casts_shadow) draw(mesh);
+        glDisable(GL_POLYGON_OFFSET_FILL);
+    }
+
+    glBindFramebuffer(GL_FRAMEBUFFER, s.msaa_fbo);
+    glViewport(0, 0, s.width, s.height);
+    glEnable(GL_MULTISAMPLE);
+    const float alpha = scene.transparent_background ? 0.0f : 1.0f;
+    auto srgb = [](float c) {
+        c = std::clamp(c, 0.0f, 1.0f);
+        return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    };
+    glClearColor(srgb(scene.background.x()), srgb(scene.background.y()), srgb(scene.background.z()), alpha);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const GLuint p = s.shade_program;
+    glUseProgram(p);
+    glUniformMatrix4fv(uniform(p, "u_view_proj"), 1, GL_FALSE, view_proj.data());
+    glUniformMatrix4fv(uniform(p, "u_light_view_proj"), 1, GL_FALSE, light_view_proj.data());
+    glUniform3fv(uniform(p, "u_camera"), 1, camera.position.data());
+    const int light_count = std::min<int>(static_cast<int>(scene.lights.size()), kMaxLights);
+    glUniform1i(uniform(p, "u_light_count"), light_count);
+    for (int i = 0; i < light_count; ++i) {
+        const char index[] = {'[', static_cast<char>('0' + i), ']', '\0'};
+        glUniform3fv(uniform(p, (std::string("u_light_position") + index).c_str()), 1, scene.lights[i].position.data());
+        glUniform3fv(uniform(p, (std::string("u_light_intensity") + index).c_str()), 1, scene.lights[i].intensity.data());
+    }
+    glUniform3fv(uniform(p, "u_ambient"), 1, scene.ambient.data());
+    glUniform1i(uniform(p, "u_has_shadow"), has_shadow ? 1 : 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, s.shadow_map);
+    glUniform1i(uniform(p, "u_shadow_map"), 0);
+    for (const GpuMesh& mesh : meshes) {
+        const PreviewMaterial& m = *mesh.material;
+        glUniform3fv(uniform(p, "u_base"), 1, m.base_colour.data());
+        glUniform1f(uniform(p, "u_roughness"), m.roughness);
+        glUniform3fv(uniform(p, "u_sheen"), 1, m.sheen_colour.data());
+        glUniform1f(uniform(p, "u_sheen_roughness"), m.sheen_roughness);
+        glUniform1f(uniform(p, "u_specular"), m.specular);
+        draw(mesh);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, s.msaa_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, s.resolve_fbo);
+    glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+
+    // Distance pass without MSAA: a depth image must not average across silhouettes.
+    glBindFramebuffer(GL_FRAMEBUFFER, s.distance_fbo);
+    const float empty[4] = {kEmptyDistance, 0.0f, 0.0f, 0.0f};
+    glClearBufferfv(GL_COLOR, 0, empty);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glUseProgram(s.distance_program);
+    glUniformMatrix4fv(uniform(s.distance_program, "u_view_proj"), 1, GL_FALSE, view_proj.data());
+    glUniform3fv(uniform(s.distance_program, "u_camera"), 1, camera.position.data());
+    for (const GpuMesh& mesh : meshes) draw(mesh);
+
+    PreviewImage image;
+    image.width = s.width;
+    image.height = s.height;
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(s.width) * s.height * 4);
+    std::vector<float> distance(static_cast<std::size_t>(s.width) * s.height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, s.resolve_fbo);
+    glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, s.distance_fbo);
+    glReadPixels(0, 0, s.width, s.height, GL_RED, GL_FLOAT, distance.data());
+    check_gl("preview rendering");
+    for (GpuMesh& mesh : meshes) release(mesh);
+
+    // OpenGL's rows run bottom-up; images run top-down.
+    const std::size_t row = static_cast<std::size_t>(s.width);
+    image.rgba.resize(rgba.size());
+    image.depth.resize(distance.size());
+    for (int y = 0; y < s.height; ++y) {
+        const std::size_t from = static_cast<std::size_t>(s.height - 1 - y) * row;
+        const std::size_t to = static_cast<std::size_t>(y) * row;
+        std::copy_n(rgba.begin() + 4 * from, 4 * row, image.rgba.begin() + 4 * to);
+        for (std::size_t x = 0; x < row; ++x) {
+            const float d = distance[from + x];
+            image.depth[to + x] = d >= 0.5f * kEmptyDistance ? std::numeric_limits<float>::infinity() : d;
+        }
+    }
+    return image;
+}
+
+}  // namespace foldcast::render
