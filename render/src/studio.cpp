@@ -149,13 +149,13 @@ std::vector<AreaLight> studio_lights(const Vec3f& centre, double size_m) {
     std::vector<AreaLight> lights;
     // Key: a large softbox high on the camera's left.
     lights.push_back({"key", centre + s * Vec3f(-1.6f, 1.3f, 2.0f), centre, 1.2f * s, 1.2f * s,
-                      Vec3f(5.2f, 5.0f, 4.7f)});
+                      Vec3f(10.4f, 10.0f, 9.4f)});
     // Fill: a wider, dimmer box low on the right, so shadows stay open.
     lights.push_back({"fill", centre + s * Vec3f(2.2f, 0.2f, 2.2f), centre, 1.6f * s, 1.6f * s,
-                      Vec3f(1.05f, 1.1f, 1.2f)});
+                      Vec3f(2.3f, 2.4f, 2.6f)});
     // Rim: a strip behind and above, to separate the cloth's edges from the wall.
     lights.push_back({"rim", centre + s * Vec3f(0.9f, 1.6f, -0.7f), centre + Vec3f(0.0f, 0.2f * s, 0.0f),
-                      0.3f * s, 1.2f * s, Vec3f(9.0f, 9.0f, 9.0f)});
+                      0.3f * s, 1.2f * s, Vec3f(16.0f, 16.0f, 16.0f)});
     return lights;
 }
 
