@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "foldcast 0.1.0");
     std::vector<foldcast::app::Command> commands;
     commands.push_back(foldcast::app::looks_command(app));
+    commands.push_back(foldcast::app::drape_command(app));
+    commands.push_back(foldcast::app::diff_command(app));
+    commands.push_back(foldcast::app::folds_command(app));
     commands.push_back(foldcast::app::render_command(app));
     commands.push_back(foldcast::app::turntable_command(app));
 
