@@ -15,6 +15,9 @@ Command looks_command(CLI::App& app);
 Command drape_command(CLI::App& app);
 Command diff_command(CLI::App& app);
 Command folds_command(CLI::App& app);
+Command overlay_command(CLI::App& app);
+Command encode_command(CLI::App& app);
+Command decode_command(CLI::App& app);
 Command render_command(CLI::App& app);
 Command turntable_command(CLI::App& app);
 

@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::drape_command(app));
     commands.push_back(foldcast::app::diff_command(app));
     commands.push_back(foldcast::app::folds_command(app));
+    commands.push_back(foldcast::app::overlay_command(app));
+    commands.push_back(foldcast::app::encode_command(app));
+    commands.push_back(foldcast::app::decode_command(app));
     commands.push_back(foldcast::app::render_command(app));
     commands.push_back(foldcast::app::turntable_command(app));
 
