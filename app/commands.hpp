@@ -11,4 +11,8 @@ struct Command {
     std::function<int()> run;  // returns the exit status: 0 ok, 1 failed check
 };
 
+Command looks_command(CLI::App& app);
+Command diff_command(CLI::App& app);
+Command folds_command(CLI::App& app);
+
 }  // namespace foldcast::app

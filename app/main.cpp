@@ -14,6 +14,9 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.set_version_flag("--version", "foldcast 0.1.0");
     std::vector<foldcast::app::Command> commands;
+    commands.push_back(foldcast::app::looks_command(app));
+    commands.push_back(foldcast::app::diff_command(app));
+    commands.push_back(foldcast::app::folds_command(app));
 
     try {
         app.parse(argc, argv);

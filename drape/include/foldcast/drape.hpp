@@ -29,17 +29,32 @@ struct ClothParams {
 ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, double height_m,
                             double inset_m);
 
-// Throws InputError naming the parameter and the allowed range.
+// Throws InputError naming the parameter and the allowed range: sizes, thickness, modulus,
+// weight and load constant finite and > 0, 0 <= inset < width/2, 0 <= poisson < 0.5.
 void validate(const ClothParams& params);
+
+// sigma_cr = c E t^2 / (l^2 (1 - nu^2)), in Pa.
+double critical_stress_pa(const ClothParams& params);
+// S = sigma_cr t / (w h); S >= 1: the cloth is too stiff to wrinkle.
+double stress_ratio(const ClothParams& params);
+// The root Q > 1 of (1-S) Q^2 - (2+S) Q + 1 = 0, or 0 when S >= 1 (no such root).
+double amplitude_ratio(double stress_ratio);
+// Length of the curve (x, A cos(pi x/l)) over [-l/2, l/2]: (2l/pi) sqrt(1+k^2) E(k^2/(1+k^2))
+// with k = pi A / l (complete elliptic integral of the second kind).
+double top_edge_length_m(double span_m, double amplitude_m);
+// The A >= 0 with top_edge_length_m(span_m, A) = length_m (needs length_m >= span_m).
+double top_edge_amplitude_m(double span_m, double length_m);
 
 // One candidate number of folds and its solve of the length equations.
 struct FoldCandidate {
     int folds = 0;
-    bool feasible = false;
+    bool solved = false;    // the length equations have a real solution (zmax > 0, a_0 > 0)
+    bool feasible = false;  // solved with the lowest fold line inside the cloth (a_0 <= h)
     double top_amplitude_m = 0.0;  // a_n
+    double lowest_amplitude_m = 0.0;  // a_0 = a_n Q^n
     double zmax_m = 0.0;
     double residual = 0.0;         // max relative residual of the length equations
-    std::string why_not;           // when infeasible
+    std::string why_not;           // when not feasible
 };
 
 struct FoldSolution {
@@ -51,6 +66,7 @@ struct FoldSolution {
     std::vector<FoldCandidate> candidates;  // every n tried, for verbose output
     double residual = 0.0;     // max relative residual of the chosen solution
     double stress_ratio = 0.0; // S = sigma_cr t / (w h); S >= 1: no wrinkles
+    double slack_amplitude_m = 0.0;  // A = sqrt(a_n^2 + zmax^2), fixed by the top edge length
     enum class Regime { wrinkled, no_wrinkles, no_feasible_folds } regime = Regime::wrinkled;
     std::string explanation;   // one sentence for users, always set
 };
@@ -93,6 +109,10 @@ struct AnimationOptions {
     double sway_amplitude_m = 0.0;  // optional sway added on top; 0 = none
     double sway_period_s = 2.0;
 };
+
+// Inset of the supports in frame `frame`: 0 in the first frame, params.inset_m in the last,
+// eased in and out (smoothstep) in between.
+double frame_inset_m(const ClothParams& params, const AnimationOptions& options, int frame);
 
 // Frames in which the supports move inward from d = 0 to params.inset_m (folds forming),
 // plus optional sway.  Deterministic.

@@ -1,0 +1,75 @@
+#pragma once
+// Fold detection in photographs of hanging cloth: a cloth mask (given, or GrabCut seeded
+// around and below the two supports), a multi-scale Hessian ridge/valley filter with
+// gamma-normalised responses (Lindeberg), non-maximum suppression across the ridge with
+// sub-pixel positions, hysteresis, and linking into polylines.
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "foldcast/compare/image.hpp"
+
+namespace foldcast::compare {
+
+// The two supports (grippers, clips) in pixel coordinates, x right, y down.
+struct SupportPixels {
+    Eigen::Vector2d first{0, 0};
+    Eigen::Vector2d second{0, 0};
+    double distance_px() const { return (second - first).norm(); }
+};
+
+// Throws InputError (one line) unless both supports lie inside a width x height image and
+// are at least 2 px apart.
+void validate_supports(const SupportPixels& supports, int width, int height);
+
+// +1 crest: a bright ridge of image luminance (a fold towards the light); -1 valley: a dark
+// line (the shaded trough of a fold).
+struct DetectedFold {
+    int sign = 1;
+    std::vector<Eigen::Vector2d> points_px;  // sub-pixel centre line, in order
+    double mean_strength = 0.0;              // mean normalised ridge response along the line
+    double length_px() const;
+};
+
+struct FoldDetectionOptions {
+    std::vector<double> sigmas_px;  // empty: 5 scales, a factor sqrt(2) apart, from max(1.5, diagonal/600)
+    double gamma = 0.75;            // scale normalisation t^gamma (Lindeberg's choice for ridges)
+    double high_threshold = 0.0;    // 0: max(0.006, 4 x median response over the search region)
+    double low_ratio = 0.5;         // low threshold = low_ratio x high
+    double min_length_px = 0.0;     // 0: max(10, 3 % of the image diagonal)
+    bool exclude_prints = true;     // ignore printed motifs: pixels whose chroma is far from the cloth's
+};
+
+struct FoldDetection {
+    std::vector<DetectedFold> folds;
+    Image mask;               // 1 channel, 1 = cloth
+    Image search_region;      // 1 channel, 1 = where lines were looked for (mask minus border, prints)
+    std::vector<double> sigmas_px;
+    double high_threshold = 0.0, low_threshold = 0.0;
+};
+
+// Cloth mask by GrabCut: the rectangle around the supports (0.3 D to the sides, 1.3 D
+// below, D = support distance) may be cloth, everything outside is background, a strip
+// just below the supports' midpoint is cloth.  Largest component, holes filled.
+// Deterministic.  Without supports the whole image counts as cloth.
+Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>& supports);
+
+// Reads a mask file: any pixel above half scale is cloth.  Throws InputError if its size
+// differs from width x height.
+Image read_mask(const std::filesystem::path& path, int width, int height);
+
+FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDetectionOptions& options = {});
+
+// The photo with the mask outline (yellow), crests (orange, solid) and valleys (cyan).
+Image draw_detected_folds(const Image& photo, const FoldDetection& detection);
+
+}  // namespace foldcast::compare
+
+namespace foldcast::compare {
+
+// "X1,Y1,X2,Y2" -> supports.  Throws InputError naming `flag` unless it is four numbers.
+SupportPixels parse_supports(const std::string& text, const std::string& flag = "--supports");
+// "a,b,c,..." -> exactly `count` numbers, else InputError naming `flag`.
+std::vector<double> parse_numbers(const std::string& text, size_t count, const std::string& flag);
+
+}  // namespace foldcast::compare

@@ -1,0 +1,115 @@
+#include <opencv2/imgproc.hpp>
+
+#include "foldcast/compare/folds.hpp"
+#include "mat_convert.hpp"
+
+namespace foldcast::compare {
+
+void validate_supports(const SupportPixels& s, int width, int height) {
+    for (const Eigen::Vector2d& p : {s.first, s.second})
+        if (!(p.x() >= 0 && p.y() >= 0 && p.x() <= width - 1 && p.y() <= height - 1))
+            throw InputError("--supports: point (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) +
+                             ") lies outside the " + std::to_string(width) + "x" + std::to_string(height) +
+                             " image (x in [0," + std::to_string(width - 1) + "], y in [0," +
+                             std::to_string(height - 1) + "])");
+    if (s.distance_px() < 2.0) throw InputError("--supports: the two points must be at least 2 px apart");
+}
+
+namespace {
+
+cv::Mat largest_component_filled(const cv::Mat& fg, cv::Point seed) {
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(fg.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+    int best = -1;
+    double best_area = -1.0;
+    for (size_t i = 0; i < contours.size(); ++i) {
+        const double area = cv::contourArea(contours[i]);
+        const bool has_seed = cv::pointPolygonTest(contours[i], seed, false) >= 0;
+        const double score = area + (has_seed ? 1e12 : 0.0);  // the seed's component wins
+        if (score > best_area) {
+            best_area = score;
+            best = static_cast<int>(i);
+        }
+    }
+    cv::Mat out = cv::Mat::zeros(fg.size(), CV_8U);
+    if (best >= 0) cv::drawContours(out, contours, best, cv::Scalar(255), cv::FILLED);
+    return out;
+}
+
+}  // namespace
+
+Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>& supports) {
+    if (!supports) {
+        Image all(photo.width, photo.height, 1);
+        std::fill(all.values.begin(), all.values.end(), 1.0f);
+        return all;
+    }
+    validate_supports(*supports, photo.width, photo.height);
+    const cv::Mat full = detail::to_bgr8(photo);
+    const double scale = std::min(1.0, 480.0 / std::max(full.cols, full.rows));
+    cv::Mat small;
+    cv::resize(full, small, cv::Size(), scale, scale, cv::INTER_AREA);
+
+    const Eigen::Vector2d a = supports->first * scale, b = supports->second * scale;
+    const double d = (b - a).norm();
+    const Eigen::Vector2d mid = 0.5 * (a + b);
+    const cv::Rect bounds(0, 0, small.cols, small.rows);
+    const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::min(a.x(), b.x()) - 0.3 * d),
+                                             static_cast<int>(std::min(a.y(), b.y()) - 0.08 * d)),
+                                   cv::Point(static_cast<int>(std::max(a.x(), b.x()) + 0.3 * d),
+                                             static_cast<int>(std::max(a.y(), b.y()) + 1.3 * d))) &
+                          bounds;
+    cv::Mat labels(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
+    const cv::Rect seed = cv::Rect(cv::Point(static_cast<int>(mid.x() - 0.05 * d), static_cast<int>(mid.y() + 0.1 * d)),
+                                   cv::Point(static_cast<int>(mid.x() + 0.05 * d) + 1,
+                                             static_cast<int>(mid.y() + 0.35 * d) + 1)) &
+                          bounds;
+    // Inside the rectangle, the cloth's colour decides the first guess: chroma (CIELAB a, b)
+    // near the seed strip's median is probably cloth, the rest probably not.  This keeps a
+    // table or wall touching the hem out of the mask.
+    cv::Mat lab;
+    cv::cvtColor(small, lab, cv::COLOR_BGR2Lab);
+    std::vector<int> seed_a, seed_b;
+    for (int y = seed.y; y < seed.y + seed.height; ++y)
+        for (int x = seed.x; x < seed.x + seed.width; ++x) {
+            seed_a.push_back(lab.at<cv::Vec3b>(y, x)[1]);
+            seed_b.push_back(lab.at<cv::Vec3b>(y, x)[2]);
+        }
+    if (seed_a.empty()) throw InputError("--supports: the cloth below the supports lies outside the image");
+    std::nth_element(seed_a.begin(), seed_a.begin() + seed_a.size() / 2, seed_a.end());
+    std::nth_element(seed_b.begin(), seed_b.begin() + seed_b.size() / 2, seed_b.end());
+    const double ma = seed_a[seed_a.size() / 2], mb = seed_b[seed_b.size() / 2];
+    constexpr double kSameCloth = 20.0;  // 8-bit Lab chroma units
+    for (int y = rect.y; y < rect.y + rect.height; ++y)
+        for (int x = rect.x; x < rect.x + rect.width; ++x) {
+            const cv::Vec3b v = lab.at<cv::Vec3b>(y, x);
+            labels.at<uchar>(y, x) = std::hypot(v[1] - ma, v[2] - mb) < kSameCloth ? cv::GC_PR_FGD : cv::GC_PR_BGD;
+        }
+    labels(seed).setTo(cv::GC_FGD);
+    cv::Mat bgd_model, fgd_model;
+    cv::setRNGSeed(12345);  // GrabCut's GMM initialisation draws from OpenCV's RNG
+    cv::grabCut(small, labels, rect, bgd_model, fgd_model, 5, cv::GC_INIT_WITH_MASK);
+    cv::Mat fg = (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
+    cv::morphologyEx(fg, fg, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+    fg = largest_component_filled(fg, cv::Point(static_cast<int>(mid.x()), static_cast<int>(mid.y() + 0.2 * d)));
+    cv::Mat up;
+    cv::resize(fg, up, full.size(), 0, 0, cv::INTER_LINEAR);
+    cv::Mat binary = up > 127;
+    cv::Mat values;
+    binary.convertTo(values, CV_32F, 1.0 / 255.0);
+    return detail::from_mat(values);
+}
+
+Image read_mask(const std::filesystem::path& path, int width, int height) {
+    const Image raw = read_image(path);
+    if (raw.width != width || raw.height != height)
+        throw InputError("--mask '" + path.string() + "': size " + std::to_string(raw.width) + "x" +
+                         std::to_string(raw.height) + " differs from the photo's " + std::to_string(width) + "x" +
+                         std::to_string(height));
+    Image mask(width, height, 1);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) mask.at(x, y, 0) = raw.at(x, y, 0) > 0.5f ? 1.0f : 0.0f;
+    return mask;
+}
+
+}  // namespace foldcast::compare

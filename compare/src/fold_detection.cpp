@@ -1,0 +1,277 @@
+// Multi-scale Hessian ridge/valley detection (Lindeberg, "Edge detection and ridge detection
+// with automatic scale selection", IJCV 1998): at each scale t = sigma^2 the Hessian of the
+// smoothed luminance has eigenvalues l1 (largest magnitude) and l2; the ridge strength
+// t^gamma (|l1| - |l2|) is large across a line and small on blobs and flat areas; its sign
+// says bright ridge (l1 < 0) or dark valley (l1 > 0).  Each pixel keeps its strongest scale.
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <opencv2/imgproc.hpp>
+
+#include "foldcast/compare/folds.hpp"
+#include "mat_convert.hpp"
+
+namespace foldcast::compare {
+
+double DetectedFold::length_px() const {
+    double length = 0.0;
+    for (size_t i = 1; i < points_px.size(); ++i) length += (points_px[i] - points_px[i - 1]).norm();
+    return length;
+}
+
+namespace {
+
+struct RidgeField {
+    cv::Mat strength;  // CV_32F, >= 0
+    cv::Mat sign;      // CV_8S, +1 bright ridge, -1 dark valley
+    cv::Mat nx, ny;    // CV_32F unit normal across the line
+    cv::Mat scale;     // CV_8U index of the strongest scale
+    std::vector<cv::Mat> smooth;  // luminance smoothed at each scale
+};
+
+RidgeField ridge_field(const cv::Mat& luma, const std::vector<double>& sigmas, double gamma) {
+    RidgeField f;
+    f.strength = cv::Mat::zeros(luma.size(), CV_32F);
+    f.sign = cv::Mat::zeros(luma.size(), CV_8S);
+    f.nx = cv::Mat::zeros(luma.size(), CV_32F);
+    f.ny = cv::Mat::zeros(luma.size(), CV_32F);
+    f.scale = cv::Mat::zeros(luma.size(), CV_8U);
+    for (size_t si = 0; si < sigmas.size(); ++si) {
+        const double sigma = sigmas[si];
+        cv::Mat smooth, lxx, lyy, lxy;
+        cv::GaussianBlur(luma, smooth, cv::Size(), sigma, sigma, cv::BORDER_REFLECT);
+        cv::Sobel(smooth, lxx, CV_32F, 2, 0, 3, 0.25, 0, cv::BORDER_REFLECT);
+        cv::Sobel(smooth, lyy, CV_32F, 0, 2, 3, 0.25, 0, cv::BORDER_REFLECT);
+        cv::Sobel(smooth, lxy, CV_32F, 1, 1, 3, 0.25, 0, cv::BORDER_REFLECT);
+        const float norm = static_cast<float>(std::pow(sigma * sigma, gamma));
+        for (int y = 0; y < luma.rows; ++y)
+            for (int x = 0; x < luma.cols; ++x) {
+                const float a = lxx.at<float>(y, x), c = lyy.at<float>(y, x), b = lxy.at<float>(y, x);
+                const float mean = 0.5f * (a + c), radius = std::hypot(0.5f * (a - c), b);
+                const float lp = mean + radius, lm = mean - radius;  // lp >= lm
+                const bool plus_dominant = std::abs(lp) >= std::abs(lm);
+                const float l1 = plus_dominant ? lp : lm, l2 = plus_dominant ? lm : lp;
+                const float s = norm * (std::abs(l1) - std::abs(l2));
+                if (s <= f.strength.at<float>(y, x)) continue;
+                // Eigenvector of lp is at angle 0.5 atan2(2b, a - c); that of lm is perpendicular.
+                float theta = 0.5f * std::atan2(2.0f * b, a - c);
+                if (!plus_dominant) theta += 1.5707963f;
+                f.strength.at<float>(y, x) = s;
+                f.sign.at<schar>(y, x) = l1 < 0 ? 1 : -1;
+                f.nx.at<float>(y, x) = std::cos(theta);
+                f.ny.at<float>(y, x) = std::sin(theta);
+                f.scale.at<uchar>(y, x) = static_cast<uchar>(si);
+            }
+        f.smooth.push_back(smooth);
+    }
+    return f;
+}
+
+float sample(const cv::Mat& m, float x, float y) {
+    x = std::clamp(x, 0.0f, static_cast<float>(m.cols - 1));
+    y = std::clamp(y, 0.0f, static_cast<float>(m.rows - 1));
+    const int x0 = std::min(static_cast<int>(x), m.cols - 2 < 0 ? 0 : m.cols - 2);
+    const int y0 = std::min(static_cast<int>(y), m.rows - 2 < 0 ? 0 : m.rows - 2);
+    const int x1 = std::min(x0 + 1, m.cols - 1), y1 = std::min(y0 + 1, m.rows - 1);
+    const float fx = x - x0, fy = y - y0;
+    return (1 - fx) * (1 - fy) * m.at<float>(y0, x0) + fx * (1 - fy) * m.at<float>(y0, x1) +
+           (1 - fx) * fy * m.at<float>(y1, x0) + fx * fy * m.at<float>(y1, x1);
+}
+
+// Pixels whose chroma (CIELAB a,b) is far from the cloth's median chroma: printed motifs,
+// labels.  Dilated a little so their outlines go too.
+cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth) {
+    cv::Mat bgr = detail::to_bgr8(photo), lab;
+    cv::cvtColor(bgr, lab, cv::COLOR_BGR2Lab);  // 8-bit: a, b offset by 128
+    std::vector<int> as, bs;
+    for (int y = 0; y < lab.rows; ++y)
+        for (int x = 0; x < lab.cols; ++x)
+            if (cloth.at<uchar>(y, x)) {
+                as.push_back(lab.at<cv::Vec3b>(y, x)[1]);
+                bs.push_back(lab.at<cv::Vec3b>(y, x)[2]);
+            }
+    cv::Mat out = cv::Mat::zeros(lab.size(), CV_8U);
+    if (as.empty()) return out;
+    std::nth_element(as.begin(), as.begin() + as.size() / 2, as.end());
+    std::nth_element(bs.begin(), bs.begin() + bs.size() / 2, bs.end());
+    const double ma = as[as.size() / 2], mb = bs[bs.size() / 2];
+    constexpr double kChromaDistance = 30.0;  // 8-bit Lab units; shading alone stays well below
+    for (int y = 0; y < lab.rows; ++y)
+        for (int x = 0; x < lab.cols; ++x) {
+            const cv::Vec3b v = lab.at<cv::Vec3b>(y, x);
+            if (std::hypot(v[1] - ma, v[2] - mb) > kChromaDistance) out.at<uchar>(y, x) = 255;
+        }
+    cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(9, 9)));
+    return out;
+}
+
+const int kDx[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+const int kDy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+
+}  // namespace
+
+FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDetectionOptions& options) {
+    if (mask.width != photo.width || mask.height != photo.height)
+        throw InputError("fold detection: the mask's size differs from the photo's");
+    FoldDetection out;
+    out.mask = mask;
+    const int w = photo.width, h = photo.height;
+    const double diagonal = std::hypot(w, h);
+    out.sigmas_px = options.sigmas_px;
+    if (out.sigmas_px.empty()) {
+        const double s0 = std::max(1.5, diagonal / 600.0);
+        for (int i = 0; i < 5; ++i) out.sigmas_px.push_back(s0 * std::pow(std::sqrt(2.0), i));
+    }
+    const double sigma_max = *std::max_element(out.sigmas_px.begin(), out.sigmas_px.end());
+
+    cv::Mat luma = detail::luma_of(photo);
+    const RidgeField field = ridge_field(luma, out.sigmas_px, options.gamma);
+
+    // Search region: the cloth, away from its outline (the silhouette is a strong "ridge"),
+    // without printed motifs.
+    cv::Mat cloth;
+    detail::to_mat(mask).convertTo(cloth, CV_8U, 255.0);
+    cloth = cloth > 127;
+    cv::Mat region;
+    const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
+    cv::erode(cloth, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
+              cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    if (options.exclude_prints && photo.channels >= 3) region &= ~print_pixels(photo, cloth);
+    {
+        cv::Mat r;
+        region.convertTo(r, CV_32F, 1.0 / 255.0);
+        out.search_region = detail::from_mat(r);
+    }
+
+    // Non-maximum suppression across the line, with a parabolic sub-pixel offset.
+    cv::Mat candidate = cv::Mat::zeros(luma.size(), CV_8U);
+    cv::Mat offset = cv::Mat::zeros(luma.size(), CV_32F);
+    bool any_candidate = false;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!region.at<uchar>(y, x)) continue;
+            const float s = field.strength.at<float>(y, x);
+            if (s <= 0) continue;
+            const float nx = field.nx.at<float>(y, x), ny = field.ny.at<float>(y, x);
+            const float sp = sample(field.strength, x + nx, y + ny), sm = sample(field.strength, x - nx, y - ny);
+            if (!(s >= sp && s > sm)) continue;
+            // A true crest is brighter (a valley darker) than both sides at its own scale; the
+            // side lobes of the second derivative beside a strong line are not.
+            const int si = field.scale.at<uchar>(y, x);
+            const double reach = 1.5 * out.sigmas_px[si];
+            const cv::Mat& smooth = field.smooth[si];
+            const float centre = smooth.at<float>(y, x);
+            const float side_a = sample(smooth, static_cast<float>(x + reach * nx), static_cast<float>(y + reach * ny));
+            const float side_b = sample(smooth, static_cast<float>(x - reach * nx), static_cast<float>(y - reach * ny));
+            const int sign = field.sign.at<schar>(y, x);
+            if (!(sign * (centre - side_a) > 0 && sign * (centre - side_b) > 0)) continue;
+            const float denom = sm - 2 * s + sp;
+            offset.at<float>(y, x) = denom < 0 ? std::clamp(0.5f * (sm - sp) / denom, -0.5f, 0.5f) : 0.0f;
+            candidate.at<uchar>(y, x) = 1;
+            any_candidate = true;
+        }
+    if (!any_candidate) return out;
+    // Automatic threshold: well above the typical response of the cloth (its texture and
+    // noise), never below an absolute floor.
+    std::vector<float> region_strengths;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (region.at<uchar>(y, x)) region_strengths.push_back(field.strength.at<float>(y, x));
+    std::nth_element(region_strengths.begin(), region_strengths.begin() + region_strengths.size() / 2,
+                     region_strengths.end());
+    const double median = region_strengths[region_strengths.size() / 2];
+    out.high_threshold = options.high_threshold > 0 ? options.high_threshold : std::max(0.006, 4.0 * median);
+    out.low_threshold = options.low_ratio * out.high_threshold;
+
+    // Hysteresis: grow from strong candidates through weaker ones of the same sign.
+    cv::Mat kept = cv::Mat::zeros(luma.size(), CV_8U);
+    std::deque<cv::Point> queue;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (candidate.at<uchar>(y, x) && field.strength.at<float>(y, x) >= out.high_threshold) {
+                kept.at<uchar>(y, x) = 1;
+                queue.emplace_back(x, y);
+            }
+    while (!queue.empty()) {
+        const cv::Point p = queue.front();
+        queue.pop_front();
+        for (int k = 0; k < 8; ++k) {
+            const int qx = p.x + kDx[k], qy = p.y + kDy[k];
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h || kept.at<uchar>(qy, qx) || !candidate.at<uchar>(qy, qx)) continue;
+            if (field.sign.at<schar>(qy, qx) != field.sign.at<schar>(p.y, p.x)) continue;
+            if (field.strength.at<float>(qy, qx) < out.low_threshold) continue;
+            kept.at<uchar>(qy, qx) = 1;
+            queue.emplace_back(qx, qy);
+        }
+    }
+
+    // Linking: walk from line ends (one neighbour) first, then whatever is left (loops),
+    // preferring the neighbour that continues the current direction.
+    auto neighbours = [&](int x, int y, const cv::Mat& available) {
+        std::vector<cv::Point> n;
+        for (int k = 0; k < 8; ++k) {
+            const int qx = x + kDx[k], qy = y + kDy[k];
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h || !available.at<uchar>(qy, qx)) continue;
+            if (field.sign.at<schar>(qy, qx) != field.sign.at<schar>(y, x)) continue;
+            n.emplace_back(qx, qy);
+        }
+        return n;
+    };
+    const double min_length = options.min_length_px > 0 ? options.min_length_px : std::max(10.0, 0.03 * diagonal);
+    cv::Mat unvisited = kept.clone();
+    auto trace = [&](cv::Point start) {
+        DetectedFold fold;
+        fold.sign = field.sign.at<schar>(start.y, start.x);
+        cv::Point p = start, dir(0, 0);
+        double strength_sum = 0.0;
+        while (true) {
+            unvisited.at<uchar>(p.y, p.x) = 0;
+            const float o = offset.at<float>(p.y, p.x);
+            fold.points_px.emplace_back(p.x + o * field.nx.at<float>(p.y, p.x), p.y + o * field.ny.at<float>(p.y, p.x));
+            strength_sum += field.strength.at<float>(p.y, p.x);
+            const auto next = neighbours(p.x, p.y, unvisited);
+            if (next.empty()) break;
+            const cv::Point* best = &next[0];
+            double best_score = -1e9;
+            for (const cv::Point& q : next) {
+                const cv::Point step = q - p;
+                const double len = std::hypot(step.x, step.y);
+                const double score = (dir.x * step.x + dir.y * step.y) / (len * std::max(1.0, std::hypot(dir.x, dir.y))) - 0.1 * len;
+                if (score > best_score) {
+                    best_score = score;
+                    best = &q;
+                }
+            }
+            dir = *best - p;
+            p = *best;
+        }
+        fold.mean_strength = strength_sum / static_cast<double>(fold.points_px.size());
+        if (fold.length_px() >= min_length) out.folds.push_back(std::move(fold));
+    };
+    for (int pass = 0; pass < 2; ++pass)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (!unvisited.at<uchar>(y, x)) continue;
+                if (pass == 0 && neighbours(x, y, kept).size() != 1) continue;
+                trace(cv::Point(x, y));
+            }
+    return out;
+}
+
+Image draw_detected_folds(const Image& photo, const FoldDetection& detection) {
+    cv::Mat canvas = detail::to_bgr8(photo);
+    cv::Mat cloth;
+    detail::to_mat(detection.mask).convertTo(cloth, CV_8U, 255.0);
+    std::vector<std::vector<cv::Point>> outline;
+    cv::findContours(cloth > 127, outline, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    cv::drawContours(canvas, outline, -1, cv::Scalar(0, 230, 255), 1, cv::LINE_AA);
+    for (const DetectedFold& fold : detection.folds) {
+        std::vector<cv::Point> pts;
+        for (const auto& p : fold.points_px) pts.emplace_back(cvRound(p.x()), cvRound(p.y()));
+        const cv::Scalar colour = fold.sign > 0 ? cv::Scalar(0, 140, 255) : cv::Scalar(255, 255, 0);
+        cv::polylines(canvas, pts, false, colour, 2, cv::LINE_AA);
+    }
+    return detail::from_bgr8(canvas);
+}
+
+}  // namespace foldcast::compare

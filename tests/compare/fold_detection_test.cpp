@@ -1,0 +1,127 @@
+// Fold detection on synthetic ridges of known position, and the cloth mask on a real photo.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "test_paths.hpp"
+#include "compare_test_util.hpp"
+#include "foldcast/compare/folds.hpp"
+
+using namespace foldcast;
+using foldcast::test::constant_image;
+
+namespace {
+
+// Grey picture 0.5 + sum of Gaussian line profiles: amplitude > 0 bright crest, < 0 valley.
+// `distance(x, y)` gives the signed distance to each line (pixels); lines fade out near
+// their ends so that the ends are not artificial edges.
+struct SyntheticLine {
+    double amplitude;
+    double width_px;
+    std::function<double(double, double)> distance;
+    double y_from, y_to;
+};
+
+compare::Image draw(int w, int h, const std::vector<SyntheticLine>& lines, double noise = 0.0) {
+    compare::Image img = constant_image(w, h, 3, 0.5f);
+    unsigned state = 12345u;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double v = 0.5;
+            for (const auto& l : lines) {
+                if (y < l.y_from || y > l.y_to) continue;
+                const double d = l.distance(x, y);
+                v += l.amplitude * std::exp(-d * d / (2 * l.width_px * l.width_px));
+            }
+            state = state * 1664525u + 1013904223u;
+            v += noise * ((state >> 8) / 16777216.0 - 0.5) * 2.0;
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = static_cast<float>(v);
+        }
+    return img;
+}
+
+}  // namespace
+
+TEST(FoldDetection, StraightCrestAndValleyFoundWithinOnePixel) {
+    const double crest_x = 60.3, valley_x = 110.7;
+    const auto img = draw(160, 120,
+                          {{0.25, 2.5, [&](double x, double) { return x - crest_x; }, 10, 110},
+                           {-0.25, 3.0, [&](double x, double) { return x - valley_x; }, 10, 110}},
+                          0.01);
+    const auto det = compare::detect_folds(img, constant_image(160, 120, 1, 1.0f));
+    int crests = 0, valleys = 0;
+    for (const auto& f : det.folds) {
+        const double target = f.sign > 0 ? crest_x : valley_x;
+        (f.sign > 0 ? crests : valleys)++;
+        EXPECT_GT(f.length_px(), 60.0);
+        for (const auto& p : f.points_px) ASSERT_NEAR(p.x(), target, 1.0) << "sign " << f.sign << " at y " << p.y();
+    }
+    EXPECT_EQ(crests, 1);
+    EXPECT_EQ(valleys, 1);
+}
+
+TEST(FoldDetection, CurvedFoldLineFollowedWithinOneAndAHalfPixels) {
+    // A sagging fold line like drape's: y = 40 + 30 cos(pi (x - 100) / 160) for x in [30, 170].
+    auto curve_y = [](double x) { return 40.0 + 30.0 * std::cos(M_PI * (x - 100.0) / 160.0); };
+    auto distance = [&](double x, double y) {
+        // Vertical offset scaled by the curve's slope gives the normal distance to first order.
+        const double slope = -30.0 * M_PI / 160.0 * std::sin(M_PI * (x - 100.0) / 160.0);
+        return (y - curve_y(x)) / std::sqrt(1.0 + slope * slope);
+    };
+    const auto img = draw(200, 100, {{-0.3, 2.0, distance, 0, 99}}, 0.01);
+    compare::Image mask = constant_image(200, 100, 1, 0.0f);
+    for (int y = 0; y < 100; ++y)
+        for (int x = 30; x <= 170; ++x) mask.at(x, y, 0) = 1.0f;
+    const auto det = compare::detect_folds(img, mask);
+    ASSERT_EQ(det.folds.size(), 1u);
+    const auto& f = det.folds[0];
+    EXPECT_EQ(f.sign, -1);
+    EXPECT_GT(f.length_px(), 100.0);  // most of the 140 px wide band (minus the border margin)
+    for (const auto& p : f.points_px) ASSERT_NEAR(distance(p.x(), p.y()), 0.0, 1.5) << "at x " << p.x();
+}
+
+TEST(FoldDetection, FlatNoisyClothHasNoFoldsAndMaskIsRespected) {
+    const auto flat = draw(120, 90, {}, 0.02);
+    EXPECT_TRUE(compare::detect_folds(flat, constant_image(120, 90, 1, 1.0f)).folds.empty());
+    // A strong crest outside the mask is ignored.
+    const auto img = draw(120, 90, {{0.3, 2.0, [](double x, double) { return x - 30.0; }, 5, 85}});
+    compare::Image right_half = constant_image(120, 90, 1, 0.0f);
+    for (int y = 0; y < 90; ++y)
+        for (int x = 60; x < 120; ++x) right_half.at(x, y, 0) = 1.0f;
+    EXPECT_TRUE(compare::detect_folds(img, right_half).folds.empty());
+    EXPECT_EQ(compare::detect_folds(img, constant_image(120, 90, 1, 1.0f)).folds.size(), 1u);
+}
+
+TEST(FoldDetection, ShortLinesAreDropped) {
+    const auto img = draw(120, 90, {{0.3, 2.0, [](double x, double) { return x - 60.0; }, 40, 50}});
+    compare::FoldDetectionOptions options;
+    options.min_length_px = 30.0;
+    EXPECT_TRUE(compare::detect_folds(img, constant_image(120, 90, 1, 1.0f), options).folds.empty());
+}
+
+TEST(ClothMask, GrabCutSeparatesTheShirtFromTableAndRobot) {
+    // Half-size copy of two_point_shirt_s5.jpg (tests/data/photos/SOURCES.md).
+    const auto photo = compare::read_image(test::test_data("photos/two_point_shirt_s5_half.jpg"));
+    const compare::SupportPixels supports{{197.5, 50.0}, {357.5, 48.5}};
+    const auto mask = compare::estimate_cloth_mask(photo, supports);
+    EXPECT_EQ(mask.at(280, 100, 0), 1.0f);  // shirt, below the supports' midpoint
+    EXPECT_EQ(mask.at(230, 150, 0), 1.0f);  // shirt, lower left
+    EXPECT_EQ(mask.at(280, 260, 0), 0.0f);  // wooden table
+    EXPECT_EQ(mask.at(180, 160, 0), 0.0f);  // robot arm
+    EXPECT_EQ(mask.at(40, 40, 0), 0.0f);    // wall
+    double covered = 0;
+    for (float v : mask.values) covered += v;
+    EXPECT_GT(covered, 0.10 * photo.width * photo.height);
+    EXPECT_LT(covered, 0.30 * photo.width * photo.height);
+}
+
+TEST(ClothMask, SupportsOutsideTheImageAreRejected) {
+    const auto photo = constant_image(50, 40, 3, 0.5f);
+    EXPECT_THROW(compare::estimate_cloth_mask(photo, compare::SupportPixels{{10, 10}, {60, 10}}), InputError);
+    EXPECT_THROW(compare::parse_supports("1,2,3"), InputError);
+    EXPECT_THROW(compare::parse_supports("1,2,x,4"), InputError);
+    const auto s = compare::parse_supports("1.5, 2,3,4");
+    EXPECT_EQ(s.first.x(), 1.5);
+    EXPECT_EQ(s.second.y(), 4.0);
+}

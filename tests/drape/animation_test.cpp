@@ -1,0 +1,87 @@
+// Folds forming: supports moving inward over the frames.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+
+#include "foldcast/core/error.hpp"
+#include "foldcast/drape.hpp"
+
+namespace foldcast::drape {
+namespace {
+
+TEST(Animation, SupportsFixedInEveryFrameAndFramesFinite) {
+    const ClothParams p;
+    const GridSize grid{24, 20};
+    AnimationOptions opt;
+    opt.frames = 16;
+    opt.sway_amplitude_m = 0.03;
+    const Animation anim = animate(p, grid, opt);
+    ASSERT_EQ(anim.frame_count(), 16u);
+    EXPECT_EQ(anim.fps, 30.0);
+    EXPECT_NO_THROW(validate(anim, "animation"));
+    for (int f = 0; f < opt.frames; ++f) {
+        const double half = 0.5 * (p.width_m - 2.0 * frame_inset_m(p, opt, f));
+        const auto& frame = anim.frames[std::size_t(f)];
+        EXPECT_TRUE(frame[0].isApprox(Vec3f(float(-half), 0, 0), 1e-6f)) << "frame " << f;
+        EXPECT_TRUE(frame[std::size_t(grid.nu - 1)].isApprox(Vec3f(float(half), 0, 0), 1e-6f)) << "frame " << f;
+        for (const Vec3f& q : frame) ASSERT_TRUE(q.allFinite()) << "frame " << f;
+    }
+    EXPECT_EQ(frame_inset_m(p, opt, 0), 0.0);
+    EXPECT_EQ(frame_inset_m(p, opt, opt.frames - 1), p.inset_m);
+}
+
+TEST(Animation, StartsFlatAndEndsOnTheTargetGarment) {
+    const ClothParams p;
+    const GridSize grid{17, 13};
+    AnimationOptions opt;
+    opt.frames = 9;
+    const Animation anim = animate(p, grid, opt);
+    // Frame 0: supports at the full width, no slack: the flat cloth.
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const Vec3f& q = anim.frames[0][std::size_t(j * grid.nu + i)];
+            EXPECT_NEAR(q.x(), -0.5 * p.width_m + p.width_m * i / (grid.nu - 1), 1e-6);
+            EXPECT_NEAR(q.y(), -p.height_m * j / (grid.nv - 1), 1e-6);
+            EXPECT_EQ(q.z(), 0.0f);
+        }
+    const Garment last = build_garment(p, solve_folds(p), grid);
+    EXPECT_EQ(anim.frames.back(), last.mesh.positions);
+    EXPECT_EQ(anim.topology.triangles, last.mesh.topology.triangles);
+}
+
+TEST(Animation, SameBytesWhateverTheThreadCount) {
+    const ClothParams p;
+    AnimationOptions opt;
+    opt.frames = 12;
+    opt.sway_amplitude_m = 0.02;
+    std::atomic<int> calls{0};
+    Animation one, many;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = animate(p, {20, 20}, opt, [&](std::string_view, double) { ++calls; });
+    }
+    many = animate(p, {20, 20}, opt);
+    EXPECT_EQ(calls.load(), 12);
+    ASSERT_EQ(one.frames.size(), many.frames.size());
+    for (std::size_t f = 0; f < one.frames.size(); ++f)
+        EXPECT_EQ(std::memcmp(one.frames[f].data(), many.frames[f].data(), one.frames[f].size() * sizeof(Vec3f)), 0);
+}
+
+TEST(Animation, RejectsBadOptions) {
+    const ClothParams p;
+    AnimationOptions opt;
+    opt.frames = 0;
+    EXPECT_THROW(animate(p, {8, 8}, opt), InputError);
+    opt.frames = 4;
+    opt.fps = std::nan("");
+    EXPECT_THROW(animate(p, {8, 8}, opt), InputError);
+    opt.fps = 30;
+    opt.sway_amplitude_m = -1;
+    EXPECT_THROW(animate(p, {8, 8}, opt), InputError);
+}
+
+}  // namespace
+}  // namespace foldcast::drape
