@@ -12,7 +12,9 @@ struct Command {
 };
 
 Command looks_command(CLI::App& app);
+Command drape_command(CLI::App& app);
 Command diff_command(CLI::App& app);
 Command folds_command(CLI::App& app);
+Command overlay_command(CLI::App& app);
 
 }  // namespace foldcast::app

@@ -15,8 +15,10 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "foldcast 0.1.0");
     std::vector<foldcast::app::Command> commands;
     commands.push_back(foldcast::app::looks_command(app));
+    commands.push_back(foldcast::app::drape_command(app));
     commands.push_back(foldcast::app::diff_command(app));
     commands.push_back(foldcast::app::folds_command(app));
+    commands.push_back(foldcast::app::overlay_command(app));
 
     try {
         app.parse(argc, argv);

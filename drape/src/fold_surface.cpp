@@ -98,7 +98,7 @@ void grid_positions(const FoldSurface& surface, const ClothParams& params, GridS
     const double half = 0.5 * surface.span_m();
     const double pi_over_l = std::numbers::pi / surface.span_m();
     // Fine x samples shared by all rows; the supports get c = 0 exactly.
-    const std::size_t samples = std::max<std::size_t>(4 * nu, 512);
+    const std::size_t samples = std::max<std::size_t>(2 * nu, 256);
     std::vector<double> xs(samples + 1), cs(samples + 1);
     for (std::size_t k = 0; k <= samples; ++k) {
         xs[k] = -half + surface.span_m() * double(k) / double(samples);

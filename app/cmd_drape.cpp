@@ -1,0 +1,282 @@
+// foldcast drape: solve the folds of a cloth hanging from two supports, report them and
+// write the garment grid (OBJ/PLY) or the animation of the folds forming (PC2 + OBJ).
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "commands.hpp"
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/core/error.hpp"
+#include "foldcast/core/mesh_io.hpp"
+#include "foldcast/drape.hpp"
+#include "foldcast/looks.hpp"
+#include "progress_bar.hpp"
+
+namespace foldcast::app {
+
+namespace {
+namespace fs = std::filesystem;
+
+// Defaults: a typical cotton shirting panel, 0.5 m x 0.7 m, supports 0.1 m in from each side.
+struct DrapeOptions {
+    double width_m = 0.5, height_m = 0.7, inset_m = 0.1;
+    double thickness_mm = 0.3, young_mpa = 5.0, gsm = 150.0, weight_n_mm2 = 0.0;
+    double poisson = 0.3, load_constant = looks::default_load_constant();
+    std::string look, grid = "64x64", output;
+    int frames = 60;
+    double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0;
+    bool json = false, verbose = false, quiet = false;
+};
+
+struct Flags {  // which options the user gave (they override a look)
+    CLI::Option *thickness, *young, *gsm, *weight, *poisson, *load, *frames;
+};
+
+std::string number(double v) {
+    std::ostringstream s;
+    s.precision(6);
+    s << v;
+    return s.str();
+}
+
+void require(bool ok, const std::string& flag, double value, const std::string& allowed) {
+    if (!ok) throw InputError(flag + " " + number(value) + ": must be " + allowed);
+}
+void require_positive(const std::string& flag, double value) {
+    require(std::isfinite(value) && value > 0.0, flag, value, "a finite number > 0");
+}
+
+drape::GridSize parse_grid(const std::string& text) {
+    // "NUxNV": two decimal integers around one 'x', nothing else.
+    const auto x = text.find('x');
+    const auto parse = [](const char* first, const char* last, int& value) {
+        const auto [end, ec] = std::from_chars(first, last, value);
+        return ec == std::errc() && end == last && first != last;
+    };
+    drape::GridSize g{0, 0};
+    if (x != std::string::npos && parse(text.data(), text.data() + x, g.nu) &&
+        parse(text.data() + x + 1, text.data() + text.size(), g.nv) && g.nu >= 2 && g.nv >= 2 &&
+        g.nu <= 8192 && g.nv <= 8192)
+        return g;
+    throw InputError("--grid " + text + ": must be NUxNV with 2..8192 vertices each way, e.g. 64x64");
+}
+
+enum class OutputKind { none, obj, ply, pc2 };
+OutputKind output_kind(const std::string& path) {
+    if (path.empty()) return OutputKind::none;
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".obj") return OutputKind::obj;
+    if (ext == ".ply") return OutputKind::ply;
+    if (ext == ".pc2") return OutputKind::pc2;
+    throw InputError("-o " + path + ": unknown extension '" + ext +
+                     "' (allowed: .obj or .ply for the garment, .pc2 for the animation)");
+}
+
+drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
+    looks::Mechanics m;
+    m.thickness_mm = o.thickness_mm;
+    m.young_mpa = o.young_mpa;
+    m.gsm = o.gsm;
+    m.poisson = o.poisson;
+    m.load_constant = o.load_constant;
+    if (!o.look.empty()) {
+        const looks::Mechanics base = looks::Library::load_default().get(o.look).mechanics;
+        if (!flags.thickness->count()) m.thickness_mm = base.thickness_mm;
+        if (!flags.young->count()) m.young_mpa = base.young_mpa;
+        if (!flags.gsm->count()) m.gsm = base.gsm;
+        if (!flags.poisson->count()) m.poisson = base.poisson;
+        if (!flags.load->count()) m.load_constant = base.load_constant;
+    }
+    require_positive("--width-m", o.width_m);
+    require_positive("--height-m", o.height_m);
+    require(std::isfinite(o.inset_m) && o.inset_m >= 0.0 && o.inset_m < 0.5 * o.width_m, "--inset-m",
+            o.inset_m, ">= 0 and less than half the width (" + number(0.5 * o.width_m) + " m)");
+    require_positive("--thickness-mm", m.thickness_mm);
+    require_positive("--young-mpa", m.young_mpa);
+    if (flags.weight->count())
+        require_positive("--weight-n-mm2", o.weight_n_mm2);
+    else
+        require_positive("--gsm", m.gsm);
+    require(std::isfinite(m.poisson) && m.poisson >= 0.0 && m.poisson < 0.5, "--poisson", m.poisson,
+            ">= 0 and < 0.5");
+    require_positive("--load-constant", m.load_constant);
+    drape::ClothParams p = drape::cloth_from_look(m, o.width_m, o.height_m, o.inset_m);
+    if (flags.weight->count()) p.weight_n_per_m2 = o.weight_n_mm2 * 1e6;  // N/mm^2 -> N/m^2
+    return p;
+}
+
+const char* regime_name(drape::FoldSolution::Regime r) {
+    switch (r) {
+        case drape::FoldSolution::Regime::wrinkled: return "wrinkled";
+        case drape::FoldSolution::Regime::no_wrinkles: return "no_wrinkles";
+        case drape::FoldSolution::Regime::no_feasible_folds: return "no_feasible_folds";
+    }
+    return "?";
+}
+
+nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
+                      const drape::Garment& g, const DrapeOptions& o, drape::GridSize grid) {
+    nlohmann::json j = {
+        {"folds", s.folds},
+        {"Q", s.Q},
+        {"zmax_m", s.zmax_m},
+        {"amplitudes_m", s.amplitudes_m},
+        {"feasible_folds", s.feasible_folds},
+        {"residual", s.residual},
+        {"stretch_mean", g.stretch.mean},
+        {"stretch_max", g.stretch.max},
+        {"regime", regime_name(s.regime)},
+        {"explanation", s.explanation},
+        {"stress_ratio", s.stress_ratio},
+        {"slack_amplitude_m", s.slack_amplitude_m},
+        {"critical_stress_pa", drape::critical_stress_pa(p)},
+        {"cloth", {{"width_m", p.width_m}, {"height_m", p.height_m}, {"inset_m", p.inset_m},
+                   {"support_span_m", p.support_span_m()}, {"thickness_m", p.thickness_m},
+                   {"young_pa", p.young_pa}, {"poisson", p.poisson},
+                   {"weight_n_per_m2", p.weight_n_per_m2}, {"load_constant", p.load_constant}}},
+        {"grid", {grid.nu, grid.nv}},
+        {"look", o.look.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.look)},
+        {"output", o.output.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.output)}};
+    if (o.verbose) {
+        nlohmann::json candidates = nlohmann::json::array();
+        for (const auto& c : s.candidates)
+            candidates.push_back({{"folds", c.folds}, {"solved", c.solved}, {"feasible", c.feasible},
+                                  {"a0_m", c.lowest_amplitude_m}, {"an_m", c.top_amplitude_m},
+                                  {"zmax_m", c.zmax_m}, {"residual", c.residual},
+                                  {"why_not", c.why_not}});
+        j["candidates"] = candidates;
+    }
+    return j;
+}
+
+void print_text(const drape::ClothParams& p, const drape::FoldSolution& s, const drape::Garment& g,
+                const DrapeOptions& o) {
+    std::printf("cloth %.3g x %.3g m, supports %.3g m apart; t = %.3g mm, E = %.3g MPa, w = %.4g N/m^2\n",
+                p.width_m, p.height_m, p.support_span_m(), p.thickness_m * 1e3, p.young_pa * 1e-6,
+                p.weight_n_per_m2);
+    std::printf("%s\n", s.explanation.c_str());
+    std::printf("folds %d, Q %.6g, zmax %.4g m, S %.4g, residual %.2g\n", s.folds, s.Q, s.zmax_m,
+                s.stress_ratio, s.residual);
+    std::printf("amplitudes a_0..a_n (m):");
+    for (double a : s.amplitudes_m) std::printf(" %.4g", a);
+    std::printf("\nfeasible fold counts:");
+    for (int n : s.feasible_folds) std::printf(" %d", n);
+    std::printf("%s\ngrid stretch: mean %.3g, max %.3g\n", s.feasible_folds.empty() ? " none" : "",
+                g.stretch.mean, g.stretch.max);
+    if (o.verbose)
+        for (const auto& c : s.candidates)
+            std::printf("  n=%-3d %-10s a_0 %.4g a_n %.4g zmax %.4g residual %.2g %s\n", c.folds,
+                        c.feasible ? "feasible" : (c.solved ? "solved" : "no"), c.lowest_amplitude_m,
+                        c.top_amplitude_m, c.zmax_m, c.residual, c.why_not.c_str());
+}
+
+int run_drape(const DrapeOptions& o, const Flags& flags) {
+    const OutputKind kind = output_kind(o.output);
+    const drape::ClothParams params = cloth_params(o, flags);
+    const drape::GridSize grid = parse_grid(o.grid);
+    require(o.frames >= 1 && o.frames <= 100000, "--frames", o.frames, "1..100000");
+    require(std::isfinite(o.fps) && o.fps > 0.0 && o.fps <= 1000.0, "--fps", o.fps, "> 0 and <= 1000");
+    require(std::isfinite(o.sway_m) && o.sway_m >= 0.0, "--sway-m", o.sway_m, "a finite number >= 0");
+    require_positive("--sway-period-s", o.sway_period_s);
+    if (kind != OutputKind::none) {
+        check_writable(o.output);
+        if (kind == OutputKind::pc2) check_writable(fs::path(o.output).replace_extension(".obj"));
+    }
+
+    const drape::FoldSolution solution = drape::solve_folds(params);
+    drape::Garment garment = drape::build_garment(params, solution, grid);
+
+    drape::AnimationOptions anim_options;
+    anim_options.frames = o.frames;
+    anim_options.fps = o.fps;
+    anim_options.sway_amplitude_m = o.sway_m;
+    anim_options.sway_period_s = o.sway_period_s;
+    const bool animated = kind == OutputKind::pc2 || o.sway_m > 0.0;
+    std::optional<Animation> animation;
+    if (animated) {
+        ProgressBar bar(o.quiet || o.json);
+        animation = drape::animate(params, grid, anim_options, bar.callback());
+    }
+
+    if (kind == OutputKind::pc2) {
+        write_pc2_animation(o.output, *animation);
+    } else if (kind != OutputKind::none) {
+        Mesh mesh = garment.mesh;
+        if (animation) {  // the last frame, sway included
+            mesh.positions = animation->frames.back();
+            mesh.normals = vertex_normals(mesh.positions, mesh.topology.triangles);
+        }
+        if (kind == OutputKind::obj)
+            write_obj(o.output, mesh);
+        else
+            write_ply(o.output, mesh);
+    }
+
+    if (o.json) {
+        nlohmann::json j = report(params, solution, garment, o, grid);
+        if (animation) j["frames"] = animation->frame_count(), j["fps"] = animation->fps;
+        std::cout << j.dump(2) << "\n";
+    } else {
+        print_text(params, solution, garment, o);
+        if (kind == OutputKind::pc2)
+            std::printf("wrote %s (%zu frames at %g fps) and %s\n", o.output.c_str(),
+                        animation->frame_count(), animation->fps,
+                        fs::path(o.output).replace_extension(".obj").c_str());
+        else if (kind != OutputKind::none)
+            std::printf("wrote %s (%dx%d grid)\n", o.output.c_str(), grid.nu, grid.nv);
+    }
+    return 0;
+}
+}  // namespace
+
+Command drape_command(CLI::App& app) {
+    auto o = std::make_shared<DrapeOptions>();
+    auto flags = std::make_shared<Flags>();
+    CLI::App* sub = app.add_subcommand(
+        "drape",
+        "Predict the folds of a cloth hanging from two supports (tension-field model, "
+        "docs/drape.md) and write the garment grid or the animation of the folds forming.\n"
+        "Defaults: a cotton shirting panel 0.5 m x 0.7 m, supports 0.1 m in from each side, "
+        "0.3 mm thick, E 5 MPa, 150 g/m^2, Poisson 0.3.");
+    sub->add_option("--width-m", o->width_m, "Cloth width L: top edge length (m)")->capture_default_str();
+    sub->add_option("--height-m", o->height_m, "Cloth height h (m)")->capture_default_str();
+    sub->add_option("--inset-m", o->inset_m,
+                    "Support inset d on each side; supports are L - 2d apart (m), 0 <= d < L/2")
+        ->capture_default_str();
+    sub->add_option("--look", o->look, "Fabric look for the mechanics (see `foldcast looks`); "
+                                       "the flags below override its values");
+    flags->thickness = sub->add_option("--thickness-mm", o->thickness_mm, "Thickness t (mm)")->capture_default_str();
+    flags->young = sub->add_option("--young-mpa", o->young_mpa, "Young's modulus E (MPa)")->capture_default_str();
+    flags->gsm = sub->add_option("--gsm", o->gsm, "Fabric weight (g/m^2)")->capture_default_str();
+    flags->weight = sub->add_option("--weight-n-mm2", o->weight_n_mm2,
+                                    "Weight per area w (N/mm^2), instead of --gsm");
+    flags->weight->excludes(flags->gsm);
+    flags->poisson = sub->add_option("--poisson", o->poisson, "Poisson's ratio nu")->capture_default_str();
+    flags->load = sub->add_option("--load-constant", o->load_constant,
+                                  "Load constant c (default 23.9 pi^2 / 12)")
+                      ->capture_default_str();
+    sub->add_option("--grid", o->grid, "Material grid NUxNV (vertices across x down)")->capture_default_str();
+    flags->frames = sub->add_option("--frames", o->frames,
+                                    "Animation frames, supports moving in from d = 0 (for -o x.pc2 or --sway-m)")
+                        ->capture_default_str();
+    sub->add_option("--fps", o->fps, "Animation frame rate")->capture_default_str();
+    sub->add_option("--sway-m", o->sway_m, "Sway amplitude at the hem on top of the animation (m)")
+        ->capture_default_str();
+    sub->add_option("--sway-period-s", o->sway_period_s, "Sway period (s)")->capture_default_str();
+    sub->add_flag("--json", o->json, "Print the result as one JSON object");
+    sub->add_flag("--verbose", o->verbose, "Also report every fold count tried");
+    sub->add_flag("-q,--quiet", o->quiet, "No progress bar");
+    sub->add_option("-o,--output", o->output,
+                    "Write x.obj or x.ply (garment, last frame) or x.pc2 (animation + x.obj beside)");
+    return Command{sub, [o, flags] { return run_drape(*o, *flags); }};
+}
+
+}  // namespace foldcast::app

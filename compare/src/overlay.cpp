@@ -1,0 +1,178 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+
+#include "foldcast/compare/overlay.hpp"
+#include "mat_convert.hpp"
+
+namespace foldcast::compare {
+
+Eigen::Vector2d ClothToImage::operator()(double x_m, double y_m) const {
+    const Eigen::Vector3d p = h * Eigen::Vector3d(x_m, y_m, 1.0);
+    return p.head<2>() / p.z();
+}
+
+ClothToImage similarity_from_supports(const SupportPixels& s, double span_m) {
+    if (!(span_m > 0)) throw InputError("support span must be > 0 m (width - 2 x inset), got " + std::to_string(span_m));
+    const Eigen::Vector2d d = s.second - s.first;
+    const double scale = d.norm() / span_m;
+    const Eigen::Vector2d ex = d.normalized();           // cloth +x in pixels
+    const Eigen::Vector2d ey(ex.y(), -ex.x());            // cloth +y (up): picture "up" when supports are level
+    const Eigen::Vector2d mid = 0.5 * (s.first + s.second);
+    ClothToImage m;
+    m.h << scale * ex.x(), scale * ey.x(), mid.x(),  //
+        scale * ex.y(), scale * ey.y(), mid.y(),     //
+        0, 0, 1;
+    m.px_per_m = scale;
+    return m;
+}
+
+ClothToImage homography_from_corners(const std::array<Eigen::Vector2d, 4>& c, double span_m, double height_m) {
+    const double l = span_m, hh = height_m;
+    const cv::Point2f src[4] = {{static_cast<float>(-l / 2), 0.0f},
+                                {static_cast<float>(l / 2), 0.0f},
+                                {static_cast<float>(l / 2), static_cast<float>(-hh)},
+                                {static_cast<float>(-l / 2), static_cast<float>(-hh)}};
+    cv::Point2f dst[4];
+    for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(static_cast<float>(c[i].x()), static_cast<float>(c[i].y()));
+    // Degenerate quadrilaterals (three points on a line) have no homography.
+    for (int i = 0; i < 4; ++i) {
+        const cv::Point2f a = dst[(i + 1) % 4] - dst[i], b = dst[(i + 2) % 4] - dst[i];
+        if (std::abs(a.cross(b)) < 1.0f)
+            throw InputError("--corners: three of the four points are (nearly) on one line; give support 1, support 2, "
+                             "hem below support 2, hem below support 1");
+    }
+    const cv::Mat H = cv::getPerspectiveTransform(src, dst);
+    ClothToImage m;
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) m.h(r, k) = H.at<double>(r, k);
+    m.px_per_m = (c[1] - c[0]).norm() / l;
+    return m;
+}
+
+std::vector<PredictedLine> project_fold_lines(const std::vector<drape::FoldLine>& lines, int folds,
+                                              const ClothToImage& map) {
+    std::vector<PredictedLine> out;
+    for (const auto& line : lines) {
+        PredictedLine p;
+        p.index = line.index;
+        p.sign = line.sign;
+        p.top_edge = line.index == folds;
+        for (const auto& q : line.points) p.points_px.push_back(map(q.x(), q.y()));  // orthographic: z dropped
+        out.push_back(std::move(p));
+    }
+    return out;
+}
+
+namespace {
+
+std::vector<cv::Point> to_fixed(const std::vector<Eigen::Vector2d>& pts) {
+    // 4 fractional bits for anti-aliased sub-pixel drawing.
+    std::vector<cv::Point> out;
+    for (const auto& p : pts) out.emplace_back(cvRound(p.x() * 16), cvRound(p.y() * 16));
+    return out;
+}
+
+void dashed(cv::Mat& canvas, const std::vector<Eigen::Vector2d>& pts, double dash_px, const cv::Scalar& colour, int thickness) {
+    if (pts.size() < 2 || !(dash_px > 0)) return;
+    std::vector<double> arc(pts.size(), 0.0);  // cumulative length at each vertex
+    for (size_t i = 1; i < pts.size(); ++i) arc[i] = arc[i - 1] + (pts[i] - pts[i - 1]).norm();
+    auto at = [&](double s) {
+        const size_t i = std::min<size_t>(std::upper_bound(arc.begin(), arc.end(), s) - arc.begin(), pts.size() - 1);
+        const size_t j = i == 0 ? 1 : i;
+        const double seg = arc[j] - arc[j - 1];
+        const double t = seg > 0 ? std::clamp((s - arc[j - 1]) / seg, 0.0, 1.0) : 0.0;
+        return Eigen::Vector2d(pts[j - 1] + t * (pts[j] - pts[j - 1]));
+    };
+    const int dashes = static_cast<int>(std::ceil(arc.back() / (2 * dash_px)));
+    for (int k = 0; k < dashes; ++k) {
+        const double s0 = 2 * dash_px * k, s1 = std::min(arc.back(), s0 + dash_px);
+        std::vector<Eigen::Vector2d> piece{at(s0)};
+        for (size_t i = 0; i < pts.size(); ++i)
+            if (arc[i] > s0 && arc[i] < s1) piece.push_back(pts[i]);
+        piece.push_back(at(s1));
+        cv::polylines(canvas, to_fixed(piece), false, colour, thickness, cv::LINE_AA, 4);
+    }
+}
+
+}  // namespace
+
+Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, const SupportPixels& supports,
+                   const std::vector<std::string>& legend) {
+    cv::Mat canvas = detail::to_bgr8(photo);
+    const double diag = std::hypot(canvas.cols, canvas.rows);
+    const int thick = std::max(2, static_cast<int>(std::lround(diag / 450.0)));
+    const cv::Scalar black(0, 0, 0), white(255, 255, 255);
+    for (const auto& line : lines) {
+        const auto fixed = to_fixed(line.points_px);
+        if (line.sign > 0) {
+            cv::polylines(canvas, fixed, false, white, thick + 2, cv::LINE_AA, 4);  // halo
+            cv::polylines(canvas, fixed, false, black, thick, cv::LINE_AA, 4);
+        } else {
+            const double dash = 4.0 * thick + 4.0;
+            dashed(canvas, line.points_px, dash, black, thick + 2);
+            dashed(canvas, line.points_px, dash, white, thick);
+        }
+    }
+    const int r = 3 * thick + 3;
+    for (const auto& s : {supports.first, supports.second}) {
+        const cv::Point c(cvRound(s.x()), cvRound(s.y()));
+        cv::circle(canvas, c, r + 1, black, thick + 2, cv::LINE_AA);
+        cv::circle(canvas, c, r, cv::Scalar(255, 0, 255), thick, cv::LINE_AA);
+        cv::drawMarker(canvas, c, cv::Scalar(255, 0, 255), cv::MARKER_CROSS, r, std::max(1, thick / 2), cv::LINE_AA);
+    }
+
+    // Legend: a white box with the key and the numbers, top-left.
+    const double font_scale = std::max(0.4, diag / 2600.0);
+    const int font = cv::FONT_HERSHEY_SIMPLEX, text_thick = font_scale > 0.6 ? 2 : 1;
+    int baseline = 0;
+    const int line_h = cv::getTextSize("Ag", font, font_scale, text_thick, &baseline).height + baseline + 6;
+    const int key_w = static_cast<int>(40 * font_scale / 0.5);
+    int text_w = 0;
+    std::vector<std::string> rows = legend;
+    rows.insert(rows.begin(), {"crest (fold towards viewer)", "valley (fold away from viewer)", "support"});
+    for (const auto& t : rows) text_w = std::max(text_w, cv::getTextSize(t, font, font_scale, text_thick, &baseline).width);
+    const int pad = 8;
+    const int box_w = std::min(canvas.cols - 2 * pad, key_w + text_w + 3 * pad);
+    const int box_h = std::min(canvas.rows - 2 * pad, static_cast<int>(rows.size()) * line_h + 2 * pad);
+    // The corner that hides the fewest line points and supports.
+    cv::Rect box;
+    int fewest = -1;
+    for (const cv::Point corner : {cv::Point(pad, canvas.rows - pad - box_h), cv::Point(pad, pad),
+                                   cv::Point(canvas.cols - pad - box_w, canvas.rows - pad - box_h),
+                                   cv::Point(canvas.cols - pad - box_w, pad)}) {
+        const cv::Rect candidate(corner, cv::Size(box_w, box_h));
+        int hidden = 0;
+        for (const auto& line : lines)
+            for (const auto& p : line.points_px) hidden += candidate.contains(cv::Point(cvRound(p.x()), cvRound(p.y())));
+        for (const auto& p : {supports.first, supports.second})
+            hidden += 1000 * candidate.contains(cv::Point(cvRound(p.x()), cvRound(p.y())));
+        if (fewest < 0 || hidden < fewest) {
+            fewest = hidden;
+            box = candidate;
+        }
+    }
+    cv::Mat roi = canvas(box);
+    cv::Mat tint(roi.size(), roi.type(), white);
+    cv::addWeighted(roi, 0.2, tint, 0.8, 0.0, roi);
+    cv::rectangle(canvas, box, black, 1);
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const int y = box.y + pad + static_cast<int>(i) * line_h + line_h / 2;
+        const int x0 = box.x + pad, x1 = x0 + key_w;
+        if (i == 0) {
+            cv::line(canvas, {x0, y}, {x1, y}, white, thick + 2, cv::LINE_AA);
+            cv::line(canvas, {x0, y}, {x1, y}, black, thick, cv::LINE_AA);
+        } else if (i == 1) {
+            dashed(canvas, {Eigen::Vector2d(x0, y), Eigen::Vector2d(x1, y)}, key_w / 5.0, black, thick + 2);
+            dashed(canvas, {Eigen::Vector2d(x0, y), Eigen::Vector2d(x1, y)}, key_w / 5.0, white, thick);
+        } else if (i == 2) {
+            cv::circle(canvas, {(x0 + x1) / 2, y}, line_h / 3, cv::Scalar(255, 0, 255), thick, cv::LINE_AA);
+        }
+        const int tx = i < 3 ? x1 + pad : x0;
+        cv::putText(canvas, rows[i], {tx, y + line_h / 2 - baseline - 2}, font, font_scale, black, text_thick, cv::LINE_AA);
+    }
+    return detail::from_bgr8(canvas);
+}
+
+}  // namespace foldcast::compare

@@ -1,0 +1,144 @@
+// `foldcast drape`: JSON report, outputs (OBJ, PLY, PC2 round trip) and exit status 2 with
+// one line naming the flag for bad input, leaving nothing behind.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "foldcast/core/mesh_io.hpp"
+#include "foldcast/drape.hpp"
+#include "test_paths.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+Result run(const std::string& arguments, const fs::path& dir) {
+    const fs::path err = dir / "stderr.txt";
+    const std::string command = "cd '" + dir.string() + "' && " + std::string(FOLDCAST_BINARY_DIR) +
+                                "/foldcast drape --quiet " + arguments + " 2> '" + err.string() + "'";
+    Result result;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer{};
+    size_t n = 0;
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.out.append(buffer.data(), n);
+    const int raw = ::pclose(pipe);
+    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    FILE* f = std::fopen(err.c_str(), "r");
+    if (f) {
+        while ((n = std::fread(buffer.data(), 1, buffer.size(), f)) > 0) result.err.append(buffer.data(), n);
+        std::fclose(f);
+    }
+    fs::remove(err);
+    return result;
+}
+
+std::size_t file_count(const fs::path& dir) {
+    return std::size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+}  // namespace
+
+TEST(DrapeCli, JsonReportMatchesTheLibrary) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const Result r = run("--json --verbose --width-m 0.6 --height-m 0.9 --inset-m 0.12 --thickness-mm 0.25 "
+                         "--young-mpa 4 --gsm 180 --grid 24x30",
+                         dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    foldcast::looks::Mechanics m;
+    m.thickness_mm = 0.25;
+    m.young_mpa = 4;
+    m.gsm = 180;
+    const auto s = foldcast::drape::solve_folds(foldcast::drape::cloth_from_look(m, 0.6, 0.9, 0.12));
+    EXPECT_EQ(j["folds"].get<int>(), s.folds);
+    EXPECT_GT(s.folds, 0);
+    EXPECT_DOUBLE_EQ(j["Q"].get<double>(), s.Q);
+    EXPECT_DOUBLE_EQ(j["zmax_m"].get<double>(), s.zmax_m);
+    EXPECT_EQ(j["amplitudes_m"].get<std::vector<double>>(), s.amplitudes_m);
+    EXPECT_EQ(j["feasible_folds"].get<std::vector<int>>(), s.feasible_folds);
+    EXPECT_LE(j["residual"].get<double>(), 1e-9);
+    EXPECT_GT(j["stretch_max"].get<double>(), j["stretch_mean"].get<double>());
+    EXPECT_EQ(j["regime"], "wrinkled");
+    EXPECT_EQ(j["candidates"].size(), s.candidates.size());
+    EXPECT_EQ(file_count(dir), 0u);  // no -o: nothing written
+}
+
+TEST(DrapeCli, DefaultsWriteAGarmentObjAndPly) {
+    const fs::path dir = foldcast::test::temp_dir();
+    ASSERT_EQ(run("-o garment.obj", dir).status, 0);
+    const foldcast::Mesh obj = foldcast::read_obj(dir / "garment.obj");
+    EXPECT_EQ(obj.positions.size(), 64u * 64u);
+    EXPECT_EQ(obj.topology.uvs.size(), obj.positions.size());
+    EXPECT_NEAR(obj.topology.uvs.back().x(), 0.5, 1e-6);  // UVs in metres
+    ASSERT_EQ(run("-o garment.ply --grid 10x12", dir).status, 0);
+    EXPECT_GT(fs::file_size(dir / "garment.ply"), 10u * 12u * 32u);
+}
+
+TEST(DrapeCli, Pc2RoundTrip) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const Result r = run("-o anim.pc2 --frames 7 --fps 24 --grid 9x11 --sway-m 0.01", dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const foldcast::Animation anim = foldcast::read_pc2_animation(dir / "anim.pc2", dir / "anim.obj", 24.0);
+    ASSERT_EQ(anim.frame_count(), 7u);
+    ASSERT_EQ(anim.vertex_count(), 99u);
+    foldcast::drape::AnimationOptions options;
+    options.frames = 7;
+    options.fps = 24;
+    options.sway_amplitude_m = 0.01;
+    // The CLI's defaults: a cotton shirting panel (looks::Mechanics defaults), 0.5 x 0.7 m, inset 0.1.
+    const auto params = foldcast::drape::cloth_from_look(foldcast::looks::Mechanics{}, 0.5, 0.7, 0.1);
+    const foldcast::Animation expected = foldcast::drape::animate(params, {9, 11}, options);
+    for (std::size_t f = 0; f < 7; ++f) EXPECT_TRUE(anim.frames[f] == expected.frames[f]) << "frame " << f;
+    EXPECT_EQ(anim.topology.triangles, expected.topology.triangles);
+}
+
+TEST(DrapeCli, BadInputExitsTwoNamingTheFlagAndWritesNothing) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const std::pair<const char*, const char*> cases[] = {
+        {"--width-m 0 -o g.obj", "--width-m"},
+        {"--height-m -0.5 -o g.obj", "--height-m"},
+        {"--inset-m 0.25 -o g.obj", "--inset-m"},
+        {"--thickness-mm 0 -o g.obj", "--thickness-mm"},
+        {"--young-mpa nan -o g.obj", "--young-mpa"},
+        {"--gsm inf -o g.obj", "--gsm"},
+        {"--weight-n-mm2 -1 -o g.obj", "--weight-n-mm2"},
+        {"--gsm 100 --weight-n-mm2 1e-6 -o g.obj", "--weight-n-mm2"},
+        {"--poisson 0.5 -o g.obj", "--poisson"},
+        {"--grid 1x9 -o g.obj", "--grid"},
+        {"--frames 0 -o g.pc2", "--frames"},
+        {"--no-such-flag 1 -o g.obj", "--no-such-flag"},
+        {"-o g.stl", ".stl"},
+        {"-o missing_dir/g.obj", "missing_dir"},
+        {"--look no_such_look -o g.obj", "no_such_look"},
+    };
+    for (const auto& [args, named] : cases) {
+        const Result r = run(args, dir);
+        EXPECT_EQ(r.status, 2) << args;
+        EXPECT_NE(r.err.find(named), std::string::npos) << args << ": " << r.err;
+        EXPECT_TRUE(r.out.empty()) << args;
+        EXPECT_EQ(file_count(dir), 0u) << args;
+    }
+}
+
+TEST(DrapeCli, LookGivesTheMechanicsAndFlagsOverrideIt) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const Result look = run("--look denim --json", dir);
+    ASSERT_EQ(look.status, 0) << look.err;
+    const auto j = nlohmann::json::parse(look.out);
+    EXPECT_EQ(j["look"], "denim");
+    const Result overridden = run("--look denim --thickness-mm 0.123 --json", dir);
+    ASSERT_EQ(overridden.status, 0);
+    const auto k = nlohmann::json::parse(overridden.out);
+    EXPECT_DOUBLE_EQ(k["cloth"]["thickness_m"].get<double>(), 0.123e-3);
+    EXPECT_EQ(k["cloth"]["young_pa"], j["cloth"]["young_pa"]);
+    EXPECT_NE(k["cloth"]["thickness_m"], j["cloth"]["thickness_m"]);
+}
