@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "foldcast/core/error.hpp"
+#include "foldcast/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape.hpp"
 #include "foldcast/render.hpp"
@@ -125,9 +126,7 @@ GarmentData load_garment(const SceneSpec& scene, const ProgressFn& progress) {
             return from_animation(read_pc2_animation(spec.path, topo, scene.turntable_fps), spec.scale);
         }
         case GarmentSpec::Source::fca:
-            throw InputError("garment.path " + spec.path.string() +
-                             ": .fca files need the codec module, which this build does not have yet; "
-                             "decode it to .pc2 with another build or use source = \"drape\"");
+            return from_animation(codec::decode(codec::read_fca(spec.path), spec.path.string()), spec.scale);
     }
     throw InputError("garment.source: unknown");
 }

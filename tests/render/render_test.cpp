@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "foldcast/codec.hpp"
+#include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "render_fixtures.hpp"
 
@@ -111,6 +113,26 @@ TEST(Render, ExrIsLinearFloat) {
 TEST(Render, RejectsUnknownOutputFormat) {
     const SceneSpec s = test::cloth_scene(8, 8, 1);
     EXPECT_THROW(write_render(test::temp_dir() / "out.jpg", render_still(s, {}), s), InputError);
+}
+
+TEST(Render, FcaGarmentRendersLikeItsSourceMesh) {
+    const auto dir = test::temp_dir();
+    SceneSpec obj = test::cloth_scene(32, 24, 2);
+    const Mesh mesh = read_obj(obj.garment.path);
+    Animation anim;
+    anim.topology = mesh.topology;
+    anim.frames = {mesh.positions, mesh.positions};
+    write_file_atomically(dir / "cloth.fca", codec::encode(anim, {}));
+    SceneSpec fca = obj;
+    fca.garment.source = GarmentSpec::Source::fca;
+    fca.garment.path = dir / "cloth.fca";
+    fca.garment.frame = 1;
+    const RenderResult a = render_still(obj, {}), b = render_still(fca, {});
+    double diff = 0.0;
+    for (std::size_t i = 0; i < a.beauty.pixels.size(); ++i) diff += std::abs(a.beauty.pixels[i] - b.beauty.pixels[i]);
+    EXPECT_LT(diff / a.beauty.pixels.size(), 0.02);  // lossy codec: nearly the same image
+    fca.garment.frame = 2;
+    EXPECT_THROW(render_still(fca, {}), InputError);  // names the frame range
 }
 
 std::string run(const std::string& cmd, int* status) {
