@@ -1,5 +1,6 @@
 // foldcast drape: solve the folds of a cloth hanging from two supports, report them and
 // write the garment grid (OBJ/PLY) or the animation of the folds forming (PC2 + OBJ).
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -7,7 +8,6 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <string>
 
@@ -54,12 +54,17 @@ void require_positive(const std::string& flag, double value) {
 }
 
 drape::GridSize parse_grid(const std::string& text) {
-    static const std::regex pattern("([0-9]{1,5})x([0-9]{1,5})");
-    std::smatch m;
-    if (std::regex_match(text, m, pattern)) {
-        const drape::GridSize g{std::stoi(m[1]), std::stoi(m[2])};
-        if (g.nu >= 2 && g.nv >= 2 && g.nu <= 8192 && g.nv <= 8192) return g;
-    }
+    // "NUxNV": two decimal integers around one 'x', nothing else.
+    const auto x = text.find('x');
+    const auto parse = [](const char* first, const char* last, int& value) {
+        const auto [end, ec] = std::from_chars(first, last, value);
+        return ec == std::errc() && end == last && first != last;
+    };
+    drape::GridSize g{0, 0};
+    if (x != std::string::npos && parse(text.data(), text.data() + x, g.nu) &&
+        parse(text.data() + x + 1, text.data() + text.size(), g.nv) && g.nu >= 2 && g.nv >= 2 &&
+        g.nu <= 8192 && g.nv <= 8192)
+        return g;
     throw InputError("--grid " + text + ": must be NUxNV with 2..8192 vertices each way, e.g. 64x64");
 }
 

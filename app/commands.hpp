@@ -16,5 +16,9 @@ Command drape_command(CLI::App& app);
 Command diff_command(CLI::App& app);
 Command folds_command(CLI::App& app);
 Command overlay_command(CLI::App& app);
+Command encode_command(CLI::App& app);
+Command decode_command(CLI::App& app);
+Command render_command(CLI::App& app);
+Command turntable_command(CLI::App& app);
 
 }  // namespace foldcast::app

@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::diff_command(app));
     commands.push_back(foldcast::app::folds_command(app));
     commands.push_back(foldcast::app::overlay_command(app));
+    commands.push_back(foldcast::app::encode_command(app));
+    commands.push_back(foldcast::app::decode_command(app));
+    commands.push_back(foldcast::app::render_command(app));
+    commands.push_back(foldcast::app::turntable_command(app));
 
     try {
         app.parse(argc, argv);

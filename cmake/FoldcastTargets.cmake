@@ -6,6 +6,12 @@ target_compile_options(foldcast_options INTERFACE -Wall -Wextra -Wpedantic)
 if(FOLDCAST_WERROR)
   target_compile_options(foldcast_options INTERFACE -Werror)
 endif()
+if(FOLDCAST_FUZZ)
+  # Instrument every library for libFuzzer's coverage; fuzz targets add -fsanitize=fuzzer.
+  target_compile_options(foldcast_options INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  target_link_options(foldcast_options INTERFACE -fsanitize=address,undefined)
+endif()
 if(FOLDCAST_SANITIZE)
   target_compile_options(foldcast_options INTERFACE
     -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)

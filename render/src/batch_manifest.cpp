@@ -1,6 +1,7 @@
 #include <toml++/toml.h>
 
-#include <regex>
+#include <charconv>
+#include <cctype>
 #include <set>
 #include <string>
 
@@ -29,10 +30,16 @@ void reject_unknown_keys(const toml::table& table, const std::set<std::string>& 
 }
 
 // Names become directory and file names: keep them portable and unable to escape.
+bool portable_name(const std::string& name) {
+    if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == '-') return false;
+    for (char c : name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-')) return false;
+    return true;
+}
+
 std::string checked_name(const toml::node& node, const fs::path& file, const std::string& key) {
     const auto* text = node.as_string();
-    static const std::regex pattern("[A-Za-z0-9_][A-Za-z0-9_.-]*");
-    if (text == nullptr || !std::regex_match(text->get(), pattern) || text->get().size() > 64)
+    if (text == nullptr || !portable_name(text->get()))
         throw InputError(where(file, node) + ": '" + key +
                          "' must be a string of letters, digits, '_', '.' or '-' (at most 64, not starting with '.' or '-')");
     return text->get();
@@ -57,12 +64,12 @@ T number_in(const toml::table& table, const std::string& key, T fallback, double
 }  // namespace
 
 Shard parse_shard(const std::string& text) {
-    static const std::regex pattern("([0-9]{1,6})/([0-9]{1,6})");
-    std::smatch m;
-    if (std::regex_match(text, m, pattern)) {
-        const int index = std::stoi(m[1]);
-        const int count = std::stoi(m[2]);
-        if (count >= 1 && index < count) return {index, count};
+    int index = -1, count = 0;
+    const char* end = text.data() + text.size();
+    auto [slash, e1] = std::from_chars(text.data(), end, index);
+    if (e1 == std::errc() && slash != end && *slash == '/') {
+        auto [rest, e2] = std::from_chars(slash + 1, end, count);
+        if (e2 == std::errc() && rest == end && index >= 0 && count >= 1 && index < count) return {index, count};
     }
     throw InputError("--shard '" + text + "': expected I/N with 0 <= I < N, e.g. 0/4 .. 3/4");
 }

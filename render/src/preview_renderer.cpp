@@ -175,7 +175,7 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
     glBindFramebuffer(GL_FRAMEBUFFER, s.msaa_fbo);
     glGenRenderbuffers(1, &s.msaa_colour);
     glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_colour);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_RGBA8, width, height);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_RGBA32F, width, height);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.msaa_colour);
     glGenRenderbuffers(1, &s.msaa_depth);
     glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_depth);
@@ -186,7 +186,7 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
     glBindFramebuffer(GL_FRAMEBUFFER, s.resolve_fbo);
     glGenRenderbuffers(1, &s.resolve_colour);
     glBindRenderbuffer(GL_RENDERBUFFER, s.resolve_colour);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, width, height);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.resolve_colour);
 
     glGenFramebuffers(1, &s.distance_fbo);
@@ -303,11 +303,7 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     glViewport(0, 0, s.width, s.height);
     glEnable(GL_MULTISAMPLE);
     const float alpha = scene.transparent_background ? 0.0f : 1.0f;
-    auto srgb = [](float c) {
-        c = std::clamp(c, 0.0f, 1.0f);
-        return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-    };
-    glClearColor(srgb(scene.background.x()), srgb(scene.background.y()), srgb(scene.background.z()), alpha);
+    glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), alpha);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     const GLuint p = s.shade_program;
     glUseProgram(p);
@@ -352,11 +348,11 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     PreviewImage image;
     image.width = s.width;
     image.height = s.height;
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(s.width) * s.height * 4);
+    std::vector<float> rgba(static_cast<std::size_t>(s.width) * s.height * 4);
     std::vector<float> distance(static_cast<std::size_t>(s.width) * s.height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, s.resolve_fbo);
-    glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, rgba.data());
     glBindFramebuffer(GL_READ_FRAMEBUFFER, s.distance_fbo);
     glReadPixels(0, 0, s.width, s.height, GL_RED, GL_FLOAT, distance.data());
     check_gl("preview rendering");

@@ -21,6 +21,7 @@ void main() {
 
 // Lambert + Charlie sheen (Estevez-Kulla, Neubelt visibility) + GGX (height-correlated
 // Smith), key-light shadows by 3x3 PCF.  Cloth is two-sided: normals face the viewer.
+// Writes linear radiance into a float target, like the path tracer's beauty image.
 inline constexpr const char* kShade = R"(#version 330 core
 in vec3 v_position;
 in vec3 v_normal;
@@ -68,10 +69,6 @@ float charlie_d(float ndh, float r) {
     return (2.0 + inv) * pow(sin2, 0.5 * inv) / (2.0 * PI);
 }
 float neubelt_v(float ndl, float ndv) { return 1.0 / (4.0 * (ndl + ndv - ndl * ndv) + 1e-7); }
-vec3 to_srgb(vec3 c) {
-    c = clamp(c, 0.0, 1.0);
-    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}
 void main() {
     vec3 v = normalize(u_camera - v_position);
     vec3 n = normalize(v_normal);
@@ -97,7 +94,7 @@ void main() {
         if (i == 0) irradiance *= key_light_visibility();
         radiance += (diffuse + specular + sheen) * irradiance;
     }
-    o_colour = vec4(to_srgb(radiance), 1.0);
+    o_colour = vec4(radiance, 1.0);  // linear: exposure and sRGB are applied on output
 }
 )";
 

@@ -1,7 +1,6 @@
 #pragma once
 // Fast rasterised previews through OpenGL on EGL with no display: Mesa's llvmpipe on CPU
 // machines, the GPU's driver where there is one.  The path tracer never needs this.
-#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -58,7 +57,7 @@ struct PreviewScene {
 struct PreviewImage {
     int width = 0;
     int height = 0;
-    std::vector<std::uint8_t> rgba;  // 8-bit sRGB + alpha, top row first
+    std::vector<float> rgba;         // linear RGB + alpha (straight), top row first
     std::vector<float> depth;        // distance from the camera in metres; +inf where empty
 };
 

@@ -1,0 +1,73 @@
+// foldcast decode IN.fca -o OUT.pc2: decompress to a PC2 cache plus the OBJ topology.
+// A truncated file decodes to the best animation its prefix allows (with a warning).
+#include <charconv>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "foldcast/codec.hpp"
+#include "foldcast/core/error.hpp"
+#include "foldcast/core/mesh_io.hpp"
+
+namespace foldcast::app {
+namespace {
+// "A:B" -> frames [A, B); either side may be empty.
+std::pair<std::size_t, std::size_t> parse_frames(const std::string& text, std::size_t count) {
+    const auto colon = text.find(':');
+    auto number = [&](std::string_view s, std::size_t fallback) {
+        if (s.empty()) return fallback;
+        std::size_t v = 0;
+        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (ec != std::errc() || end != s.data() + s.size())
+            throw InputError("--frames '" + text + "': expected A:B with whole numbers (frames A..B-1)");
+        return v;
+    };
+    if (colon == std::string::npos) throw InputError("--frames '" + text + "': expected A:B (frames A..B-1)");
+    const std::size_t a = number(std::string_view(text).substr(0, colon), 0);
+    const std::size_t b = number(std::string_view(text).substr(colon + 1), count);
+    if (a >= b || b > count)
+        throw InputError("--frames '" + text + "': the file has frames 0.." + std::to_string(count - 1) + " (need A < B <= " + std::to_string(count) + ")");
+    return {a, b};
+}
+}  // namespace
+
+Command decode_command(CLI::App& app) {
+    auto* sub = app.add_subcommand("decode", "Decompress an .fca file to a PC2 cache (+ OBJ topology beside it)");
+    struct Options {
+        std::string input, output, frames;
+        bool json = false;
+    };
+    auto o = std::make_shared<Options>();
+    sub->add_option("input", o->input, "an .fca file (a truncated one decodes to a coarser animation)")->required();
+    sub->add_option("-o,--output", o->output, "output .pc2 (the .obj of the same name is written too)")->required();
+    sub->add_option("--frames", o->frames, "A:B: only frames A..B-1");
+    sub->add_flag("--json", o->json, "print a JSON report on stdout");
+
+    return {sub, [o]() {
+        if (std::filesystem::path(o->output).extension() != ".pc2") throw InputError("-o '" + o->output + "' must end in .pc2");
+        const std::string bytes = codec::read_fca(o->input);
+        codec::StreamingDecoder decoder(o->input, bytes.size());
+        decoder.feed(bytes);
+        const codec::StreamStatus status = decoder.status();
+        if (!status.header_ready) throw InputError(o->input + ": truncated inside its header (" + std::to_string(bytes.size()) + " bytes)");
+        Animation anim = decoder.animation();
+        if (!o->frames.empty()) {
+            const auto [a, b] = parse_frames(o->frames, anim.frame_count());
+            anim.frames = std::vector<std::vector<Vec3f>>(anim.frames.begin() + static_cast<std::ptrdiff_t>(a),
+                                                          anim.frames.begin() + static_cast<std::ptrdiff_t>(b));
+        }
+        if (!status.complete)
+            std::fprintf(stderr, "foldcast: warning: '%s' is truncated: frames 0..%zu are final, later frames are coarser\n",
+                         o->input.c_str(), status.playable_frames == 0 ? std::size_t(0) : status.playable_frames - 1);
+        write_pc2_animation(o->output, anim);
+        if (o->json) {
+            nlohmann::json j{{"output", o->output}, {"frames", anim.frame_count()}, {"vertices", anim.vertex_count()},
+                             {"fps", anim.fps}, {"profile", codec::profile_name(decoder.profile())}, {"bytes", bytes.size()},
+                             {"complete", status.complete}, {"playable_frames", status.playable_frames}};
+            std::printf("%s\n", j.dump().c_str());
+        }
+        return 0;
+    }};
+}
+
+}  // namespace foldcast::app

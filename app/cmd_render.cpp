@@ -1,0 +1,64 @@
+// foldcast render SCENE.toml -o OUT.png|OUT.exr: a still of the scene.
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "commands.hpp"
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/render.hpp"
+#include "progress_bar.hpp"
+
+namespace foldcast::app {
+
+Command render_command(CLI::App& app) {
+    struct Args {
+        std::string scene, out, aovs;
+        int width = 0, height = 0, spp = 0, threads = 0;
+        std::uint64_t seed = 0;
+        bool json = false, quiet = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* sub = app.add_subcommand("render", "Path-trace a still of a scene file (PNG or EXR, optional AOVs)");
+    sub->add_option("scene", args->scene, "Scene file (TOML), e.g. gallery/default.toml")->required();
+    sub->add_option("-o,--output", args->out, "Output image: OUT.png (8-bit sRGB) or OUT.exr (linear float)")->required();
+    sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
+    sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
+    sub->add_option("--spp", args->spp, "Samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 20));
+    CLI::Option* seed = sub->add_option("--seed", args->seed, "Random seed (default: the scene's)");
+    sub->add_option("--threads", args->threads, "Render threads (default: all cores); the image is the same for any count")
+        ->check(CLI::Range(1, 1024));
+    sub->add_option("--aov", args->aovs, "Extra images beside OUT: albedo,normal,depth,fold (OUT.<aov>.png|exr)");
+    sub->add_flag("--json", args->json, "Print width, height, spp, seconds, rays, rays_per_second as JSON");
+    sub->add_flag("--quiet", args->quiet, "No progress bar");
+    return {sub, [args, seed] {
+                render::RenderOptions options;
+                options.width = args->width;
+                options.height = args->height;
+                options.spp = args->spp;
+                if (seed->count() > 0) options.seed = args->seed;
+                options.threads = args->threads;
+                if (!args->aovs.empty()) options.aovs = render::parse_aovs(args->aovs);
+                const render::SceneSpec scene = render::load_scene(args->scene);
+                check_writable(args->out);
+                render::RenderResult result;
+                {
+                    ProgressBar bar(args->quiet || args->json);
+                    result = render::render_still(scene, options, bar.callback());
+                }
+                const auto written = render::write_render(args->out, result, scene);
+                const render::RenderStats& s = result.stats;
+                if (args->json) {
+                    nlohmann::json j = {{"width", s.width}, {"height", s.height}, {"spp", s.spp},
+                                        {"seconds", s.seconds}, {"rays", s.rays},
+                                        {"rays_per_second", s.rays_per_second()}};
+                    for (const auto& p : written) j["files"].push_back(p.string());
+                    std::printf("%s\n", j.dump().c_str());
+                } else if (!args->quiet) {
+                    std::fprintf(stderr, "wrote %s (%dx%d, %d spp) in %.1f s, %.2f Mrays/s\n", args->out.c_str(), s.width,
+                                 s.height, s.spp, s.seconds, s.rays_per_second() / 1e6);
+                }
+                return 0;
+            }};
+}
+
+}  // namespace foldcast::app

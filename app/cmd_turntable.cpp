@@ -1,0 +1,99 @@
+// foldcast turntable SCENE.toml -o OUT.mp4|DIR/ [--frames N | --frames A:B]
+#include <cstdio>
+#include <string>
+
+#include "commands.hpp"
+#include "foldcast/core/error.hpp"
+#include "foldcast/render.hpp"
+#include "progress_bar.hpp"
+
+namespace foldcast::app {
+namespace {
+
+// "N" = N frames; "A:B" = frames A..B-1 of the scene's count; "A:B/N" = of N frames.
+void parse_frames(const std::string& text, render::TurntableOptions& options) {
+    auto number = [&](const std::string& s) {
+        std::size_t used = 0;
+        int v = -1;
+        try {
+            v = std::stoi(s, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used != s.size() || v < 0)
+            throw InputError("--frames " + text + ": expected N, A:B or A:B/N with non-negative integers");
+        return v;
+    };
+    const std::size_t colon = text.find(':');
+    if (colon == std::string::npos) {
+        options.total_frames = number(text);
+        if (options.total_frames < 1) throw InputError("--frames " + text + ": need at least 1 frame");
+        return;
+    }
+    const std::size_t slash = text.find('/', colon);
+    options.first_frame = number(text.substr(0, colon));
+    options.last_frame = number(text.substr(colon + 1, slash == std::string::npos ? std::string::npos : slash - colon - 1));
+    if (slash != std::string::npos) options.total_frames = number(text.substr(slash + 1));
+}
+
+}  // namespace
+
+Command turntable_command(CLI::App& app) {
+    struct Args {
+        std::string scene, out, frames, join;
+        int width = 0, height = 0, spp = 0, threads = 0;
+        bool quiet = false, json = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* sub = app.add_subcommand(
+        "turntable", "Render frames of the camera orbiting the garment: a PNG sequence and an MP4");
+    sub->add_option("scene", args->scene, "Scene file (TOML)")->required();
+    sub->add_option("-o,--output", args->out,
+                    "OUT.mp4 (frames go to OUT_frames/ beside it) or DIR/ (PNG sequence only)")->required();
+    sub->add_option("--frames", args->frames,
+                    "N frames in all (default: the scene's [turntable] frames, 36), or A:B to render only frames "
+                    "A..B-1 (A:B/N of N) for spreading over machines");
+    sub->add_option("--width", args->width, "Frame width in pixels")->check(CLI::Range(1, 16384));
+    sub->add_option("--height", args->height, "Frame height in pixels")->check(CLI::Range(1, 16384));
+    sub->add_option("--spp", args->spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20));
+    sub->add_option("--threads", args->threads, "Render threads (default: all cores)")->check(CLI::Range(1, 1024));
+    sub->add_option("--join", args->join,
+                    "Encode an already rendered, complete PNG sequence from this directory into -o OUT.mp4 "
+                    "(no rendering)");
+    sub->add_flag("--json", args->json, "Print frames, seconds, rays, rays_per_second as JSON");
+    sub->add_flag("--quiet", args->quiet, "No progress bar");
+    return {sub, [args] {
+                const render::SceneSpec scene = render::load_scene(args->scene);
+                render::TurntableOptions options;
+                if (!args->frames.empty()) parse_frames(args->frames, options);
+                if (!args->join.empty()) {
+                    const int total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
+                    render::encode_mp4(args->join, total, scene.turntable_fps, args->out);
+                    if (!args->quiet) std::fprintf(stderr, "wrote %s (%d frames)\n", args->out.c_str(), total);
+                    return 0;
+                }
+                options.render.width = args->width;
+                options.render.height = args->height;
+                options.render.spp = args->spp;
+                options.render.threads = args->threads;
+                render::TurntableResult result;
+                {
+                    ProgressBar bar(args->quiet || args->json);
+                    result = render::render_turntable(scene, args->out, options, bar.callback());
+                }
+                const render::RenderStats& s = result.stats;
+                if (args->json) {
+                    std::printf("{\"frames\": %d, \"width\": %d, \"height\": %d, \"spp\": %d, \"seconds\": %.3f, "
+                                "\"rays\": %llu, \"rays_per_second\": %.0f}\n",
+                                result.frames_rendered, s.width, s.height, s.spp, s.seconds,
+                                static_cast<unsigned long long>(s.rays), s.rays_per_second());
+                } else if (!args->quiet) {
+                    std::fprintf(stderr, "rendered %d frames (%dx%d, %d spp) in %.1f s; last written: %s\n",
+                                 result.frames_rendered, s.width, s.height, s.spp, s.seconds,
+                                 result.written.empty() ? "-" : result.written.back().c_str());
+                }
+                return 0;
+            }};
+}
+
+}  // namespace foldcast::app

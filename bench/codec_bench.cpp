@@ -1,0 +1,191 @@
+// Codec rate-distortion and speed (docs/benchmarks.md, section "codec").  A timed run, not
+// Google Benchmark: each point encodes, decodes (best of a few runs) and measures.
+//   build/bench/codec_bench [--quick]
+// Inputs: basicCloth (tests/data) and a 128x128-vertex, 240-frame regular-grid cloth.
+// Methods: the `paper` and `default` profiles swept over error bounds, and two baselines
+// built from Debian libraries: 12-bit quantisation + per-frame temporal delta +
+// meshoptimizer's vertex codec + zstd -19, and raw float32 + zstd -19.
+#include <meshoptimizer.h>
+#include <zstd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "foldcast/codec.hpp"
+#include "foldcast/core/mesh_io.hpp"
+
+using namespace foldcast;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+Animation wave_grid(int nu, int nv, int frames) {
+    Animation a;
+    for (int j = 0; j + 1 < nv; ++j)
+        for (int i = 0; i + 1 < nu; ++i) {
+            const auto v = static_cast<std::uint32_t>(j * nu + i), w = static_cast<std::uint32_t>(nu);
+            a.topology.triangles.push_back({v, v + 1, v + w});
+            a.topology.triangles.push_back({v + 1, v + w + 1, v + w});
+        }
+    for (int t = 0; t < frames; ++t) {
+        std::vector<Vec3f> f;
+        const double s = t / 30.0, form = std::min(1.0, s / 2.0);
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                const double x = 0.5 * i / (nu - 1) - 0.25, y = -0.7 * j / (nv - 1);
+                // Folds forming as the supports move in, plus a slow sway.
+                const double z = 0.04 * form * std::cos(2.0 * M_PI * 3.0 * x / 0.5) * std::cos(M_PI * x / 0.5) *
+                                     std::exp(1.5 * y) + 0.01 * std::sin(2.0 * M_PI * s / 2.0) * (-y);
+                f.emplace_back(float(x * (1.0 - 0.2 * form)), float(y - 0.02 * form * std::cos(M_PI * x / 0.5)), float(z));
+            }
+        a.frames.push_back(std::move(f));
+    }
+    return a;
+}
+
+struct Coded {
+    std::size_t bytes;
+    std::function<Animation()> decode;
+};
+
+std::string zstd19(const void* data, std::size_t size) {
+    std::string out(ZSTD_compressBound(size), '\0');
+    out.resize(ZSTD_compress(out.data(), out.size(), data, size, 19));
+    return out;
+}
+std::string unzstd(const std::string& packed) {
+    std::string raw(ZSTD_getFrameContentSize(packed.data(), packed.size()), '\0');
+    ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
+    return raw;
+}
+
+Coded raw_zstd(const Animation& a) {
+    std::vector<float> flat;
+    for (const auto& f : a.frames)
+        for (const auto& p : f) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+    auto packed = std::make_shared<std::string>(zstd19(flat.data(), flat.size() * 4));
+    const std::size_t n = a.vertex_count();
+    return {packed->size(), [packed, n, a]() {
+                const std::string raw = unzstd(*packed);
+                Animation b;
+                b.topology = a.topology;
+                const float* p = reinterpret_cast<const float*>(raw.data());
+                for (std::size_t t = 0; t < a.frame_count(); ++t) {
+                    std::vector<Vec3f> f(n);
+                    for (std::size_t v = 0; v < n; ++v) f[v] = Vec3f(p[(t * n + v) * 3], p[(t * n + v) * 3 + 1], p[(t * n + v) * 3 + 2]);
+                    b.frames.push_back(std::move(f));
+                }
+                return b;
+            }};
+}
+
+Coded meshopt_baseline(const Animation& a, int bits) {
+    const Bounds box = bounds(a);
+    const Vec3f extent = (box.max - box.min).cwiseMax(Vec3f::Constant(1e-12f));
+    const float levels = float((1 << bits) - 1);
+    const std::size_t n = a.vertex_count();
+    struct V {
+        std::uint16_t x, y, z, pad;
+    };
+    std::vector<V> prev(n, V{0, 0, 0, 0}), cur(n);
+    std::string stream;
+    std::vector<unsigned char> buf(meshopt_encodeVertexBufferBound(n, sizeof(V)));
+    for (const auto& f : a.frames) {
+        std::vector<V> delta(n);
+        for (std::size_t v = 0; v < n; ++v) {
+            const Vec3f q = ((f[v] - box.min).cwiseQuotient(extent) * levels).array().round();
+            cur[v] = {std::uint16_t(q.x()), std::uint16_t(q.y()), std::uint16_t(q.z()), 0};
+            delta[v] = {std::uint16_t(cur[v].x - prev[v].x), std::uint16_t(cur[v].y - prev[v].y),
+                        std::uint16_t(cur[v].z - prev[v].z), 0};
+        }
+        prev = cur;
+        const std::size_t size = meshopt_encodeVertexBuffer(buf.data(), buf.size(), delta.data(), n, sizeof(V));
+        const auto size32 = static_cast<std::uint32_t>(size);
+        stream.append(reinterpret_cast<const char*>(&size32), 4);
+        stream.append(reinterpret_cast<const char*>(buf.data()), size);
+    }
+    auto packed = std::make_shared<std::string>(zstd19(stream.data(), stream.size()));
+    return {packed->size(), [packed, n, a, box, extent, levels]() {
+                const std::string raw = unzstd(*packed);
+                Animation b;
+                b.topology = a.topology;
+                std::vector<V> acc(n, V{0, 0, 0, 0}), delta(n);
+                std::size_t pos = 0;
+                for (std::size_t t = 0; t < a.frame_count(); ++t) {
+                    std::uint32_t size;
+                    std::memcpy(&size, raw.data() + pos, 4);
+                    meshopt_decodeVertexBuffer(delta.data(), n, sizeof(V), reinterpret_cast<const unsigned char*>(raw.data() + pos + 4), size);
+                    pos += 4 + size;
+                    std::vector<Vec3f> f(n);
+                    for (std::size_t v = 0; v < n; ++v) {
+                        acc[v].x = std::uint16_t(acc[v].x + delta[v].x);
+                        acc[v].y = std::uint16_t(acc[v].y + delta[v].y);
+                        acc[v].z = std::uint16_t(acc[v].z + delta[v].z);
+                        f[v] = box.min + Vec3f(acc[v].x, acc[v].y, acc[v].z).cwiseProduct(extent) / levels;
+                    }
+                    b.frames.push_back(std::move(f));
+                }
+                return b;
+            }};
+}
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void report(const char* input, const std::string& method, const std::string& setting, const Animation& a,
+            const std::function<Coded()>& encode) {
+    const auto t0 = Clock::now();
+    const Coded coded = encode();
+    const double enc_s = seconds_since(t0);
+    double dec_s = 1e30;
+    Animation back;
+    for (int run = 0; run < 3; ++run) {
+        const auto t1 = Clock::now();
+        back = coded.decode();
+        dec_s = std::min(dec_s, seconds_since(t1));
+    }
+    const codec::Metrics m = codec::measure(a, back, coded.bytes);
+    const double vf = double(m.frames) * double(m.vertices);
+    std::printf("%s,%s,%s,%zu,%.4f,%.5f,%.3e,%.3e,%.3g,%.3g\n", input, method.c_str(), setting.c_str(), coded.bytes, m.bpvf,
+                m.kg_error, m.rms_error_rel, m.max_error_rel, vf / enc_s, vf / dec_s);
+    std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    struct Input {
+        const char* name;
+        Animation anim;
+    };
+    std::vector<Input> inputs;
+    inputs.push_back({"basicCloth", read_pc2_animation(std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.pc2",
+                                                       std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.obj")});
+    inputs.push_back({"grid128x128x240", quick ? wave_grid(32, 32, 60) : wave_grid(128, 128, 240)});
+    std::printf("input,method,setting,bytes,bpvf,kg_error,rms_error_rel,max_error_rel,encode_vf_per_s,decode_vf_per_s\n");
+    for (const auto& in : inputs) {
+        const Animation& a = in.anim;
+        const double diag = bounds(a).diagonal();
+        report(in.name, "raw-float32+zstd19", "lossless", a, [&] { return raw_zstd(a); });
+        for (int bits : {10, 12, 14})
+            report(in.name, "meshopt+zstd19", std::to_string(bits) + "-bit", a, [&] { return meshopt_baseline(a, bits); });
+        for (const codec::Profile p : {codec::Profile::predictive, codec::Profile::paper})
+            for (double rel : {1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5}) {
+                char setting[64];
+                std::snprintf(setting, sizeof setting, "max-error %.0e diag", rel);
+                report(in.name, codec::profile_name(p), setting, a, [&] {
+                    codec::EncodeOptions o;
+                    o.profile = p;
+                    o.max_error_m = rel * diag;
+                    auto bytes = std::make_shared<std::string>(codec::encode(a, o));
+                    return Coded{bytes->size(), [bytes] { return codec::decode(*bytes); }};
+                });
+            }
+    }
+    return 0;
+}

@@ -1,0 +1,106 @@
+#pragma once
+// codec: the progressive wavelet animation format .fca (docs/fca-format.md, docs/codec.md).
+// Compresses any fixed-topology foldcast::Animation; knows nothing about drape.
+//
+//   std::string bytes = codec::encode(anim, {});          // default profile
+//   codec::write_fca("anim.fca", bytes);
+//   Animation back = codec::decode(codec::read_fca("anim.fca"));
+//
+// Streaming: feed a StreamingDecoder bytes as they arrive; it reports which frames are
+// final and reconstructs every frame from what it has (coarser where data is missing).
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "foldcast/core/mesh.hpp"
+#include "foldcast/core/progress.hpp"
+
+namespace foldcast::codec {
+
+enum class Profile : std::uint8_t {
+    paper = 0,       // reference method: velocity + cubic B-spline wavelets + Huffman
+    predictive = 1,  // the `default` profile (docs/codec.md): error-bounded hierarchical prediction
+};
+std::string profile_name(Profile p);         // "paper" / "default"
+Profile parse_profile(const std::string& name);  // throws InputError
+
+struct EncodeOptions {
+    Profile profile = Profile::predictive;
+    // Largest allowed per-vertex position error in metres (Euclidean).  The default profile
+    // guarantees it; paper searches its threshold until the measured max error meets it.
+    std::optional<double> max_error_m;
+    // paper only: fraction (0, 1] of wavelet coefficients kept (the threshold eps is the
+    // matching quantile of |c|).  Mutually exclusive with max_error_m.
+    std::optional<double> keep_fraction;
+};
+
+// Default error bound when neither max_error_m nor keep_fraction is given, as a fraction
+// of the animation's bounding-box diagonal.
+constexpr double kDefaultMaxErrorRel = 2e-4;
+
+// Throws InputError for an invalid animation or options.
+std::string encode(const Animation& anim, const EncodeOptions& options, const ProgressFn& progress = {});
+
+// Whole-buffer decode.  A truncated buffer (a prefix of a valid file) decodes to the best
+// animation it allows; corrupted or hostile bytes throw InputError naming `what`.
+Animation decode(std::string_view bytes, const std::string& what = "fca data");
+
+struct StreamStatus {
+    bool header_ready = false;
+    bool complete = false;          // the end packet arrived: every frame is final
+    std::size_t playable_frames = 0;  // frames [0, playable_frames) are final
+    std::size_t packets = 0;        // packets accepted so far
+    std::size_t bytes_used = 0;     // bytes of accepted packets (a partial packet waits)
+};
+
+class StreamingDecoder {
+public:
+    // `known_total_bytes`: the size of the whole input when known (a file); it bounds
+    // allocations together with the size the header declares (docs/fca-format.md).
+    explicit StreamingDecoder(std::string what = "fca stream", std::optional<std::uint64_t> known_total_bytes = {});
+    ~StreamingDecoder();
+    StreamingDecoder(StreamingDecoder&&) noexcept;
+    StreamingDecoder& operator=(StreamingDecoder&&) noexcept;
+
+    // Appends bytes and decodes every packet that is now complete.  Throws InputError on
+    // corrupt data; after a throw the decoder keeps what it had accepted before.
+    void feed(std::string_view bytes);
+    StreamStatus status() const;
+
+    // Valid once status().header_ready.
+    std::size_t vertex_count() const;
+    std::size_t frame_count() const;
+    double fps() const;
+    Profile profile() const;
+    const Topology& topology() const;
+
+    // Best reconstruction of one frame / all frames from the packets accepted so far.
+    std::vector<Vec3f> frame(std::size_t t) const;
+    Animation animation() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+struct Metrics {
+    std::size_t frames = 0, vertices = 0, bytes = 0;
+    double bpvf = 0.0;            // bits per vertex per frame
+    double rms_error_rel = 0.0;   // RMS vertex error / bounding-box diagonal
+    double max_error_rel = 0.0;   // max vertex error / bounding-box diagonal
+    double max_error_m = 0.0;
+    double kg_error = 0.0;        // Karni-Gotsman, percent
+};
+// Throws InputError if the animations differ in shape.
+Metrics measure(const Animation& original, const Animation& decoded, std::size_t bytes);
+
+// .fca files: read (size-checked) and written atomically.
+std::string read_fca(const std::filesystem::path& path);
+void write_fca(const std::filesystem::path& path, std::string_view bytes);
+
+}  // namespace foldcast::codec

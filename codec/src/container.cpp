@@ -1,0 +1,128 @@
+#include "container.hpp"
+
+#include <zstd.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "byte_io.hpp"
+#include "crc32.hpp"
+
+namespace foldcast::codec {
+
+std::string header_payload(const Header& h) {
+    ByteWriter w;
+    w.put<std::uint16_t>(kFormatVersion);
+    w.put<std::uint8_t>(static_cast<std::uint8_t>(h.profile));
+    w.put<std::uint32_t>(h.vertices);
+    w.put<std::uint32_t>(h.frames);
+    w.put<double>(h.fps);
+    for (int k = 0; k < 3; ++k) w.put<float>(h.bounds.min[k]);
+    for (int k = 0; k < 3; ++k) w.put<float>(h.bounds.max[k]);
+    w.put<std::uint64_t>(h.total_bytes);
+    w.put<double>(h.step);
+    w.put<double>(h.threshold);
+    w.put<std::uint32_t>(h.profile_param);
+    // Topology: triangle corners as differences from the previous triangle's (regular
+    // meshes repeat a few patterns) and the UVs, as one zstd frame.
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(h.topology.triangles.size()));
+    w.put<std::uint8_t>(h.topology.uvs.empty() ? 0 : 1);
+    ByteWriter raw;
+    Triangle previous{0, 0, 0};
+    for (const auto& t : h.topology.triangles) {
+        for (int k = 0; k < 3; ++k) raw.put<std::uint32_t>(t[static_cast<std::size_t>(k)] - previous[static_cast<std::size_t>(k)]);
+        previous = t;
+    }
+    for (const auto& uv : h.topology.uvs) {
+        raw.put<float>(uv.x());
+        raw.put<float>(uv.y());
+    }
+    std::string packed(ZSTD_compressBound(raw.size()), '\0');
+    const std::size_t size = ZSTD_compress(packed.data(), packed.size(), raw.bytes().data(), raw.size(), 19);
+    if (ZSTD_isError(size)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(size));
+    packed.resize(size);
+    w.put_bytes(packed);
+    return std::move(w.bytes());
+}
+
+Header parse_header(std::string_view payload, const std::string& what, std::optional<std::uint64_t> known_total_bytes) {
+    ByteReader r(payload, what + ": header");
+    Header h;
+    const auto version = r.get<std::uint16_t>("version");
+    if (version != kFormatVersion)
+        r.fail("format version " + std::to_string(version) + " (this build reads version " + std::to_string(kFormatVersion) + ")");
+    const auto profile = r.get<std::uint8_t>("profile");
+    if (profile > static_cast<std::uint8_t>(Profile::predictive))
+        r.fail("unknown profile " + std::to_string(profile) + " (known: 0 paper, 1 default)");
+    h.profile = static_cast<Profile>(profile);
+    h.vertices = r.get<std::uint32_t>("vertex count");
+    h.frames = r.get<std::uint32_t>("frame count");
+    h.fps = r.get<double>("fps");
+    for (int k = 0; k < 3; ++k) h.bounds.min[k] = r.get<float>("bounds");
+    for (int k = 0; k < 3; ++k) h.bounds.max[k] = r.get<float>("bounds");
+    h.total_bytes = r.get<std::uint64_t>("total size");
+    h.step = r.get<double>("quantisation step");
+    h.threshold = r.get<double>("threshold");
+    h.profile_param = r.get<std::uint32_t>("profile parameter");
+    if (h.vertices == 0 || h.frames == 0)
+        r.fail("header says " + std::to_string(h.vertices) + " vertices and " + std::to_string(h.frames) + " frames (both must be > 0)");
+    if (!(std::isfinite(h.fps) && h.fps > 0.0 && h.fps <= 1e6)) r.fail("fps " + std::to_string(h.fps) + " (allowed (0, 1e6])");
+    if (!(std::isfinite(h.step) && h.step > 0.0 && h.step <= 1e9)) r.fail("quantisation step must be in (0, 1e9]");
+    if (!(std::isfinite(h.threshold) && h.threshold >= 0.0)) r.fail("threshold must be finite and >= 0");
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(h.bounds.min[k]) || !std::isfinite(h.bounds.max[k]) || h.bounds.min[k] > h.bounds.max[k])
+            r.fail("bounds are not finite or min > max");
+    // Allocation policy: what the decoder will allocate must be justified by the bytes.
+    const std::uint64_t file_bytes = known_total_bytes ? std::min(*known_total_bytes, h.total_bytes) : h.total_bytes;
+    const std::uint64_t vertex_frames = std::uint64_t(h.vertices) * h.frames;
+    if (vertex_frames > kMaxVertexFrames || vertex_frames > file_bytes * kMaxVertexFramesPerByte)
+        r.fail(std::to_string(h.vertices) + " vertices x " + std::to_string(h.frames) + " frames is more than " +
+               std::to_string(file_bytes) + " bytes can hold (limit " + std::to_string(kMaxVertexFramesPerByte) +
+               " vertex-frames per byte, " + std::to_string(kMaxVertexFrames) + " in all)");
+    const auto triangles = r.get<std::uint32_t>("triangle count");
+    const auto has_uvs = r.get<std::uint8_t>("UV flag");
+    if (has_uvs > 1) r.fail("UV flag " + std::to_string(has_uvs) + " (allowed 0 or 1)");
+    const std::uint64_t raw_size = std::uint64_t(triangles) * 12 + (has_uvs ? std::uint64_t(h.vertices) * 8 : 0);
+    const std::string_view packed = r.get_bytes(r.remaining(), "topology");
+    if (raw_size > kMaxVertexFramesPerByte * (payload.size() + 1) || raw_size > (std::uint64_t(1) << 32))
+        r.fail(std::to_string(triangles) + " triangles and UVs are more than a " + std::to_string(payload.size()) +
+               "-byte header can hold");
+    const unsigned long long declared = ZSTD_getFrameContentSize(packed.data(), packed.size());
+    if (declared != raw_size) r.fail("topology block is malformed or does not match the triangle and UV counts");
+    std::string raw(static_cast<std::size_t>(raw_size), '\0');
+    const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
+    if (ZSTD_isError(got) || got != raw.size()) r.fail("topology block is corrupt");
+    ByteReader t(raw, r.what() + " topology");
+    h.topology.triangles.resize(triangles);
+    Triangle previous{0, 0, 0};
+    for (auto& tri : h.topology.triangles) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            tri[k] = previous[k] + t.get<std::uint32_t>("triangle");
+            if (tri[k] >= h.vertices) r.fail("triangle index " + std::to_string(tri[k]) + " >= vertex count " + std::to_string(h.vertices));
+        }
+        previous = tri;
+    }
+    if (has_uvs) {
+        h.topology.uvs.resize(h.vertices);
+        for (auto& uv : h.topology.uvs) {
+            uv.x() = t.get<float>("UV");
+            uv.y() = t.get<float>("UV");
+            if (!std::isfinite(uv.x()) || !std::isfinite(uv.y())) r.fail("a UV is not finite");
+        }
+    }
+    r.expect_end("header");
+    return h;
+}
+
+void append_packet(std::string& file, PacketType type, std::string_view payload) {
+    ByteWriter w;
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(payload.size()));
+    const char type_byte = static_cast<char>(type);
+    w.put<char>(type_byte);
+    w.put_bytes(payload);
+    const std::uint32_t crc = crc32(payload, crc32(std::string_view(&type_byte, 1)));
+    w.put<std::uint32_t>(crc);
+    file += w.bytes();
+}
+
+}  // namespace foldcast::codec

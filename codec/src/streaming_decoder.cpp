@@ -1,0 +1,150 @@
+// Incremental decoding: bytes accumulate until a whole packet is there; each complete
+// packet is checked (length bound, CRC, order) and handed to the profile's decoder.
+#include <algorithm>
+#include <cstring>
+
+#include "byte_io.hpp"
+#include "container.hpp"
+#include "crc32.hpp"
+#include "foldcast/codec.hpp"
+#include "profile_decoder.hpp"
+
+namespace foldcast::codec {
+
+struct StreamingDecoder::Impl {
+    std::string what;
+    std::optional<std::uint64_t> known_total;
+    std::string pending;     // bytes not yet consumed
+    std::size_t consumed = 0;  // bytes of accepted packets (and magic)
+    bool magic_ok = false;
+    bool complete = false;
+    std::size_t packets = 0;
+    std::size_t data_packets = 0;
+    Header header;
+    std::unique_ptr<ProfileDecoder> profile;
+
+    void require() const {
+        if (!profile) fail("no complete header yet (too short to be an .fca file)");
+    }
+    [[noreturn]] void fail(const std::string& message) const { throw InputError(what + ": " + message); }
+
+    void handle(PacketType type, std::string_view payload) {
+        const std::string where = "packet " + std::to_string(packets) + " at byte " + std::to_string(consumed);
+        if (complete) fail(where + " follows the end packet");
+        if (!profile) {
+            if (type != PacketType::header) fail(where + " is not a header, but the file must start with one");
+            header = parse_header(payload, what, known_total);
+            profile = header.profile == Profile::paper ? make_paper_decoder(header, what)
+                                                       : make_predictive_decoder(header, what);
+            return;
+        }
+        ByteReader r(payload, what + ": " + where);
+        switch (type) {
+        case PacketType::header: r.fail("a second header");
+        case PacketType::data: {
+            const auto seq = r.get<std::uint32_t>("sequence number");
+            if (seq != data_packets) r.fail("data packet " + std::to_string(seq) + " out of order (expected " + std::to_string(data_packets) + ")");
+            profile->accept(seq, r.get_bytes(r.remaining(), "data"));
+            ++data_packets;
+            return;
+        }
+        case PacketType::end: {
+            const auto count = r.get<std::uint32_t>("packet count");
+            r.expect_end("end packet");
+            if (count != data_packets || data_packets != profile->expected_packets())
+                r.fail("end packet after " + std::to_string(data_packets) + " data packets (expected " +
+                       std::to_string(profile->expected_packets()) + ")");
+            complete = true;
+            return;
+        }
+        }
+        r.fail("unknown packet type " + std::to_string(static_cast<int>(type)));
+    }
+
+    void process() {
+        if (!magic_ok) {
+            const std::size_t n = std::min(pending.size(), sizeof(kMagic));
+            if (std::memcmp(pending.data(), kMagic, n) != 0) fail("not an .fca file (bad magic bytes)");
+            if (pending.size() < sizeof(kMagic)) return;
+            magic_ok = true;
+            pending.erase(0, sizeof(kMagic));
+            consumed += sizeof(kMagic);
+        }
+        std::size_t pos = 0;
+        while (pending.size() - pos >= 5) {
+            std::uint32_t length;
+            std::memcpy(&length, pending.data() + pos, 4);
+            const auto type = static_cast<PacketType>(static_cast<std::uint8_t>(pending[pos + 4]));
+            if (length > kMaxPayloadBytes) fail("packet " + std::to_string(packets) + " claims " + std::to_string(length) + " bytes (limit 2^30)");
+            if (profile && consumed + kPacketOverhead + length > header.total_bytes)
+                fail("packet " + std::to_string(packets) + " runs past the size the header declares");
+            if (pending.size() - pos < kPacketOverhead + length) break;  // wait for the rest
+            const std::string_view typed(pending.data() + pos + 4, 1 + length);
+            std::uint32_t stored;
+            std::memcpy(&stored, pending.data() + pos + 5 + length, 4);
+            if (crc32(typed) != stored) fail("packet " + std::to_string(packets) + " at byte " + std::to_string(consumed) + " is corrupt (CRC mismatch)");
+            if (type != PacketType::header && type != PacketType::data && type != PacketType::end)
+                fail("packet " + std::to_string(packets) + " has unknown type " + std::to_string(static_cast<int>(type)));
+            handle(type, typed.substr(1));
+            ++packets;
+            pos += kPacketOverhead + length;
+            consumed += kPacketOverhead + length;
+        }
+        pending.erase(0, pos);
+    }
+};
+
+StreamingDecoder::StreamingDecoder(std::string what, std::optional<std::uint64_t> known_total_bytes)
+    : impl_(std::make_unique<Impl>()) {
+    impl_->what = std::move(what);
+    impl_->known_total = known_total_bytes;
+}
+StreamingDecoder::~StreamingDecoder() = default;
+StreamingDecoder::StreamingDecoder(StreamingDecoder&&) noexcept = default;
+StreamingDecoder& StreamingDecoder::operator=(StreamingDecoder&&) noexcept = default;
+
+void StreamingDecoder::feed(std::string_view bytes) {
+    impl_->pending.append(bytes);
+    impl_->process();
+}
+
+StreamStatus StreamingDecoder::status() const {
+    StreamStatus s;
+    s.header_ready = impl_->profile != nullptr;
+    s.complete = impl_->complete;
+    s.playable_frames = impl_->profile ? impl_->profile->playable_frames() : 0;
+    s.packets = impl_->packets;
+    s.bytes_used = impl_->consumed;
+    return s;
+}
+
+std::size_t StreamingDecoder::vertex_count() const { impl_->require(); return impl_->header.vertices; }
+std::size_t StreamingDecoder::frame_count() const { impl_->require(); return impl_->header.frames; }
+double StreamingDecoder::fps() const { impl_->require(); return impl_->header.fps; }
+Profile StreamingDecoder::profile() const { impl_->require(); return impl_->header.profile; }
+const Topology& StreamingDecoder::topology() const { impl_->require(); return impl_->header.topology; }
+
+Animation StreamingDecoder::animation() const {
+    impl_->require();
+    Animation anim;
+    anim.topology = impl_->header.topology;
+    anim.fps = impl_->header.fps;
+    impl_->profile->reconstruct(anim.frames);
+    return anim;
+}
+
+std::vector<Vec3f> StreamingDecoder::frame(std::size_t t) const {
+    impl_->require();
+    if (t >= impl_->header.frames) throw InputError(impl_->what + ": frame " + std::to_string(t) + " out of range (" + std::to_string(impl_->header.frames) + " frames)");
+    std::vector<std::vector<Vec3f>> frames;
+    impl_->profile->reconstruct(frames);
+    return std::move(frames[t]);
+}
+
+Animation decode(std::string_view bytes, const std::string& what) {
+    StreamingDecoder decoder(what, bytes.size());
+    decoder.feed(bytes);
+    return decoder.animation();
+}
+
+}  // namespace foldcast::codec

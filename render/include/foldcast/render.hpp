@@ -1,0 +1,203 @@
+#pragma once
+// render: an Embree path tracer for garment stills and turntables (DESIGN.md, "render").
+//
+// A scene file (TOML) names the garment (inline drape parameters, or an .obj / .pc2 / .fca
+// file and frame), the look, the camera, the lights, the backdrop and the output settings.
+// load_scene() reads it; render_still() and render_turntable() do the work.
+//
+// World frame: y up, the garment hangs in the x-y plane facing +z (drape's frame), the
+// cyclorama floor and wall sit below and behind it.  Lengths in metres, colours linear RGB.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "foldcast/core/mesh.hpp"
+#include "foldcast/core/progress.hpp"
+#include "foldcast/looks.hpp"
+
+namespace foldcast::render {
+
+struct CameraSpec {
+    bool auto_frame = true;      // place the camera so the garment fills frame_share
+    double frame_share = 0.75;   // share of the frame's limiting side the garment's bbox spans
+    double azimuth_deg = 0.0;    // orbit angle about the vertical axis; 0 = in front (+z)
+    double elevation_deg = 4.0;  // above the garment's centre
+    Vec3f position{0.0f, 0.0f, 2.0f};  // used when auto_frame is false
+    Vec3f target{0.0f, 0.0f, 0.0f};
+    double fov_deg = 30.0;       // vertical field of view
+    double aperture_m = 0.0;     // thin-lens aperture diameter; 0 = pinhole
+    double focus_distance_m = 0.0;  // 0 = focus on the target
+};
+
+// A one-sided rectangular area light facing its target.
+struct AreaLight {
+    std::string name;
+    Vec3f position{0.0f, 1.0f, 1.0f};
+    Vec3f target{0.0f, 0.0f, 0.0f};
+    float width_m = 0.5f;
+    float height_m = 0.5f;
+    Vec3f radiance{10.0f, 10.0f, 10.0f};  // W/(m^2 sr), linear RGB
+};
+
+struct GarmentSpec {
+    enum class Source { drape, obj, pc2, fca };
+    Source source = Source::drape;
+    // Source::drape: cloth size and supports, folded by drape with the look's mechanics.
+    double width_m = 0.6;
+    double height_m = 0.8;
+    double inset_m = 0.12;
+    int grid_nu = 96;
+    int grid_nv = 128;
+    int animation_frames = 0;        // > 0: turntables sway the drape over this many frames
+    double sway_amplitude_m = 0.0;
+    // Files: .obj (a mesh), .pc2 (+ the .obj topology of the same stem, or `topology`), .fca.
+    std::filesystem::path path;
+    std::filesystem::path topology;
+    int frame = 0;                   // stills use this frame of an animation
+    double scale = 1.0;              // multiplies file positions (to metres)
+};
+
+struct SceneSpec {
+    std::filesystem::path file;  // where it was read from ("" if built in code)
+    GarmentSpec garment;
+    looks::Look look;
+    CameraSpec camera;
+    std::vector<AreaLight> lights;  // explicit area lights
+    bool studio_preset = true;      // add key/fill/rim lights placed around the garment
+    Vec3f environment{0.0f, 0.0f, 0.0f};  // uniform environment radiance
+    enum class Backdrop { cyclorama, none };
+    Backdrop backdrop = Backdrop::cyclorama;
+    Vec3f backdrop_colour{0.8f, 0.8f, 0.8f};
+    bool transparent = false;    // camera rays that see the backdrop or the sky get alpha 0
+    enum class Supports { rod, clips, none };
+    Supports supports = Supports::rod;
+    int width = 1280;
+    int height = 720;
+    int spp = 64;
+    std::uint64_t seed = 1;
+    int max_depth = 5;           // path vertices after the camera
+    double exposure_ev = 0.0;
+    int turntable_frames = 36;
+    double turntable_fps = 24.0;
+};
+
+// Reads a scene file.  Unknown keys, wrong types and bad values throw InputError naming the
+// file, line and key.  Relative paths inside are resolved against the file's folder.
+SceneSpec load_scene(const std::filesystem::path& file);
+// The studio light preset: key, fill and rim area lights around a garment centred at
+// `centre` whose largest side is `size_m`.
+std::vector<AreaLight> studio_lights(const Vec3f& centre, double size_m);
+
+// The garment the scene names, as an animation (one frame for still sources), with a
+// per-vertex fold sign in [-1, 1] (drape's, or estimated from the geometry for files) and
+// the vertices the rod or clips hold (drape's supports; for files the top corners).
+struct GarmentData {
+    Animation animation;
+    std::vector<std::vector<float>> fold_sign;  // per frame, per vertex
+    std::vector<std::uint32_t> support_vertices;
+};
+GarmentData load_garment(const SceneSpec& scene, const ProgressFn& progress = {});
+
+// Fold sign estimated from geometry: which side of a smoothed version of the surface each
+// vertex lies on, in units of the local fold depth, clamped to [-1, 1].
+std::vector<float> fold_sign_from_geometry(const Mesh& mesh);
+
+struct Camera {
+    Vec3f position{0.0f, 0.0f, 2.0f};
+    Vec3f target{0.0f, 0.0f, 0.0f};
+    Vec3f up{0.0f, 1.0f, 0.0f};
+    double fov_deg = 30.0;
+    double aperture_m = 0.0;
+    double focus_distance_m = 1.0;
+};
+// The scene's camera for an image of this aspect (width / height).  Auto-framing places it
+// so the projected bounding box of all the points of all `fit_frames` spans
+// spec.frame_share of the frame's limiting side, centred.
+Camera frame_camera(const CameraSpec& spec, const std::vector<std::vector<Vec3f>>& fit_frames,
+                    double aspect);
+// Projects a world point to pixel coordinates (x right, y down); false if behind the camera.
+bool project(const Camera& camera, int width, int height, const Vec3f& point, Eigen::Vector2d* pixel);
+
+enum class Aov { albedo, normal, depth, fold };
+// "albedo,normal" -> list; throws InputError naming the flag value and listing allowed names.
+std::vector<Aov> parse_aovs(const std::string& list);
+const char* aov_name(Aov aov);
+
+struct RenderOptions {
+    int width = 0;    // 0 = the scene's
+    int height = 0;
+    int spp = 0;
+    std::optional<std::uint64_t> seed;
+    int threads = 0;  // 0 = all cores
+    std::vector<Aov> aovs;
+};
+
+// Linear float image, row-major from the top, `channels` floats per pixel.
+struct Image {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    std::vector<float> pixels;
+    float* at(int x, int y) { return &pixels[(static_cast<std::size_t>(y) * width + x) * channels]; }
+    const float* at(int x, int y) const {
+        return &pixels[(static_cast<std::size_t>(y) * width + x) * channels];
+    }
+};
+
+struct AovImage {
+    Aov aov;
+    Image image;
+};
+
+struct RenderStats {
+    int width = 0;
+    int height = 0;
+    int spp = 0;
+    double seconds = 0.0;
+    std::uint64_t rays = 0;  // every ray traced: camera, bounce and shadow
+    double rays_per_second() const { return seconds > 0.0 ? static_cast<double>(rays) / seconds : 0.0; }
+};
+
+struct RenderResult {
+    Image beauty;  // RGBA, linear, straight (not premultiplied) alpha
+    std::vector<AovImage> aovs;
+    RenderStats stats;
+};
+
+// Renders the scene's still (garment.frame).  Deterministic: the same scene, seed and spp
+// give the same pixels whatever `threads` is.
+RenderResult render_still(const SceneSpec& scene, const RenderOptions& options,
+                          const ProgressFn& progress = {});
+
+// Writes OUT.png (8-bit sRGB; with alpha when the scene is transparent) or OUT.exr (linear
+// float RGBA) and each AOV beside it as OUT.<aov>.png / OUT.<aov>.exr.  Atomic writes.
+// Returns the paths written.
+std::vector<std::filesystem::path> write_render(const std::filesystem::path& out,
+                                                const RenderResult& result, const SceneSpec& scene);
+// sRGB 8-bit encoding used for PNG output (exposure applied, clamped).
+std::vector<std::uint8_t> to_srgb8(const Image& rgba, double exposure_ev, bool keep_alpha);
+
+struct TurntableOptions {
+    RenderOptions render;
+    int total_frames = 0;      // 0 = the scene's turntable_frames
+    int first_frame = 0;       // render frames [first_frame, last_frame)
+    int last_frame = -1;       // -1 = total_frames
+};
+struct TurntableResult {
+    std::vector<std::filesystem::path> written;
+    RenderStats stats;  // summed over frames
+    int frames_rendered = 0;
+};
+// `out` ending in '/' or naming a directory: a PNG sequence DIR/frame_0000.png ...;
+// `out` ending in .mp4: the PNG sequence in OUT_frames/ beside it and the MP4 when the
+// range covers every frame.
+TurntableResult render_turntable(const SceneSpec& scene, const std::filesystem::path& out,
+                                 const TurntableOptions& options, const ProgressFn& progress = {});
+// Encodes a complete PNG sequence (frame_0000.png ...) into an MP4 at `fps`.
+void encode_mp4(const std::filesystem::path& frames_dir, int frame_count, double fps,
+                const std::filesystem::path& mp4);
+std::filesystem::path turntable_frame_path(const std::filesystem::path& dir, int frame);
+
+}  // namespace foldcast::render

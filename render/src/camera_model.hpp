@@ -1,0 +1,53 @@
+#pragma once
+// The camera as the integrator uses it: pixel (continuous, y down) -> ray.
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "foldcast/render.hpp"
+
+namespace foldcast::render {
+
+class CameraModel {
+public:
+    CameraModel(const Camera& camera, int width, int height)
+        : origin_(camera.position), width_(width), height_(height),
+          aperture_(static_cast<float>(camera.aperture_m)),
+          focus_(static_cast<float>(camera.focus_distance_m)) {
+        forward_ = (camera.target - camera.position).normalized();
+        right_ = forward_.cross(camera.up).normalized();
+        up_ = right_.cross(forward_);
+        tan_y_ = static_cast<float>(std::tan(camera.fov_deg * 0.5 * 3.14159265358979323846 / 180.0));
+        tan_x_ = tan_y_ * static_cast<float>(width) / static_cast<float>(height);
+    }
+
+    // Direction through pixel position (px, py) and the lens sample (lu, lv) in [0,1)^2.
+    void ray(float px, float py, float lu, float lv, Vec3f* origin, Vec3f* direction) const {
+        const float sx = (2.0f * px / static_cast<float>(width_) - 1.0f) * tan_x_;
+        const float sy = (1.0f - 2.0f * py / static_cast<float>(height_)) * tan_y_;
+        Vec3f d = (forward_ + sx * right_ + sy * up_);
+        if (aperture_ <= 0.0f) {
+            *origin = origin_;
+            *direction = d.normalized();
+            return;
+        }
+        // Thin lens: uniform disc (concentric-free polar mapping is fine for a round bokeh).
+        const float r = 0.5f * aperture_ * std::sqrt(lu);
+        const float phi = 6.2831853f * lv;
+        const Vec3f lens = r * std::cos(phi) * right_ + r * std::sin(phi) * up_;
+        const Vec3f focus_point = origin_ + d * focus_;  // d has unit forward component
+        *origin = origin_ + lens;
+        *direction = (focus_point - *origin).normalized();
+    }
+    const Vec3f& forward() const { return forward_; }
+    const Vec3f& position() const { return origin_; }
+    // Cone spread of one pixel (radians), for texture footprints.
+    float pixel_angle() const { return 2.0f * tan_y_ / static_cast<float>(height_); }
+
+private:
+    Vec3f origin_, forward_, right_, up_;
+    int width_, height_;
+    float tan_x_ = 0.0f, tan_y_ = 0.0f;
+    float aperture_ = 0.0f, focus_ = 1.0f;
+};
+
+}  // namespace foldcast::render

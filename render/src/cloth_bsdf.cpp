@@ -1,0 +1,240 @@
+#include <Eigen/Geometry>
+#include "cloth_bsdf.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "random_stream.hpp"
+
+namespace foldcast::render {
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+constexpr float kMinAlpha = 2e-3f;       // GGX: below this the highlight is a near-delta
+constexpr float kMinSheenRough = 0.07f;  // Charlie: exponent 1/alpha stays <= ~200
+
+float sqr(float x) { return x * x; }
+
+// --- GGX (anisotropic, height-correlated Smith) -------------------------------------------
+float ggx_d(const V3& h, float ax, float ay) {
+    const float e = sqr(h.x() / ax) + sqr(h.y() / ay) + sqr(h.z());
+    return 1.0f / (kPi * ax * ay * e * e);
+}
+float ggx_lambda(const V3& w, float ax, float ay) {
+    const float z2 = sqr(w.z());
+    if (z2 <= 0.0f) return 1e30f;
+    const float t = (sqr(ax * w.x()) + sqr(ay * w.y())) / z2;
+    return 0.5f * (-1.0f + std::sqrt(1.0f + t));
+}
+float schlick(float f0, float c) {
+    const float m = std::clamp(1.0f - c, 0.0f, 1.0f);
+    const float m2 = m * m;
+    return f0 + (1.0f - f0) * m2 * m2 * m;
+}
+// Heitz 2018, "Sampling the GGX distribution of visible normals".
+V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
+    const V3 vh = V3(ax * wo.x(), ay * wo.y(), wo.z()).normalized();
+    const float lensq = sqr(vh.x()) + sqr(vh.y());
+    const V3 t1 = lensq > 0.0f ? V3(-vh.y(), vh.x(), 0.0f) / std::sqrt(lensq) : V3(1.0f, 0.0f, 0.0f);
+    const V3 t2 = vh.cross(t1);
+    const float r = std::sqrt(u1);
+    const float phi = 2.0f * kPi * u2;
+    const float p1 = r * std::cos(phi);
+    float p2 = r * std::sin(phi);
+    const float s = 0.5f * (1.0f + vh.z());
+    p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * p2;
+    const V3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+    return V3(ax * nh.x(), ay * nh.y(), std::max(1e-6f, nh.z())).normalized();
+}
+V3 reflect(const V3& w, const V3& h) { return 2.0f * w.dot(h) * h - w; }
+
+// --- Charlie sheen with Neubelt-Pettineo visibility ----------------------------------------
+float charlie_d(float cos_h, float alpha) {
+    const float inv = 1.0f / alpha;
+    const float sin2 = std::max(0.0f, 1.0f - cos_h * cos_h);
+    return (2.0f + inv) * std::pow(sin2, 0.5f * inv) / (2.0f * kPi);
+}
+float neubelt_v(float no, float ni) { return 1.0f / (4.0f * (ni + no - ni * no)); }
+
+// --- Albedo tables: 32 x 32 over (mu, roughness), bilinear -------------------------------
+constexpr int kN = 32;
+float node_mu(int i) { return std::max(0.02f, static_cast<float>(i) / (kN - 1)); }
+float node_rough(int j) { return static_cast<float>(j) / (kN - 1); }
+
+struct Tables {
+    std::array<float, kN * kN> spec_a{};  // E = f0 * A + B
+    std::array<float, kN * kN> spec_b{};
+    std::array<float, kN * kN> sheen{};
+
+    Tables() {
+        constexpr int kStrata = 48;  // kStrata^2 stratified samples per entry
+        for (int i = 0; i < kN; ++i) {
+            const float mu = node_mu(i);
+            const V3 wo(std::sqrt(1.0f - mu * mu), 0.0f, mu);
+            for (int j = 0; j < kN; ++j) {
+                const float alpha = std::max(kMinAlpha, sqr(node_rough(j)));
+                const float sheen_alpha = sqr(std::max(kMinSheenRough, node_rough(j)));
+                double a = 0.0, b = 0.0, sh = 0.0;
+                RandomStream rng(0x7ab1e5, static_cast<std::uint64_t>(i * kN + j), 0);
+                for (int sy = 0; sy < kStrata; ++sy)
+                    for (int sx = 0; sx < kStrata; ++sx) {
+                        const float u1 = (static_cast<float>(sx) + rng.next()) / kStrata;
+                        const float u2 = (static_cast<float>(sy) + rng.next()) / kStrata;
+                        // GGX: VNDF sampling, weight G2 / G1(o).
+                        const V3 h = sample_vndf(wo, alpha, alpha, u1, u2);
+                        const V3 wi = reflect(wo, h);
+                        if (wi.z() > 0.0f) {
+                            const float lo = ggx_lambda(wo, alpha, alpha);
+                            const float li = ggx_lambda(wi, alpha, alpha);
+                            const float w = (1.0f + lo) / (1.0f + lo + li);
+                            const float m = 1.0f - std::clamp(wo.dot(h), 0.0f, 1.0f);
+                            const float m5 = m * m * m * m * m;
+                            a += (1.0f - m5) * w;
+                            b += m5 * w;
+                        }
+                        // Sheen: uniform hemisphere, weight f cos 2 pi.
+                        const float z = u1;
+                        const float rr = std::sqrt(std::max(0.0f, 1.0f - z * z));
+                        const V3 ws(rr * std::cos(2.0f * kPi * u2), rr * std::sin(2.0f * kPi * u2), z);
+                        const V3 hs = (wo + ws).normalized();
+                        sh += charlie_d(hs.z(), sheen_alpha) * neubelt_v(mu, z) * z * 2.0f * kPi;
+                    }
+                const double n = static_cast<double>(kStrata) * kStrata;
+                spec_a[i * kN + j] = static_cast<float>(a / n);
+                spec_b[i * kN + j] = static_cast<float>(b / n);
+                sheen[i * kN + j] = static_cast<float>(std::min(1.0, sh / n));
+            }
+        }
+    }
+
+    static float lookup(const std::array<float, kN * kN>& t, float mu, float rough) {
+        const float fi = std::clamp(mu, 0.0f, 1.0f) * (kN - 1);
+        const float fj = std::clamp(rough, 0.0f, 1.0f) * (kN - 1);
+        const int i0 = std::min(static_cast<int>(fi), kN - 2);
+        const int j0 = std::min(static_cast<int>(fj), kN - 2);
+        const float di = fi - static_cast<float>(i0), dj = fj - static_cast<float>(j0);
+        const float v00 = t[i0 * kN + j0], v01 = t[i0 * kN + j0 + 1];
+        const float v10 = t[(i0 + 1) * kN + j0], v11 = t[(i0 + 1) * kN + j0 + 1];
+        return (1 - di) * ((1 - dj) * v00 + dj * v01) + di * ((1 - dj) * v10 + dj * v11);
+    }
+};
+
+const Tables& tables() {
+    static const Tables t;  // thread-safe static init, ~0.1 s once per process
+    return t;
+}
+
+float luminance(const V3& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
+
+}  // namespace
+
+float ggx_albedo(float mu, float roughness, float f0) {
+    const Tables& t = tables();
+    return std::clamp(f0 * Tables::lookup(t.spec_a, mu, roughness) + Tables::lookup(t.spec_b, mu, roughness),
+                      0.0f, 1.0f);
+}
+float sheen_albedo(float mu, float sheen_roughness) {
+    return std::clamp(Tables::lookup(tables().sheen, mu, sheen_roughness), 0.0f, 1.0f);
+}
+
+ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(wo) {
+    p_.roughness = std::clamp(p_.roughness, 0.0f, 1.0f);
+    p_.sheen_roughness = std::clamp(p_.sheen_roughness, kMinSheenRough, 1.0f);
+    // Disney's anisotropy mapping: the geometric mean of the two alphas stays r^2.
+    const float alpha = std::max(kMinAlpha, sqr(p_.roughness));
+    const float aspect = std::sqrt(1.0f - 0.9f * std::clamp(p_.anisotropy, 0.0f, 0.99f));
+    ax_ = std::max(kMinAlpha, alpha / aspect);
+    ay_ = std::max(kMinAlpha, alpha * aspect);
+    sheen_alpha_ = sqr(p_.sheen_roughness);
+    const float mu = std::clamp(wo_.z(), 0.0f, 1.0f);
+    // Anisotropic lobes: Smith's Lambda depends on the roughness projected on the view's
+    // azimuth, so look the isotropic table up at that roughness.
+    const float sxy = sqr(wo_.x()) + sqr(wo_.y());
+    const float alpha_view =
+        sxy > 1e-12f ? std::sqrt((sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())) / sxy) : std::sqrt(ax_ * ay_);
+    e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
+    sheen_scale_ = std::clamp(p_.sheen.maxCoeff(), 0.0f, 1.0f);
+    e_sheen_ = sheen_scale_ > 0.0f ? sheen_albedo(mu, p_.sheen_roughness) : 0.0f;
+    base_weight_ = 1.0f - e_spec_;
+    diffuse_weight_ = base_weight_ * (1.0f - sheen_scale_ * e_sheen_);
+    // Lobe selection in proportion to each lobe's share of the albedo.
+    const float ws = e_spec_;
+    const float wsh = base_weight_ * e_sheen_ * luminance(p_.sheen);
+    const float wd = diffuse_weight_ * luminance(p_.diffuse);
+    const float sum = ws + wsh + wd;
+    if (sum > 0.0f) {
+        p_spec_ = ws / sum;
+        p_sheen_ = wsh / sum;
+        p_diffuse_ = wd / sum;
+    } else {
+        p_spec_ = 1.0f;
+    }
+}
+
+float ClothBsdf::spec_pdf(const V3& wi) const {
+    const V3 h = (wo_ + wi).normalized();
+    return ggx_d(h, ax_, ay_) / (4.0f * wo_.z() * (1.0f + ggx_lambda(wo_, ax_, ay_)));
+}
+
+V3 ClothBsdf::spec_f(const V3& wi) const {
+    const V3 h = (wo_ + wi).normalized();
+    const float g2 = 1.0f / (1.0f + ggx_lambda(wo_, ax_, ay_) + ggx_lambda(wi, ax_, ay_));
+    const float f = schlick(p_.f0, wo_.dot(h)) * ggx_d(h, ax_, ay_) * g2 / (4.0f * wo_.z() * wi.z());
+    return V3::Constant(f);
+}
+
+float ClothBsdf::sheen_d_v(const V3& wi) const {
+    const V3 h = (wo_ + wi).normalized();
+    return charlie_d(h.z(), sheen_alpha_) * neubelt_v(wo_.z(), wi.z());
+}
+
+V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
+    *pdf = 0.0f;
+    if (wi.z() <= 0.0f || wo_.z() <= 0.0f) return V3::Zero();
+    V3 f = V3::Zero();
+    float pd = 0.0f;
+    if (p_spec_ > 0.0f || e_spec_ > 0.0f) {
+        f += spec_f(wi);
+        pd += p_spec_ * spec_pdf(wi);
+    }
+    if (sheen_scale_ > 0.0f) {
+        f += base_weight_ * sheen_d_v(wi) * p_.sheen;
+        pd += p_sheen_ / (2.0f * kPi);
+    }
+    f += diffuse_weight_ / kPi * p_.diffuse;
+    pd += p_diffuse_ * wi.z() / kPi;
+    *pdf = pd;
+    return f * wi.z();
+}
+
+bool ClothBsdf::sample(float u_lobe, float u1, float u2, BsdfSample* out) const {
+    if (wo_.z() <= 0.0f) return false;
+    V3 wi;
+    if (u_lobe < p_spec_) {
+        wi = reflect(wo_, sample_vndf(wo_, ax_, ay_, u1, u2));
+    } else if (u_lobe < p_spec_ + p_sheen_) {
+        const float z = u1;
+        const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        wi = V3(r * std::cos(2.0f * kPi * u2), r * std::sin(2.0f * kPi * u2), z);
+    } else {
+        const float r = std::sqrt(u1);
+        wi = V3(r * std::cos(2.0f * kPi * u2), r * std::sin(2.0f * kPi * u2),
+                std::sqrt(std::max(0.0f, 1.0f - u1)));
+    }
+    if (wi.z() <= 1e-6f) return false;
+    float pdf = 0.0f;
+    const V3 fc = eval(wi, &pdf);
+    if (!(pdf > 0.0f)) return false;
+    out->wi = wi;
+    out->pdf = pdf;
+    out->weight = fc / pdf;
+    return true;
+}
+
+V3 ClothBsdf::albedo() const {
+    return V3::Constant(e_spec_) + base_weight_ * e_sheen_ * p_.sheen + diffuse_weight_ * p_.diffuse;
+}
+
+}  // namespace foldcast::render

@@ -1,0 +1,49 @@
+#pragma once
+// The path tracer over one frame's geometry: an Embree scene holding the garment and the
+// studio meshes, plus the lights and materials.  Build once per frame, render any camera.
+#include <memory>
+#include <vector>
+
+#include "foldcast/render.hpp"
+#include "studio.hpp"
+
+namespace foldcast::render {
+
+struct FrameGeometry {
+    Mesh garment;                 // positions, normals, triangles, UVs (metres; may be empty)
+    std::vector<float> fold_sign; // per garment vertex, may be empty
+    std::vector<StudioMesh> studio;
+};
+
+struct TraceSettings {
+    int width = 0, height = 0, spp = 1;
+    std::uint64_t seed = 1;
+    int threads = 0;
+    std::vector<Aov> aovs;
+};
+
+class Tracer {
+public:
+    Tracer(const SceneSpec& scene, FrameGeometry geometry);
+    ~Tracer();
+    Tracer(const Tracer&) = delete;
+    Tracer& operator=(const Tracer&) = delete;
+
+    RenderResult render(const Camera& camera, const TraceSettings& settings,
+                        const ProgressFn& progress = {}) const;
+
+    // Primary visibility only (packets of 16 coherent camera rays, closest hit, no
+    // shading): the benchmark's "foldcast primary pass".  Returns the number of hits.
+    std::uint64_t primary_visibility(const Camera& camera, int width, int height, int threads) const;
+    // The raw Embree scene handle (RTCScene) for the benchmark's ceiling loop.
+    void* embree_scene() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Puts the render thread into flush-to-zero / denormals-are-zero mode (Embree's advice).
+void set_ftz_daz();
+
+}  // namespace foldcast::render

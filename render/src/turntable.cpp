@@ -1,0 +1,126 @@
+// Turntables: the camera rig (camera, lights, cyclorama) orbits the garment; each frame is a
+// still written as DIR/frame_NNNN.png, and complete sequences are encoded to MP4.
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/core/error.hpp"
+#include "foldcast/render.hpp"
+#include "studio_setup.hpp"
+#include "tracer.hpp"
+
+namespace foldcast::render {
+namespace fs = std::filesystem;
+
+fs::path turntable_frame_path(const fs::path& dir, int frame) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%04d.png", frame);
+    return dir / name;
+}
+
+void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4) {
+    check_writable(mp4);
+    cv::Mat first = cv::imread(turntable_frame_path(frames_dir, 0).string(), cv::IMREAD_COLOR);
+    if (first.empty()) throw InputError("turntable frames in " + frames_dir.string() + ": frame_0000.png is missing");
+    // Write beside the target under a temporary name, then rename (atomic output).
+    fs::path temp = mp4;
+    temp += ".partial.mp4";
+    {
+        cv::VideoWriter writer(temp.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
+                               cv::Size(first.cols, first.rows));
+        if (!writer.isOpened()) throw std::runtime_error("cannot open an MP4 writer (OpenCV videoio, mp4v) for " + mp4.string());
+        for (int f = 0; f < frame_count; ++f) {
+            const fs::path p = turntable_frame_path(frames_dir, f);
+            cv::Mat img = cv::imread(p.string(), cv::IMREAD_COLOR);
+            if (img.empty()) {
+                writer.release();
+                fs::remove(temp);
+                throw InputError("turntable frames in " + frames_dir.string() + ": " + p.filename().string() +
+                                 " is missing (render every range with --frames A:B first)");
+            }
+            if (img.cols != first.cols || img.rows != first.rows) {
+                writer.release();
+                fs::remove(temp);
+                throw InputError(p.string() + ": size differs from frame_0000.png");
+            }
+            writer.write(img);
+        }
+    }
+    fs::rename(temp, mp4);
+}
+
+TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, const TurntableOptions& options,
+                                 const ProgressFn& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    const int total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
+    const int first = options.first_frame;
+    const int last = options.last_frame < 0 ? total : options.last_frame;
+    if (first < 0 || first >= last || last > total)
+        throw InputError("--frames " + std::to_string(first) + ":" + std::to_string(last) + ": need 0 <= A < B <= " +
+                         std::to_string(total) + " (the turntable's frame count)");
+    const std::string ext = out.extension().string();
+    const bool to_mp4 = ext == ".mp4";
+    const std::string out_s = out.string();
+    const bool to_dir = !to_mp4 && (out_s.empty() || out_s.back() == '/' || fs::is_directory(out) || ext.empty());
+    if (!to_mp4 && !to_dir) throw InputError("-o " + out_s + ": a turntable goes to OUT.mp4 or a directory DIR/");
+    fs::path dir = to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (!fs::is_directory(dir)) throw InputError("-o " + out_s + ": cannot create the frame directory " + dir.string());
+    if (to_mp4) check_writable(out);
+
+    const StudioSetup setup(scene, load_garment(scene));
+    const int width = options.render.width > 0 ? options.render.width : scene.width;
+    const int height = options.render.height > 0 ? options.render.height : scene.height;
+    TraceSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.spp = options.render.spp > 0 ? options.render.spp : scene.spp;
+    settings.seed = options.render.seed.value_or(scene.seed);
+    settings.threads = options.render.threads;
+    const bool animated = setup.frame_count() > 1;
+    auto garment_frame = [&](int f) { return animated ? f % setup.frame_count() : std::min(scene.garment.frame, setup.frame_count() - 1); };
+    auto turn = [&](int f) { return -360.0 * f / total; };  // garment turns back = rig orbits forward
+    // One framing for the whole orbit (no zoom pumping): fit every 10 degrees of turn over
+    // the frames the animation uses.
+    std::vector<std::vector<Vec3f>> fit;
+    for (int k = 0; k < 36; ++k) fit.push_back(setup.framing_points(garment_frame(k * total / 36), -10.0 * k));
+    const Camera camera = frame_camera(scene.camera, fit, static_cast<double>(width) / height);
+
+    TurntableResult result;
+    for (int f = first; f < last; ++f) {
+        const Tracer tracer(setup.lit_scene(), setup.geometry(garment_frame(f), turn(f)));
+        const int done = f - first, count = last - first;
+        ProgressFn frame_progress;
+        if (progress)
+            frame_progress = [&, done, count](std::string_view, double fraction) {
+                progress("turntable", (done + fraction) / count);
+            };
+        const RenderResult r = tracer.render(camera, settings, frame_progress);
+        result.stats.rays += r.stats.rays;
+        SceneSpec opaque = setup.lit_scene();
+        opaque.transparent = false;  // video frames have no alpha
+        RenderResult copy;
+        copy.beauty = r.beauty;
+        const fs::path p = turntable_frame_path(dir, f);
+        write_render(p, copy, opaque);
+        result.written.push_back(p);
+        ++result.frames_rendered;
+    }
+    if (to_mp4 && first == 0 && last == total) {
+        encode_mp4(dir, total, scene.turntable_fps, out);
+        result.written.push_back(out);
+    }
+    result.stats.width = width;
+    result.stats.height = height;
+    result.stats.spp = settings.spp;
+    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace foldcast::render

@@ -1,0 +1,78 @@
+#include <gtest/gtest.h>
+
+#include "foldcast/codec.hpp"
+#include "foldcast/core/error.hpp"
+#include "test_animations.hpp"
+
+namespace foldcast::codec {
+namespace {
+
+EncodeOptions profile_options(Profile p) {
+    EncodeOptions o;
+    o.profile = p;
+    return o;
+}
+
+class Streaming : public ::testing::TestWithParam<Profile> {};
+
+// Every prefix decodes (never throws) to an animation of the right shape; the error never
+// grows as bytes arrive; frames reported playable are exactly the final ones.
+TEST_P(Streaming, PrefixesDecodeCoarserAndErrorFallsAsBytesArrive) {
+    const Animation a = test::basic_cloth();
+    const std::string bytes = encode(a, profile_options(GetParam()));
+    const Animation full = decode(bytes);
+    StreamingDecoder decoder("stream");
+    double previous_error = std::numeric_limits<double>::infinity(), first_error = -1.0;
+    std::size_t previous_playable = 0, previous_packets = 0, checked = 0;
+    const std::size_t step = std::max<std::size_t>(1, bytes.size() / 97);
+    for (std::size_t cut = 0; cut < bytes.size(); cut += step) {
+        const std::size_t end = std::min(bytes.size(), cut + step);
+        decoder.feed(std::string_view(bytes).substr(cut, end - cut));
+        const StreamStatus s = decoder.status();
+        EXPECT_GE(s.playable_frames, previous_playable);
+        previous_playable = s.playable_frames;
+        if (!s.header_ready || s.packets == previous_packets) continue;
+        previous_packets = s.packets;
+        const Animation partial = decoder.animation();
+        ASSERT_EQ(partial.frame_count(), a.frame_count());
+        const double error = measure(a, partial, end).kg_error;
+        // A newly arrived coefficient or frame carries quantisation error of its own, so
+        // the error may rise by a hair (never by more than 0.1 %); otherwise it falls.
+        EXPECT_LE(error, previous_error * (1.0 + 1e-3)) << "cut at " << end;
+        previous_error = error;
+        if (first_error < 0.0) first_error = error;
+        for (std::size_t t = 0; t < s.playable_frames; ++t) ASSERT_EQ(partial.frames[t], full.frames[t]) << "frame " << t;
+        ++checked;
+    }
+    EXPECT_GT(checked, 5u);
+    EXPECT_LT(previous_error, first_error / 10.0);
+    EXPECT_TRUE(decoder.status().complete);
+    EXPECT_EQ(decoder.status().playable_frames, a.frame_count());
+    EXPECT_EQ(decoder.animation().frames, full.frames);
+}
+
+TEST_P(Streaming, HalfAFileStillDecodesToSomethingClose) {
+    const Animation a = test::basic_cloth();
+    const std::string bytes = encode(a, profile_options(GetParam()));
+    const Animation half = decode(std::string_view(bytes).substr(0, bytes.size() / 2));
+    const Metrics m = measure(a, half, bytes.size() / 2);
+    EXPECT_LT(m.kg_error, 100.0);  // much better than the per-frame mean
+    EXPECT_LT(m.max_error_rel, 0.5);
+}
+
+TEST_P(Streaming, FrameAccessorMatchesAnimation) {
+    const Animation a = test::wave_grid(6, 5, 30);
+    const std::string bytes = encode(a, profile_options(GetParam()));
+    StreamingDecoder d("s");
+    d.feed(bytes);
+    EXPECT_EQ(d.frame(17), d.animation().frames[17]);
+    EXPECT_THROW(d.frame(30), InputError);
+    EXPECT_EQ(d.vertex_count(), 30u);
+    EXPECT_EQ(d.profile(), GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(Profiles, Streaming, ::testing::Values(Profile::paper, Profile::predictive),
+                         [](const auto& info) { return profile_name(info.param); });
+
+}  // namespace
+}  // namespace foldcast::codec

@@ -1,0 +1,168 @@
+// Renders: determinism across thread counts, the white furnace, output files and the CLI.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "foldcast/codec.hpp"
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/core/error.hpp"
+#include "render_fixtures.hpp"
+
+namespace foldcast::render {
+namespace {
+
+TEST(Render, ByteIdenticalForAnyThreadCount) {
+    const SceneSpec s = test::cloth_scene(70, 45, 3);  // odd sizes: partial tiles and packets
+    RenderOptions one, two, three;
+    one.threads = 1;
+    two.threads = 2;
+    three.threads = 3;
+    one.aovs = two.aovs = three.aovs = {Aov::albedo, Aov::fold};
+    const RenderResult a = render_still(s, one), b = render_still(s, two), c = render_still(s, three);
+    ASSERT_EQ(a.beauty.pixels.size(), b.beauty.pixels.size());
+    EXPECT_EQ(0, std::memcmp(a.beauty.pixels.data(), b.beauty.pixels.data(), a.beauty.pixels.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(a.beauty.pixels.data(), c.beauty.pixels.data(), a.beauty.pixels.size() * sizeof(float)));
+    for (std::size_t i = 0; i < a.aovs.size(); ++i)
+        EXPECT_EQ(a.aovs[i].image.pixels, c.aovs[i].image.pixels);
+    EXPECT_EQ(a.stats.rays, c.stats.rays);
+    // A different seed gives a different image (the streams really depend on it).
+    RenderOptions other = one;
+    other.seed = 12345;
+    EXPECT_NE(render_still(s, other).beauty.pixels, a.beauty.pixels);
+}
+
+TEST(Render, WhiteFurnaceSphereStaysWithinOnePercent) {
+    const auto dir = test::temp_dir();
+    SceneSpec s;
+    s.garment.source = GarmentSpec::Source::obj;
+    s.garment.path = test::write_sphere(dir, 0.5f);
+    s.look.appearance.base_colour = Vec3f::Ones();
+    s.look.appearance.sheen_colour = Vec3f::Ones();
+    s.look.appearance.weave = looks::Weave::none;
+    s.look.appearance.roughness = 0.5;
+    s.look.appearance.specular = 0.5;
+    s.backdrop = SceneSpec::Backdrop::none;
+    s.supports = SceneSpec::Supports::none;
+    s.studio_preset = false;
+    s.environment = Vec3f::Ones();
+    s.max_depth = 64;
+    s.camera.frame_share = 0.7;
+    RenderOptions o;
+    o.width = 48;
+    o.height = 48;
+    o.spp = 64;
+    o.aovs = {Aov::depth};
+    const RenderResult r = render_still(s, o);
+    double sum = 0.0;
+    int n = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 48; ++x)
+            if (*r.aovs[0].image.at(x, y) > 0.0f) {  // fully on the sphere
+                for (int c = 0; c < 3; ++c) sum += r.beauty.at(x, y)[c];
+                n += 3;
+            }
+    ASSERT_GT(n, 300);
+    EXPECT_NEAR(sum / n, 1.0, 0.01);
+}
+
+TEST(Render, PngHasTheRequestedSizeAndAlphaWhenTransparent) {
+    const auto dir = test::temp_dir();
+    SceneSpec s = test::cloth_scene(40, 30, 2);
+    s.backdrop = SceneSpec::Backdrop::none;
+    s.transparent = true;
+    RenderOptions o;
+    o.aovs = {Aov::albedo, Aov::normal, Aov::depth, Aov::fold};
+    const RenderResult r = render_still(s, o);
+    const auto written = write_render(dir / "out.png", r, s);
+    EXPECT_EQ(written.size(), 5u);
+    const cv::Mat img = cv::imread((dir / "out.png").string(), cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(img.empty());
+    EXPECT_EQ(img.cols, 40);
+    EXPECT_EQ(img.rows, 30);
+    EXPECT_EQ(img.channels(), 4);
+    EXPECT_EQ(img.at<cv::Vec4b>(0, 0)[3], 0);      // corner: sky, transparent
+    EXPECT_EQ(img.at<cv::Vec4b>(15, 20)[3], 255);  // centre: the garment
+    for (const char* aov : {"albedo", "normal", "depth", "fold"}) {
+        const cv::Mat a = cv::imread((dir / (std::string("out.") + aov + ".png")).string(), cv::IMREAD_UNCHANGED);
+        ASSERT_FALSE(a.empty()) << aov;
+        EXPECT_EQ(a.cols, 40) << aov;
+    }
+    // Opaque scenes give RGB PNGs.
+    s.transparent = false;
+    write_render(dir / "opaque.png", render_still(s, {}), s);
+    EXPECT_EQ(cv::imread((dir / "opaque.png").string(), cv::IMREAD_UNCHANGED).channels(), 3);
+}
+
+TEST(Render, ExrIsLinearFloat) {
+    const auto dir = test::temp_dir();
+    const SceneSpec s = test::cloth_scene(24, 16, 1);
+    const RenderResult r = render_still(s, {});
+    write_render(dir / "out.exr", r, s);
+    const cv::Mat img = cv::imread((dir / "out.exr").string(), cv::IMREAD_UNCHANGED);
+    if (img.empty()) GTEST_SKIP() << "this OpenCV cannot read EXR back (writing was done by OpenEXR)";
+    EXPECT_EQ(img.cols, 24);
+    EXPECT_EQ(img.depth(), CV_32F);
+    EXPECT_NEAR(img.at<cv::Vec4f>(8, 12)[2], r.beauty.at(12, 8)[0], 1e-6f);  // BGRA vs RGBA
+}
+
+TEST(Render, RejectsUnknownOutputFormat) {
+    const SceneSpec s = test::cloth_scene(8, 8, 1);
+    EXPECT_THROW(write_render(test::temp_dir() / "out.jpg", render_still(s, {}), s), InputError);
+}
+
+TEST(Render, FcaGarmentRendersLikeItsSourceMesh) {
+    const auto dir = test::temp_dir();
+    SceneSpec obj = test::cloth_scene(32, 24, 2);
+    const Mesh mesh = read_obj(obj.garment.path);
+    Animation anim;
+    anim.topology = mesh.topology;
+    anim.frames = {mesh.positions, mesh.positions};
+    write_file_atomically(dir / "cloth.fca", codec::encode(anim, {}));
+    SceneSpec fca = obj;
+    fca.garment.source = GarmentSpec::Source::fca;
+    fca.garment.path = dir / "cloth.fca";
+    fca.garment.frame = 1;
+    const RenderResult a = render_still(obj, {}), b = render_still(fca, {});
+    double diff = 0.0;
+    for (std::size_t i = 0; i < a.beauty.pixels.size(); ++i) diff += std::abs(a.beauty.pixels[i] - b.beauty.pixels[i]);
+    EXPECT_LT(diff / a.beauty.pixels.size(), 0.02);  // lossy codec: nearly the same image
+    fca.garment.frame = 2;
+    EXPECT_THROW(render_still(fca, {}), InputError);  // names the frame range
+}
+
+std::string run(const std::string& cmd, int* status) {
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[4096];
+    while (std::fgets(buf, sizeof(buf), p)) out += buf;
+    *status = WEXITSTATUS(pclose(p));
+    return out;
+}
+
+TEST(RenderCli, JsonReportAndExitStatuses) {
+    const auto dir = test::temp_dir();
+    std::ofstream(dir / "s.toml") << "[garment]\npath = \"" << test::test_data("animations/basicCloth.obj").string()
+                                  << "\"\nscale = 0.1\n[output]\nwidth = 32\nheight = 24\nspp = 2\n";
+    const std::string bin = std::string(FOLDCAST_BINARY_DIR) + "/foldcast";
+    int status = -1;
+    const std::string out = run(bin + " render " + (dir / "s.toml").string() + " -o " + (dir / "o.png").string() +
+                                    " --json --threads 2 2>&1",
+                                &status);
+    EXPECT_EQ(status, 0) << out;
+    for (const char* key : {"\"width\":32", "\"height\":24", "\"spp\":2", "\"seconds\"", "\"rays\"", "\"rays_per_second\""})
+        EXPECT_NE(out.find(key), std::string::npos) << key << " in " << out;
+    EXPECT_TRUE(std::filesystem::exists(dir / "o.png"));
+    std::ofstream(dir / "bad.toml") << "[output]\nwidht = 3\n";
+    const std::string err = run(bin + " render " + (dir / "bad.toml").string() + " -o " + (dir / "b.png").string() + " 2>&1", &status);
+    EXPECT_EQ(status, 2);
+    EXPECT_NE(err.find("bad.toml:2"), std::string::npos) << err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "b.png"));
+}
+
+}  // namespace
+}  // namespace foldcast::render
