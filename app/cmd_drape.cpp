@@ -12,6 +12,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "foldcast/codec.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh_io.hpp"
@@ -68,7 +69,7 @@ drape::GridSize parse_grid(const std::string& text) {
     throw InputError("--grid " + text + ": must be NUxNV with 2..8192 vertices each way, e.g. 64x64");
 }
 
-enum class OutputKind { none, obj, ply, pc2 };
+enum class OutputKind { none, obj, ply, pc2, fca };
 OutputKind output_kind(const std::string& path) {
     if (path.empty()) return OutputKind::none;
     std::string ext = fs::path(path).extension().string();
@@ -76,8 +77,9 @@ OutputKind output_kind(const std::string& path) {
     if (ext == ".obj") return OutputKind::obj;
     if (ext == ".ply") return OutputKind::ply;
     if (ext == ".pc2") return OutputKind::pc2;
+    if (ext == ".fca") return OutputKind::fca;
     throw InputError("-o " + path + ": unknown extension '" + ext +
-                     "' (allowed: .obj or .ply for the garment, .pc2 for the animation)");
+                     "' (allowed: .obj or .ply for the garment, .pc2 or .fca for the animation)");
 }
 
 drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
@@ -199,7 +201,7 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     anim_options.fps = o.fps;
     anim_options.sway_amplitude_m = o.sway_m;
     anim_options.sway_period_s = o.sway_period_s;
-    const bool animated = kind == OutputKind::pc2 || o.sway_m > 0.0;
+    const bool animated = kind == OutputKind::pc2 || kind == OutputKind::fca || o.sway_m > 0.0;
     std::optional<Animation> animation;
     if (animated) {
         ProgressBar bar(o.quiet || o.json);
@@ -208,6 +210,8 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
 
     if (kind == OutputKind::pc2) {
         write_pc2_animation(o.output, *animation);
+    } else if (kind == OutputKind::fca) {  // the codec's default profile and error bound
+        codec::write_fca(o.output, codec::encode(*animation, {}));
     } else if (kind != OutputKind::none) {
         Mesh mesh = garment.mesh;
         if (animation) {  // the last frame, sway included
@@ -226,7 +230,9 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
         std::cout << j.dump(2) << "\n";
     } else {
         print_text(params, solution, garment, o);
-        if (kind == OutputKind::pc2)
+        if (kind == OutputKind::fca)
+            std::printf("wrote %s (%zu frames at %g fps)\n", o.output.c_str(), animation->frame_count(), animation->fps);
+        else if (kind == OutputKind::pc2)
             std::printf("wrote %s (%zu frames at %g fps) and %s\n", o.output.c_str(),
                         animation->frame_count(), animation->fps,
                         fs::path(o.output).replace_extension(".obj").c_str());
@@ -275,7 +281,7 @@ Command drape_command(CLI::App& app) {
     sub->add_flag("--verbose", o->verbose, "Also report every fold count tried");
     sub->add_flag("-q,--quiet", o->quiet, "No progress bar");
     sub->add_option("-o,--output", o->output,
-                    "Write x.obj or x.ply (garment, last frame) or x.pc2 (animation + x.obj beside)");
+                    "Write x.obj or x.ply (garment, last frame), x.pc2 (animation + x.obj beside) or x.fca (compressed animation)");
     return Command{sub, [o, flags] { return run_drape(*o, *flags); }};
 }
 

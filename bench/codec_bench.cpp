@@ -1,7 +1,8 @@
 // Codec rate-distortion and speed (docs/benchmarks.md, section "codec").  A timed run, not
 // Google Benchmark: each point encodes, decodes (best of a few runs) and measures.
 //   build/bench/codec_bench [--quick]
-// Inputs: basicCloth (tests/data) and a 128x128-vertex, 240-frame regular-grid cloth.
+// Inputs: basicCloth (tests/data) and a 128x128-vertex, 240-frame drape animation
+// (drape::animate with default cloth parameters; --quick: 32x32, 60 frames).
 // Methods: the `paper` and `default` profiles swept over error bounds, and two baselines
 // built from Debian libraries: 12-bit quantisation + per-frame temporal delta +
 // meshoptimizer's vertex codec + zstd -19, and raw float32 + zstd -19.
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "foldcast/codec.hpp"
+#include "foldcast/drape.hpp"
 #include "foldcast/core/mesh_io.hpp"
 
 using namespace foldcast;
@@ -24,28 +26,12 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-Animation wave_grid(int nu, int nv, int frames) {
-    Animation a;
-    for (int j = 0; j + 1 < nv; ++j)
-        for (int i = 0; i + 1 < nu; ++i) {
-            const auto v = static_cast<std::uint32_t>(j * nu + i), w = static_cast<std::uint32_t>(nu);
-            a.topology.triangles.push_back({v, v + 1, v + w});
-            a.topology.triangles.push_back({v + 1, v + w + 1, v + w});
-        }
-    for (int t = 0; t < frames; ++t) {
-        std::vector<Vec3f> f;
-        const double s = t / 30.0, form = std::min(1.0, s / 2.0);
-        for (int j = 0; j < nv; ++j)
-            for (int i = 0; i < nu; ++i) {
-                const double x = 0.5 * i / (nu - 1) - 0.25, y = -0.7 * j / (nv - 1);
-                // Folds forming as the supports move in, plus a slow sway.
-                const double z = 0.04 * form * std::cos(2.0 * M_PI * 3.0 * x / 0.5) * std::cos(M_PI * x / 0.5) *
-                                     std::exp(1.5 * y) + 0.01 * std::sin(2.0 * M_PI * s / 2.0) * (-y);
-                f.emplace_back(float(x * (1.0 - 0.2 * form)), float(y - 0.02 * form * std::cos(M_PI * x / 0.5)), float(z));
-            }
-        a.frames.push_back(std::move(f));
-    }
-    return a;
+// foldcast's own garment: a drape animation (supports moving in, folds forming).
+Animation drape_animation(int n, int frames) {
+    drape::AnimationOptions options;
+    options.frames = frames;
+    options.fps = 30.0;
+    return drape::animate(drape::ClothParams{}, drape::GridSize{n, n}, options);
 }
 
 struct Coded {
@@ -166,7 +152,7 @@ int main(int argc, char** argv) {
     std::vector<Input> inputs;
     inputs.push_back({"basicCloth", read_pc2_animation(std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.pc2",
                                                        std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.obj")});
-    inputs.push_back({"grid128x128x240", quick ? wave_grid(32, 32, 60) : wave_grid(128, 128, 240)});
+    inputs.push_back({quick ? "drape32x32x60" : "drape128x128x240", quick ? drape_animation(32, 60) : drape_animation(128, 240)});
     std::printf("input,method,setting,bytes,bpvf,kg_error,rms_error_rel,max_error_rel,encode_vf_per_s,decode_vf_per_s\n");
     for (const auto& in : inputs) {
         const Animation& a = in.anim;
