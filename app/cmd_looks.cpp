@@ -1,13 +1,20 @@
-// foldcast looks: list the fabric looks, or show one with every value.
+// foldcast looks: list the fabric looks, show one with every value, or draw the swatch sheet.
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "commands.hpp"
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/core/error.hpp"
 #include "foldcast/looks.hpp"
 #include "foldcast/looks/look_json.hpp"
+#include "foldcast/render/swatches.hpp"
+#include "progress_bar.hpp"
 
 namespace foldcast::app {
 
@@ -16,7 +23,47 @@ struct LooksOptions {
     bool json = false;
     std::string show_name;
     bool show_json = false;
+    std::string swatches;  // OUT.png
+    std::vector<std::string> only;
+    std::string tile = "240x300";
+    render::SwatchOptions swatch;
+    bool quiet = false;
 };
+
+// "240x300" -> (240, 300); throws InputError naming the flag.
+std::pair<int, int> parse_tile(const std::string& text) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x')
+        throw InputError("--tile " + text + ": expected WIDTHxHEIGHT in pixels, e.g. 240x300");
+    return {w, h};
+}
+
+int draw_swatches(LooksOptions& options) {
+    check_writable(options.swatches);  // fail before minutes of rendering
+    const auto library = looks::Library::load_default();
+    options.swatch.looks = options.only;
+    std::tie(options.swatch.tile_width, options.swatch.tile_height) = parse_tile(options.tile);
+    ProgressBar bar(options.quiet);
+    const auto sheet = render::render_swatch_sheet(library, options.swatch, bar.callback());
+    render::write_swatch_sheet(options.swatches, sheet);
+    if (options.json) {
+        nlohmann::json report = {{"file", options.swatches},
+                                 {"width", sheet.width},
+                                 {"height", sheet.height},
+                                 {"spp", options.swatch.spp},
+                                 {"seconds", sheet.stats.seconds},
+                                 {"rays", sheet.stats.rays},
+                                 {"tiles", nlohmann::json::array()}};
+        for (const auto& tile : sheet.tiles)
+            report["tiles"].push_back({{"look", tile.look}, {"folds", tile.folds}, {"gsm", tile.gsm}});
+        std::cout << report.dump() << "\n";
+    } else {
+        std::fprintf(stderr, "wrote %s (%dx%d, %zu looks)\n", options.swatches.c_str(), sheet.width,
+                     sheet.height, sheet.tiles.size());
+    }
+    return 0;
+}
 
 int list_looks(const LooksOptions& options) {
     const auto library = looks::Library::load_default();
@@ -59,13 +106,39 @@ Command looks_command(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "looks", "List the fabric looks (mechanics + appearance) shipped in looks/data "
                  "(or $FOLDCAST_LOOKS_DIR)");
-    sub->add_flag("--json", options->json, "Print every look with all its values as JSON");
+    sub->add_flag("--json", options->json,
+                  "Print every look with all its values as JSON (with --swatches: the sheet's report)");
+    sub->add_option("--swatches", options->swatches,
+                    "Draw every look draped the same way side by side, labelled, into OUT.png");
+    sub->add_option("--only", options->only, "With --swatches: just these looks, in this order")
+        ->delimiter(',');
+    sub->add_option("--tile", options->tile, "With --swatches: each tile's size in pixels")
+        ->capture_default_str();
+    sub->add_option("--columns", options->swatch.columns, "With --swatches: tiles per row (0 = auto)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    sub->add_option("--spp", options->swatch.spp, "With --swatches: samples per pixel")
+        ->check(CLI::Range(1, 1 << 16))
+        ->capture_default_str();
+    sub->add_option("--seed", options->swatch.seed, "With --swatches: random seed")->capture_default_str();
+    sub->add_option("--threads", options->swatch.threads,
+                    "With --swatches: render threads (default all cores; same image for any count)")
+        ->check(CLI::Range(1, 1024));
+    sub->add_option("--width-m", options->swatch.width_m, "With --swatches: cloth width (m)")
+        ->capture_default_str();
+    sub->add_option("--height-m", options->swatch.height_m, "With --swatches: cloth height (m)")
+        ->capture_default_str();
+    sub->add_option("--inset-m", options->swatch.inset_m, "With --swatches: support inset (m)")
+        ->capture_default_str();
+    sub->add_flag("-q,--quiet", options->quiet, "With --swatches: no progress bar");
     CLI::App* show = sub->add_subcommand("show", "Print one look's values (TOML, or JSON with --json)");
     show->add_option("name", options->show_name, "Look name (see `foldcast looks`)")->required();
     show->add_flag("--json", options->show_json, "Print the look as JSON");
 
     return Command{sub, [options, show] {
-                       return show->parsed() ? show_look(*options) : list_looks(*options);
+                       if (show->parsed()) return show_look(*options);
+                       if (!options->swatches.empty()) return draw_swatches(*options);
+                       return list_looks(*options);
                    }};
 }
 

@@ -42,7 +42,7 @@ Command turntable_command(CLI::App& app) {
     struct Args {
         std::string scene, out, frames, join;
         int width = 0, height = 0, spp = 0, threads = 0;
-        bool quiet = false, json = false;
+        bool quiet = false, json = false, preview = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand(
@@ -60,6 +60,8 @@ Command turntable_command(CLI::App& app) {
     sub->add_option("--join", args->join,
                     "Encode an already rendered, complete PNG sequence from this directory into -o OUT.mp4 "
                     "(no rendering)");
+    sub->add_flag("--preview", args->preview,
+                  "Rasterise the frames with OpenGL through EGL (fast preview) instead of path tracing");
     sub->add_flag("--json", args->json, "Print frames, seconds, rays, rays_per_second as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args] {
@@ -76,6 +78,7 @@ Command turntable_command(CLI::App& app) {
                 options.render.height = args->height;
                 options.render.spp = args->spp;
                 options.render.threads = args->threads;
+                options.preview = args->preview;
                 render::TurntableResult result;
                 {
                     ProgressBar bar(args->quiet || args->json);

@@ -20,5 +20,7 @@ Command encode_command(CLI::App& app);
 Command decode_command(CLI::App& app);
 Command render_command(CLI::App& app);
 Command turntable_command(CLI::App& app);
+Command preview_command(CLI::App& app);
+Command batch_command(CLI::App& app);
 
 }  // namespace foldcast::app

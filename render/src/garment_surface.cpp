@@ -77,7 +77,9 @@ GarmentSurface GarmentShader::shade(const Eigen::Vector2f& uv_m, float footprint
     bool along_weft = a.anisotropy_axis == looks::AnisotropyAxis::weft;
     if (a.weave != looks::Weave::none) {
         const looks::WeaveSample w = looks::sample_weave(a, uv_m.cast<double>(), footprint_m);
-        base *= w.albedo_scale;
+        // Without a texture the weave decides the colour: warp and weft (denim's ecru weft)
+        // mixed by which shows here, times the yarn shading.
+        base = images_->colour.empty() ? looks::weave_albedo(a, w) : V3(base * w.albedo_scale);
         n = V3(n.x() + w.normal.x(), n.y() + w.normal.y(), n.z() * w.normal.z());
         // The highlight stretches along whichever yarn lies on top here.
         if (w.yarn == 1) along_weft = false;

@@ -175,7 +175,7 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
     glBindFramebuffer(GL_FRAMEBUFFER, s.msaa_fbo);
     glGenRenderbuffers(1, &s.msaa_colour);
     glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_colour);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_RGBA32F, width, height);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_RGBA16F, width, height);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.msaa_colour);
     glGenRenderbuffers(1, &s.msaa_depth);
     glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_depth);
@@ -186,7 +186,7 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
     glBindFramebuffer(GL_FRAMEBUFFER, s.resolve_fbo);
     glGenRenderbuffers(1, &s.resolve_colour);
     glBindRenderbuffer(GL_RENDERBUFFER, s.resolve_colour);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, width, height);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA16F, width, height);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.resolve_colour);
 
     glGenFramebuffers(1, &s.distance_fbo);
@@ -263,18 +263,36 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
         perspective(fov, static_cast<float>(s.width) / static_cast<float>(s.height), near_m, far_m) *
         look_at(camera.position, camera.target, camera.up);
 
+    // The key light's shadow frustum covers the shadow casters only (receivers outside it
+    // are lit), so a large backdrop does not dilute the shadow map's resolution.
+    Vec3f caster_lo = Vec3f::Constant(std::numeric_limits<float>::max());
+    Vec3f caster_hi = -caster_lo;
+    for (const PreviewObject& object : scene.objects)
+        if (object.casts_shadow)
+            for (const Vec3f& p : object.mesh->positions) {
+                caster_lo = caster_lo.cwiseMin(p);
+                caster_hi = caster_hi.cwiseMax(p);
+            }
     Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
     bool has_shadow = false;
-    if (!scene.lights.empty()) {
+    float shadow_softness_texels = 1.0f;
+    if (!scene.lights.empty() && caster_lo.x() <= caster_hi.x()) {
+        const Vec3f caster_centre = 0.5f * (caster_lo + caster_hi);
+        const float caster_radius = std::max(0.5f * (caster_hi - caster_lo).norm(), 1e-3f);
         const Vec3f key = scene.lights.front().position;
-        const float distance = (centre - key).norm();
-        if (distance > radius * 1.01f) {
-            const float half_angle = std::asin(std::min(radius / distance, 0.99f)) * 1.05f;
-            light_view_proj = perspective(2.0f * half_angle, 1.0f, distance - radius, distance + radius) *
-                              look_at(key, centre, std::abs((centre - key).normalized().y()) > 0.99f
-                                                       ? Vec3f(1.0f, 0.0f, 0.0f)
-                                                       : Vec3f(0.0f, 1.0f, 0.0f));
+        const float distance = (caster_centre - key).norm();
+        if (distance > caster_radius * 1.01f) {
+            const float half_angle = std::asin(std::min(caster_radius / distance, 0.99f)) * 1.05f;
+            // The far plane reaches past the casters so receivers behind them compare correctly.
+            light_view_proj = perspective(2.0f * half_angle, 1.0f, distance - caster_radius, distance + 4.0f * radius) *
+                              look_at(key, caster_centre, std::abs((caster_centre - key).normalized().y()) > 0.99f
+                                                              ? Vec3f(1.0f, 0.0f, 0.0f)
+                                                              : Vec3f(0.0f, 1.0f, 0.0f));
             has_shadow = true;
+            // An area light's penumbra: about size/distance of the gap between occluder and
+            // receiver; taken at a typical fold-to-fold gap of 5 cm, in shadow-map texels.
+            const float texel_m = 2.0f * std::tan(half_angle) * distance / kShadowMapSize;
+            shadow_softness_texels = std::clamp(scene.lights.front().size_m / distance * 0.05f / texel_m, 1.0f, 24.0f);
         }
     }
 
@@ -319,6 +337,7 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     }
     glUniform3fv(uniform(p, "u_ambient"), 1, scene.ambient.data());
     glUniform1i(uniform(p, "u_has_shadow"), has_shadow ? 1 : 0);
+    glUniform1f(uniform(p, "u_shadow_softness"), shadow_softness_texels);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, s.shadow_map);
     glUniform1i(uniform(p, "u_shadow_map"), 0);
@@ -336,37 +355,41 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
 
     // Distance pass without MSAA: a depth image must not average across silhouettes.
-    glBindFramebuffer(GL_FRAMEBUFFER, s.distance_fbo);
-    const float empty[4] = {kEmptyDistance, 0.0f, 0.0f, 0.0f};
-    glClearBufferfv(GL_COLOR, 0, empty);
-    glClear(GL_DEPTH_BUFFER_BIT);
-    glUseProgram(s.distance_program);
-    glUniformMatrix4fv(uniform(s.distance_program, "u_view_proj"), 1, GL_FALSE, view_proj.data());
-    glUniform3fv(uniform(s.distance_program, "u_camera"), 1, camera.position.data());
-    for (const GpuMesh& mesh : meshes) draw(mesh);
+    if (scene.want_depth) {
+        glBindFramebuffer(GL_FRAMEBUFFER, s.distance_fbo);
+        const float empty[4] = {kEmptyDistance, 0.0f, 0.0f, 0.0f};
+        glClearBufferfv(GL_COLOR, 0, empty);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glUseProgram(s.distance_program);
+        glUniformMatrix4fv(uniform(s.distance_program, "u_view_proj"), 1, GL_FALSE, view_proj.data());
+        glUniform3fv(uniform(s.distance_program, "u_camera"), 1, camera.position.data());
+        for (const GpuMesh& mesh : meshes) draw(mesh);
+    }
 
     PreviewImage image;
     image.width = s.width;
     image.height = s.height;
     std::vector<float> rgba(static_cast<std::size_t>(s.width) * s.height * 4);
-    std::vector<float> distance(static_cast<std::size_t>(s.width) * s.height);
+    std::vector<float> distance(scene.want_depth ? static_cast<std::size_t>(s.width) * s.height : 0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, s.resolve_fbo);
     glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, rgba.data());
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, s.distance_fbo);
-    glReadPixels(0, 0, s.width, s.height, GL_RED, GL_FLOAT, distance.data());
+    if (scene.want_depth) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, s.distance_fbo);
+        glReadPixels(0, 0, s.width, s.height, GL_RED, GL_FLOAT, distance.data());
+    }
     check_gl("preview rendering");
     for (GpuMesh& mesh : meshes) release(mesh);
 
     // OpenGL's rows run bottom-up; images run top-down.
     const std::size_t row = static_cast<std::size_t>(s.width);
     image.rgba.resize(rgba.size());
-    image.depth.resize(distance.size());
+    image.depth.resize(distance.size());  // empty without a depth pass
     for (int y = 0; y < s.height; ++y) {
         const std::size_t from = static_cast<std::size_t>(s.height - 1 - y) * row;
         const std::size_t to = static_cast<std::size_t>(y) * row;
         std::copy_n(rgba.begin() + 4 * from, 4 * row, image.rgba.begin() + 4 * to);
-        for (std::size_t x = 0; x < row; ++x) {
+        for (std::size_t x = 0; x < distance.size() / s.height; ++x) {
             const float d = distance[from + x];
             image.depth[to + x] = d >= 0.5f * kEmptyDistance ? std::numeric_limits<float>::infinity() : d;
         }

@@ -6,11 +6,13 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/render.hpp"
+#include "preview_scene.hpp"
 #include "studio_setup.hpp"
 #include "tracer.hpp"
 
@@ -93,15 +95,19 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const Camera camera = frame_camera(scene.camera, fit, static_cast<double>(width) / height);
 
     TurntableResult result;
+    std::unique_ptr<PreviewRenderer> rasteriser;
+    if (options.preview) rasteriser = std::make_unique<PreviewRenderer>(width, height, options.msaa_samples);
     for (int f = first; f < last; ++f) {
-        const Tracer tracer(setup.lit_scene(), setup.geometry(garment_frame(f), turn(f)));
+        const FrameGeometry geometry = setup.geometry(garment_frame(f), turn(f));
         const int done = f - first, count = last - first;
         ProgressFn frame_progress;
         if (progress)
             frame_progress = [&, done, count](std::string_view, double fraction) {
                 progress("turntable", (done + fraction) / count);
             };
-        const RenderResult r = tracer.render(camera, settings, frame_progress);
+        const RenderResult r = rasteriser ? preview_frame(*rasteriser, setup.lit_scene(), geometry, camera, {})
+                                          : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
+        if (rasteriser && progress) progress("turntable", (done + 1.0) / count);
         result.stats.rays += r.stats.rays;
         SceneSpec opaque = setup.lit_scene();
         opaque.transparent = false;  // video frames have no alpha

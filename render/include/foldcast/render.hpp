@@ -184,6 +184,8 @@ struct TurntableOptions {
     int total_frames = 0;      // 0 = the scene's turntable_frames
     int first_frame = 0;       // render frames [first_frame, last_frame)
     int last_frame = -1;       // -1 = total_frames
+    bool preview = false;      // rasterise each frame through EGL instead of path tracing
+    int msaa_samples = 4;      // preview only
 };
 struct TurntableResult {
     std::vector<std::filesystem::path> written;

@@ -2,17 +2,19 @@
 // Fast rasterised previews through OpenGL on EGL with no display: Mesa's llvmpipe on CPU
 // machines, the GPU's driver where there is one.  The path tracer never needs this.
 #include <memory>
-#include <stdexcept>
 #include <vector>
 
+#include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh.hpp"
+#include "foldcast/render.hpp"
 
 namespace foldcast::render {
 
 // No EGL display or OpenGL 3.3 core context could be made here.  The message says why.
-class EglUnavailable : public std::runtime_error {
+// An InputError: the command line answers it like a request it cannot serve (exit 2).
+class EglUnavailable : public InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using InputError::InputError;
 };
 
 struct PreviewCamera {
@@ -43,6 +45,7 @@ struct PreviewObject {
 struct PreviewLight {
     Vec3f position{2.0f, 3.0f, 3.0f};
     Vec3f intensity{10.0f, 10.0f, 10.0f};
+    float size_m = 0.0f;  // of the area light it stands for: softens the key light's shadows
 };
 
 struct PreviewScene {
@@ -52,6 +55,7 @@ struct PreviewScene {
     Vec3f ambient{0.05f, 0.05f, 0.05f};    // uniform environment radiance
     Vec3f background{0.0f, 0.0f, 0.0f};    // linear RGB behind everything
     bool transparent_background = false;   // alpha 0 where nothing was drawn
+    bool want_depth = true;                // false skips the depth pass (PreviewImage::depth empty)
 };
 
 struct PreviewImage {
@@ -79,5 +83,11 @@ private:
     struct State;
     std::unique_ptr<State> state_;
 };
+
+// The scene's still, rasterised: the same garment, studio, lights (area lights become point
+// lights of the same power), auto-framed camera and output conventions (linear RGBA beauty,
+// depth AOV as distance from the camera) as render_still.  Sheen is shaded, weaves are
+// replaced by their average colour.  Throws EglUnavailable where EGL cannot run.
+RenderResult preview_still(const SceneSpec& scene, const RenderOptions& options, int msaa_samples = 4);
 
 }  // namespace foldcast::render

@@ -1,0 +1,73 @@
+// foldcast batch MANIFEST.toml [--shard I/N]: a catalogue of garments x looks x views.
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "commands.hpp"
+#include "foldcast/looks.hpp"
+#include "foldcast/render.hpp"
+#include "foldcast/render/batch.hpp"
+#include "progress_bar.hpp"
+
+namespace foldcast::app {
+
+Command batch_command(CLI::App& app) {
+    struct Args {
+        std::string manifest, shard = "0/1";
+        int threads = 0;
+        bool dry_run = false, json = false, quiet = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* sub = app.add_subcommand(
+        "batch", "Render a catalogue (garments x looks x views) from a manifest; resumable and shardable");
+    sub->add_option("manifest", args->manifest, "Catalogue manifest (TOML), e.g. gallery/catalogue.toml")->required();
+    sub->add_option("--shard", args->shard,
+                    "Render only shard I of N (0-based, e.g. 2/8): jobs whose index is I modulo N")
+        ->capture_default_str();
+    sub->add_option("--threads", args->threads, "Render threads per image (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    sub->add_flag("--dry-run", args->dry_run, "List this shard's jobs and whether each is finished; render nothing");
+    sub->add_flag("--json", args->json, "Print the shard's outputs (paths, SHA-256, skipped) as JSON");
+    sub->add_flag("--quiet", args->quiet, "No progress bar");
+    return {sub, [args] {
+                const render::Shard shard = render::parse_shard(args->shard);
+                const render::BatchManifest manifest = render::load_manifest(args->manifest);
+                const looks::Library library = looks::Library::load_default();
+                for (const std::string& look : manifest.looks) library.get(look);  // fail before any work
+                if (args->dry_run) {
+                    for (const render::BatchJob& job : render::shard_jobs(manifest, shard))
+                        std::printf("%4zu %s %s\n", job.index, render::is_finished(job.output) ? "done" : "todo",
+                                    job.output.c_str());
+                    return 0;
+                }
+                auto render_job = [&](const render::BatchJob& job, const render::BatchManifest& m) {
+                    render::SceneSpec scene = render::load_scene(job.garment.scene);
+                    scene.look = library.get(job.look);
+                    scene.camera.azimuth_deg = job.view.azimuth_deg;
+                    scene.camera.elevation_deg = job.view.elevation_deg;
+                    render::RenderOptions options;
+                    options.width = m.width;
+                    options.height = m.height;
+                    options.spp = m.spp;
+                    options.seed = m.seed;
+                    options.threads = args->threads;
+                    render::write_render(job.output, render::render_still(scene, options), scene);
+                };
+                std::vector<render::BatchOutput> outputs;
+                {
+                    ProgressBar bar(args->quiet || args->json);
+                    outputs = render::run_batch(manifest, shard, render_job, bar.callback());
+                }
+                if (args->json) {
+                    std::printf("%s", render::outputs_json(manifest, outputs).c_str());
+                } else if (!args->quiet) {
+                    std::size_t skipped = 0;
+                    for (const auto& o : outputs) skipped += o.skipped;
+                    std::fprintf(stderr, "shard %d/%d: %zu images (%zu already finished) in %s\n", shard.index,
+                                 shard.count, outputs.size(), skipped, manifest.output_dir.c_str());
+                }
+                return 0;
+            }};
+}
+
+}  // namespace foldcast::app

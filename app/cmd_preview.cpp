@@ -1,0 +1,52 @@
+// foldcast preview SCENE.toml -o OUT.png: a rasterised still through EGL, in a fraction of
+// a second.  Exits 2 with one line where no EGL context can be made.
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "commands.hpp"
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/render/preview.hpp"
+
+namespace foldcast::app {
+
+Command preview_command(CLI::App& app) {
+    struct Args {
+        std::string scene, out, aovs;
+        int width = 0, height = 0, msaa = 4;
+        bool json = false, quiet = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* sub = app.add_subcommand(
+        "preview", "Rasterise a quick preview of a scene file with OpenGL through EGL (no display needed)");
+    sub->add_option("scene", args->scene, "Scene file (TOML), e.g. gallery/default.toml")->required();
+    sub->add_option("-o,--output", args->out, "Output image: OUT.png (8-bit sRGB) or OUT.exr (linear float)")->required();
+    sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
+    sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
+    sub->add_option("--msaa", args->msaa, "Multisample anti-aliasing samples per pixel")->check(CLI::Range(1, 16));
+    sub->add_option("--aov", args->aovs, "Extra image beside OUT: depth (OUT.depth.png|exr)");
+    sub->add_flag("--json", args->json, "Print width, height, seconds and the OpenGL device as JSON");
+    sub->add_flag("--quiet", args->quiet, "Print nothing on success");
+    return {sub, [args] {
+                render::RenderOptions options;
+                options.width = args->width;
+                options.height = args->height;
+                if (!args->aovs.empty()) options.aovs = render::parse_aovs(args->aovs);
+                const render::SceneSpec scene = render::load_scene(args->scene);
+                check_writable(args->out);
+                const render::RenderResult result = render::preview_still(scene, options, args->msaa);
+                const auto written = render::write_render(args->out, result, scene);
+                const render::RenderStats& s = result.stats;
+                if (args->json) {
+                    nlohmann::json j = {{"width", s.width}, {"height", s.height}, {"seconds", s.seconds}};
+                    for (const auto& p : written) j["files"].push_back(p.string());
+                    std::printf("%s\n", j.dump().c_str());
+                } else if (!args->quiet) {
+                    std::fprintf(stderr, "wrote %s (%dx%d preview) in %.2f s\n", args->out.c_str(), s.width, s.height,
+                                 s.seconds);
+                }
+                return 0;
+            }};
+}
+
+}  // namespace foldcast::app
