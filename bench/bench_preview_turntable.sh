@@ -10,5 +10,5 @@ trap 'rm -rf "$out"' EXIT
 start=$(date +%s.%N)
 $fc turntable gallery/default.toml --preview -o "$out/frames/" --frames 36 --width 1280 --height 720 --quiet
 end=$(date +%s.%N)
-echo "preview turntable, 36 frames 1280x720 (4x MSAA): $(echo "$end - $start" | bc) s wall"
+awk -v a="$start" -v b="$end" 'BEGIN { printf "preview turntable, 36 frames 1280x720 (4x MSAA): %.2f s wall\n", b - a }'
 $fc preview gallery/default.toml -o "$out/still.png" --json
