@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::render_command(app));
     commands.push_back(foldcast::app::turntable_command(app));
     commands.push_back(foldcast::app::preview_command(app));
+    commands.push_back(foldcast::app::batch_command(app));
 
     try {
         app.parse(argc, argv);

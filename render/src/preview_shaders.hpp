@@ -20,7 +20,7 @@ void main() {
 )";
 
 // Lambert + Charlie sheen (Estevez-Kulla, Neubelt visibility) + GGX (height-correlated
-// Smith), key-light shadows by 5x5 PCF widened by the light's size.  Cloth is two-sided: normals face the viewer.
+// Smith), key-light shadows by 3x3 PCF widened by the light's size.  Cloth is two-sided: normals face the viewer.
 // Writes linear radiance into a float target, like the path tracer's beauty image.
 inline constexpr const char* kShade = R"(#version 330 core
 in vec3 v_position;
@@ -46,12 +46,14 @@ float key_light_visibility() {
     if (u_has_shadow == 0) return 1.0;
     vec3 p = v_light_clip.xyz / v_light_clip.w * 0.5 + 0.5;
     if (p.z >= 1.0 || any(lessThan(p.xy, vec2(0.0))) || any(greaterThan(p.xy, vec2(1.0)))) return 1.0;
-    vec2 step = u_shadow_softness / 2.0 / vec2(textureSize(u_shadow_map, 0));
+    // 3x3 taps spread over the penumbra; each tap is itself bilinearly filtered (PCF), so
+    // the result stays smooth.  llvmpipe spends most of a frame here: keep it small.
+    vec2 step = u_shadow_softness / vec2(textureSize(u_shadow_map, 0));
     float lit = 0.0;
-    for (int y = -2; y <= 2; ++y)
-        for (int x = -2; x <= 2; ++x)
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x)
             lit += texture(u_shadow_map, vec3(p.xy + vec2(x, y) * step, p.z - 0.0015));
-    return lit / 25.0;
+    return lit / 9.0;
 }
 float ggx_d(float ndh, float a) {
     float a2 = a * a;
