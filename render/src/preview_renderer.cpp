@@ -144,6 +144,17 @@ void draw(const GpuMesh& gpu) {
 
 GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
 
+// A renderbuffer of `format` attached to the bound framebuffer; samples > 0 makes it multisampled.
+GLuint attach_renderbuffer(GLenum attachment, GLenum format, int samples, int width, int height) {
+    GLuint buffer = 0;
+    glGenRenderbuffers(1, &buffer);
+    glBindRenderbuffer(GL_RENDERBUFFER, buffer);
+    if (samples > 0) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, width, height);
+    else glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, buffer);
+    return buffer;
+}
+
 }  // namespace
 
 struct PreviewRenderer::State {
@@ -173,32 +184,17 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
 
     glGenFramebuffers(1, &s.msaa_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, s.msaa_fbo);
-    glGenRenderbuffers(1, &s.msaa_colour);
-    glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_colour);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_RGBA16F, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.msaa_colour);
-    glGenRenderbuffers(1, &s.msaa_depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, s.msaa_depth);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.samples, GL_DEPTH_COMPONENT32F, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s.msaa_depth);
+    s.msaa_colour = attach_renderbuffer(GL_COLOR_ATTACHMENT0, GL_RGBA16F, s.samples, width, height);
+    s.msaa_depth = attach_renderbuffer(GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, s.samples, width, height);
 
     glGenFramebuffers(1, &s.resolve_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, s.resolve_fbo);
-    glGenRenderbuffers(1, &s.resolve_colour);
-    glBindRenderbuffer(GL_RENDERBUFFER, s.resolve_colour);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA16F, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.resolve_colour);
+    s.resolve_colour = attach_renderbuffer(GL_COLOR_ATTACHMENT0, GL_RGBA16F, 0, width, height);
 
     glGenFramebuffers(1, &s.distance_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, s.distance_fbo);
-    glGenRenderbuffers(1, &s.distance_colour);
-    glBindRenderbuffer(GL_RENDERBUFFER, s.distance_colour);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32F, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, s.distance_colour);
-    glGenRenderbuffers(1, &s.distance_depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, s.distance_depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s.distance_depth);
+    s.distance_colour = attach_renderbuffer(GL_COLOR_ATTACHMENT0, GL_R32F, 0, width, height);
+    s.distance_depth = attach_renderbuffer(GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, 0, width, height);
 
     glGenFramebuffers(1, &s.shadow_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, s.shadow_fbo);
