@@ -14,6 +14,13 @@ namespace {
 namespace fs = std::filesystem;
 
 // A tiny scene: Blender's cloth cache frame as the garment, 48x32 pixels, 2 spp.
+// The command's stdout; *status gets its exit status.
+std::string run(const std::string& command, int* status) {
+    const test::CommandResult result = test::run_command(command);
+    *status = result.exit_code;
+    return result.out;
+}
+
 fs::path tiny_scene(const fs::path& dir) {
     std::ofstream(dir / "tiny.toml") << "[garment]\npath = \"" << test::test_data("animations/basicCloth.obj").string()
                                      << "\"\nscale = 0.1\n[output]\nwidth = 48\nheight = 32\nspp = 2\n";
@@ -23,7 +30,7 @@ fs::path tiny_scene(const fs::path& dir) {
 TEST(PreviewCli, WritesTheImageAndItsDepth) {
     const auto dir = test::temp_dir();
     int status = -1;
-    const std::string out = test::run_command(test::foldcast_binary() + " preview " + tiny_scene(dir).string() + " -o " +
+    const std::string out = run(test::foldcast_binary() + " preview " + tiny_scene(dir).string() + " -o " +
                                                   (dir / "p.png").string() + " --aov depth --json 2>&1",
                                               &status);
     ASSERT_EQ(status, 0) << out;
@@ -38,7 +45,7 @@ TEST(PreviewCli, NoEglIsOneLineAndExitTwo) {
     const auto dir = test::temp_dir();
     int status = -1;
     // With no EGL vendor library glvnd has no driver to offer: what a machine without Mesa sees.
-    const std::string err = test::run_command("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json " + test::foldcast_binary() +
+    const std::string err = run("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json " + test::foldcast_binary() +
                                                   " preview " + tiny_scene(dir).string() + " -o " +
                                                   (dir / "p.png").string() + " 2>&1",
                                               &status);
@@ -51,7 +58,7 @@ TEST(PreviewCli, NoEglIsOneLineAndExitTwo) {
 TEST(PreviewCli, TurntablePreviewWritesEveryFrame) {
     const auto dir = test::temp_dir();
     int status = -1;
-    const std::string out = test::run_command(test::foldcast_binary() + " turntable " + tiny_scene(dir).string() + " -o " +
+    const std::string out = run(test::foldcast_binary() + " turntable " + tiny_scene(dir).string() + " -o " +
                                                   (dir / "frames").string() + "/ --frames 5 --preview --quiet 2>&1",
                                               &status);
     ASSERT_EQ(status, 0) << out;
@@ -75,12 +82,12 @@ TEST(BatchCli, ShardsTogetherRenderExactlyTheUnshardedCatalogue) {
     std::ofstream(dir / "whole.toml") << "output_dir = \"whole\"\n" << manifest;
     std::ofstream(dir / "split.toml") << "output_dir = \"split\"\n" << manifest;
     int status = -1;
-    const std::string whole = test::run_command(
+    const std::string whole = run(
         test::foldcast_binary() + " batch " + (dir / "whole.toml").string() + " --json --threads 2", &status);
     ASSERT_EQ(status, 0) << whole;
     std::set<std::pair<std::string, std::string>> split;
     for (int i = 0; i < 3; ++i) {
-        const std::string shard = test::run_command(test::foldcast_binary() + " batch " + (dir / "split.toml").string() +
+        const std::string shard = run(test::foldcast_binary() + " batch " + (dir / "split.toml").string() +
                                                         " --json --threads 1 --shard " + std::to_string(i) + "/3",
                                                     &status);
         ASSERT_EQ(status, 0) << shard;
@@ -90,12 +97,12 @@ TEST(BatchCli, ShardsTogetherRenderExactlyTheUnshardedCatalogue) {
     EXPECT_EQ(outputs(whole), split);
 
     // A second run finds every output finished and verified, and renders nothing.
-    const std::string again = test::run_command(
+    const std::string again = run(
         test::foldcast_binary() + " batch " + (dir / "whole.toml").string() + " --json", &status);
     ASSERT_EQ(status, 0);
     for (const auto& o : nlohmann::json::parse(again)) EXPECT_TRUE(o["skipped"].get<bool>());
 
-    const std::string bad = test::run_command(
+    const std::string bad = run(
         test::foldcast_binary() + " batch " + (dir / "whole.toml").string() + " --shard 3/3 2>&1", &status);
     EXPECT_EQ(status, 2) << bad;
 }

@@ -1,24 +1,28 @@
 #pragma once
+// Running shell commands (usually the built foldcast) from tests.
 #include <sys/wait.h>
 
+#include <array>
 #include <cstdio>
 #include <string>
 
 namespace foldcast::test {
 
-// Runs a shell command, returns what it printed on stdout (add 2>&1 for stderr) and sets
-// *status to its exit status.
-inline std::string run_command(const std::string& command, int* status) {
-    std::string out;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (pipe == nullptr) {
-        *status = -1;
-        return out;
-    }
-    char buffer[4096];
-    while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
-    *status = WEXITSTATUS(pclose(pipe));
-    return out;
+struct CommandResult {
+    int exit_code = -1;
+    std::string out;  // stdout only (add 2>&1 to the command for stderr)
+};
+
+inline CommandResult run_command(const std::string& command) {
+    CommandResult result;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer{};
+    size_t n = 0;
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.out.append(buffer.data(), n);
+    const int status = ::pclose(pipe);
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
 }
 
 inline std::string foldcast_binary() { return std::string(FOLDCAST_BINARY_DIR) + "/foldcast"; }
