@@ -15,16 +15,11 @@
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/render.hpp"
+#include "srgb_encode.hpp"
 
 namespace foldcast::render {
 namespace fs = std::filesystem;
 namespace {
-
-std::uint8_t encode_srgb(float linear) {
-    const float c = std::clamp(linear, 0.0f, 1.0f);
-    const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-    return static_cast<std::uint8_t>(std::lround(s * 255.0f));
-}
 
 void write_png(const fs::path& path, const cv::Mat& bgr_or_bgra) {
     std::vector<std::uint8_t> bytes;
@@ -61,7 +56,7 @@ cv::Mat aov_to_png(Aov aov, const Image& img) {
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x) {
                     const float* p = img.at(x, y);
-                    m.at<cv::Vec3b>(y, x) = cv::Vec3b(encode_srgb(p[2]), encode_srgb(p[1]), encode_srgb(p[0]));
+                    m.at<cv::Vec3b>(y, x) = cv::Vec3b(encode_srgb8(p[2]), encode_srgb8(p[1]), encode_srgb8(p[0]));
                 }
             return m;
         }
@@ -112,7 +107,7 @@ std::vector<std::uint8_t> to_srgb8(const Image& rgba, double exposure_ev, bool k
         for (int x = 0; x < rgba.width; ++x) {
             const float* p = rgba.at(x, y);
             std::uint8_t* o = &out[(static_cast<std::size_t>(y) * rgba.width + x) * out_ch];
-            for (int c = 0; c < 3; ++c) o[c] = encode_srgb(p[c] * gain);
+            for (int c = 0; c < 3; ++c) o[c] = encode_srgb8(p[c] * gain);
             if (keep_alpha) o[3] = static_cast<std::uint8_t>(std::lround(std::clamp(p[3], 0.0f, 1.0f) * 255.0f));
         }
     return out;

@@ -4,6 +4,7 @@
 #include <GL/glext.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -17,7 +18,8 @@ namespace foldcast::render {
 
 namespace {
 
-constexpr int kShadowMapSize = 2048;
+constexpr int kMinShadowMapSize = 256;
+constexpr int kMaxShadowMapSize = 2048;
 constexpr int kMaxLights = 4;
 constexpr float kEmptyDistance = 1e30f;  // cleared distance; read back as +inf
 
@@ -160,11 +162,32 @@ GLuint attach_renderbuffer(GLenum attachment, GLenum format, int samples, int wi
 struct PreviewRenderer::State {
     EglContext egl;
     int width = 0, height = 0, samples = 0;
-    GLuint shade_program = 0, distance_program = 0, shadow_program = 0;
+    std::array<GLuint, kMaxLights + 1> shade_programs{};  // by light count, linked on first use
+    GLuint distance_program = 0, shadow_program = 0;
     GLuint msaa_fbo = 0, msaa_colour = 0, msaa_depth = 0;
     GLuint resolve_fbo = 0, resolve_colour = 0;
     GLuint distance_fbo = 0, distance_colour = 0, distance_depth = 0;
     GLuint shadow_fbo = 0, shadow_map = 0;
+    int shadow_map_size = 0;
+
+    GLuint shade_program(int light_count) {
+        GLuint& program = shade_programs.at(static_cast<std::size_t>(light_count));
+        if (program == 0) {
+            const std::string source = "#version 330 core\n#define LIGHT_COUNT " + std::to_string(light_count) +
+                                       "\n" + shaders::kShadeBody;
+            program = link_program(shaders::kVertex, source.c_str());
+        }
+        return program;
+    }
+
+    // The shadow map's texels are sized to the penumbra, so it stays small (and in cache)
+    // for the large soft lights of a studio; reallocated only when the size changes.
+    void size_shadow_map(int size) {
+        if (size == shadow_map_size) return;
+        glBindTexture(GL_TEXTURE_2D, shadow_map);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+        shadow_map_size = size;
+    }
 };
 
 PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
@@ -178,7 +201,6 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
     s.samples = std::clamp(msaa_samples, 1, std::max(1, static_cast<int>(max_samples)));
 
-    s.shade_program = link_program(shaders::kVertex, shaders::kShade);
     s.distance_program = link_program(shaders::kVertex, shaders::kDistance);
     s.shadow_program = link_program(shaders::kVertex, shaders::kEmpty);
 
@@ -200,12 +222,14 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
     glBindFramebuffer(GL_FRAMEBUFFER, s.shadow_fbo);
     glGenTextures(1, &s.shadow_map);
     glBindTexture(GL_TEXTURE_2D, s.shadow_map);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize, 0,
-                 GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+    s.size_shadow_map(kMinShadowMapSize);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    // Outside the key light's frustum nothing casts a shadow: the border compares as lit.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    const float far_depth[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, far_depth);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s.shadow_map, 0);
@@ -222,7 +246,8 @@ PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
 
 PreviewRenderer::~PreviewRenderer() {
     State& s = *state_;
-    glDeleteProgram(s.shade_program);
+    for (GLuint program : s.shade_programs)
+        if (program != 0) glDeleteProgram(program);
     glDeleteProgram(s.distance_program);
     glDeleteProgram(s.shadow_program);
     const GLuint fbos[] = {s.msaa_fbo, s.resolve_fbo, s.distance_fbo, s.shadow_fbo};
@@ -271,7 +296,8 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
             }
     Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
     bool has_shadow = false;
-    float shadow_softness_texels = 1.0f;
+    int shadow_map_size = kMinShadowMapSize;
+    float shadow_step = 0.0f;  // PCF tap spacing in texture coordinates
     if (!scene.lights.empty() && caster_lo.x() <= caster_hi.x()) {
         const Vec3f caster_centre = 0.5f * (caster_lo + caster_hi);
         const float caster_radius = std::max(0.5f * (caster_hi - caster_lo).norm(), 1e-3f);
@@ -286,9 +312,14 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
                                                               : Vec3f(0.0f, 1.0f, 0.0f));
             has_shadow = true;
             // An area light's penumbra: about size/distance of the gap between occluder and
-            // receiver; taken at a typical fold-to-fold gap of 5 cm, in shadow-map texels.
-            const float texel_m = 2.0f * std::tan(half_angle) * distance / kShadowMapSize;
-            shadow_softness_texels = std::clamp(scene.lights.front().size_m / distance * 0.05f / texel_m, 1.0f, 24.0f);
+            // receiver, taken at a typical fold-to-fold gap of 5 cm.  The 3x3 taps span it, one
+            // texel apart where the map's size allows, so the bilinear taps blend smoothly.
+            const float penumbra_m = scene.lights.front().size_m / distance * 0.05f;
+            const float frustum_m = 2.0f * std::tan(half_angle) * distance;
+            const float wanted = std::ceil(frustum_m / std::max(0.5f * penumbra_m, 1e-6f) / 32.0f) * 32.0f;
+            shadow_map_size = static_cast<int>(std::clamp(wanted, float(kMinShadowMapSize), float(kMaxShadowMapSize)));
+            const float texel_m = frustum_m / shadow_map_size;
+            shadow_step = std::clamp(0.5f * penumbra_m / texel_m, 1.0f, 24.0f) / shadow_map_size;
         }
     }
 
@@ -302,7 +333,8 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
 
     if (has_shadow) {
         glBindFramebuffer(GL_FRAMEBUFFER, s.shadow_fbo);
-        glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+        s.size_shadow_map(shadow_map_size);
+        glViewport(0, 0, shadow_map_size, shadow_map_size);
         glClear(GL_DEPTH_BUFFER_BIT);
         glUseProgram(s.shadow_program);
         glUniformMatrix4fv(uniform(s.shadow_program, "u_view_proj"), 1, GL_FALSE, light_view_proj.data());
@@ -319,21 +351,20 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     const float alpha = scene.transparent_background ? 0.0f : 1.0f;
     glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), alpha);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    const GLuint p = s.shade_program;
+    const int light_count = std::min<int>(static_cast<int>(scene.lights.size()), kMaxLights);
+    const GLuint p = s.shade_program(light_count);
     glUseProgram(p);
     glUniformMatrix4fv(uniform(p, "u_view_proj"), 1, GL_FALSE, view_proj.data());
     glUniformMatrix4fv(uniform(p, "u_light_view_proj"), 1, GL_FALSE, light_view_proj.data());
     glUniform3fv(uniform(p, "u_camera"), 1, camera.position.data());
-    const int light_count = std::min<int>(static_cast<int>(scene.lights.size()), kMaxLights);
-    glUniform1i(uniform(p, "u_light_count"), light_count);
     for (int i = 0; i < light_count; ++i) {
         const char index[] = {'[', static_cast<char>('0' + i), ']', '\0'};
         glUniform3fv(uniform(p, (std::string("u_light_position") + index).c_str()), 1, scene.lights[i].position.data());
         glUniform3fv(uniform(p, (std::string("u_light_intensity") + index).c_str()), 1, scene.lights[i].intensity.data());
     }
     glUniform3fv(uniform(p, "u_ambient"), 1, scene.ambient.data());
-    glUniform1i(uniform(p, "u_has_shadow"), has_shadow ? 1 : 0);
-    glUniform1f(uniform(p, "u_shadow_softness"), shadow_softness_texels);
+    glUniform1f(uniform(p, "u_has_shadow"), has_shadow ? 1.0f : 0.0f);
+    glUniform1f(uniform(p, "u_shadow_step"), shadow_step);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, s.shadow_map);
     glUniform1i(uniform(p, "u_shadow_map"), 0);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <future>
 #include <memory>
 #include <string>
 
@@ -95,6 +96,11 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const Camera camera = frame_camera(scene.camera, fit, static_cast<double>(width) / height);
 
     TurntableResult result;
+    // Frame f is written (sRGB, PNG) on a second thread while frame f+1 renders; at most one
+    // write is in flight, so memory stays at two frames and a failed write stops the loop.
+    std::future<void> writing;
+    SceneSpec opaque = setup.lit_scene();
+    opaque.transparent = false;  // video frames have no alpha
     std::unique_ptr<PreviewRenderer> rasteriser;
     if (options.preview) rasteriser = std::make_unique<PreviewRenderer>(width, height, options.msaa_samples);
     for (int f = first; f < last; ++f) {
@@ -105,19 +111,19 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
             frame_progress = [&, done, count](std::string_view, double fraction) {
                 progress("turntable", (done + fraction) / count);
             };
-        const RenderResult r = rasteriser ? preview_frame(*rasteriser, setup.lit_scene(), geometry, camera, {})
+        RenderResult r = rasteriser ? preview_frame(*rasteriser, setup.lit_scene(), geometry, camera, {})
                                           : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
         if (rasteriser && progress) progress("turntable", (done + 1.0) / count);
         result.stats.rays += r.stats.rays;
-        SceneSpec opaque = setup.lit_scene();
-        opaque.transparent = false;  // video frames have no alpha
-        RenderResult copy;
-        copy.beauty = r.beauty;
+        auto beauty_only = std::make_shared<RenderResult>();
+        beauty_only->beauty = std::move(r.beauty);
         const fs::path p = turntable_frame_path(dir, f);
-        write_render(p, copy, opaque);
+        if (writing.valid()) writing.get();
+        writing = std::async(std::launch::async, [beauty_only, p, &opaque] { write_render(p, *beauty_only, opaque); });
         result.written.push_back(p);
         ++result.frames_rendered;
     }
+    if (writing.valid()) writing.get();
     if (to_mp4 && first == 0 && last == total) {
         encode_mp4(dir, total, scene.turntable_fps, out);
         result.written.push_back(out);
