@@ -19,22 +19,40 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
     return (a % b != 0 && a < 0) ? q - 1 : q;
 }
 
-// Temporal prediction of coordinate k of frame t from decoded frames.
-inline std::int64_t predict(const TemporalReference& ref, std::size_t t, const std::int32_t* grid, std::size_t row,
-                            std::size_t k) {
-    auto g = [&](std::size_t f) { return static_cast<std::int64_t>(grid[f * row + k]); };
+// Temporal prediction of frame t (all 3N coordinates) from decoded frames, into `out`.
+// One loop per kind, so the compiler vectorises it; encoder and decoder share it, so they
+// predict bit for bit alike.
+void predict_frame(const TemporalReference& ref, std::size_t t, const std::int32_t* grid, std::size_t row,
+                   std::int64_t* out) {
+    auto frame = [&](std::size_t f) { return grid + f * row; };
     switch (ref.kind) {
-    case TemporalReference::Kind::none: return 0;
-    case TemporalReference::Kind::copy: return g(ref.frames[0]);
+    case TemporalReference::Kind::none: std::fill(out, out + row, 0); return;
+    case TemporalReference::Kind::copy: {
+        const std::int32_t* a = frame(ref.frames[0]);
+        for (std::size_t k = 0; k < row; ++k) out[k] = a[k];
+        return;
+    }
     case TemporalReference::Kind::linear: {
-        const auto a = ref.frames[0], b = ref.frames[1];
-        const std::int64_t span = static_cast<std::int64_t>(b - a);
-        return g(a) + floor_div((g(b) - g(a)) * static_cast<std::int64_t>(t - a) + span / 2, span);
+        const std::int32_t *a = frame(ref.frames[0]), *b = frame(ref.frames[1]);
+        const auto span = static_cast<std::int64_t>(ref.frames[1] - ref.frames[0]);
+        const auto offset = static_cast<std::int64_t>(t - ref.frames[0]);
+        if (std::has_single_bit(static_cast<std::uint64_t>(span))) {  // the usual case: a shift
+            const int shift = std::countr_zero(static_cast<std::uint64_t>(span));
+            for (std::size_t k = 0; k < row; ++k)
+                out[k] = a[k] + ((std::int64_t(b[k] - a[k]) * offset + span / 2) >> shift);
+        } else {
+            for (std::size_t k = 0; k < row; ++k) out[k] = a[k] + floor_div(std::int64_t(b[k] - a[k]) * offset + span / 2, span);
+        }
+        return;
     }
-    case TemporalReference::Kind::cubic:
-        return (-g(ref.frames[0]) + 9 * g(ref.frames[1]) + 9 * g(ref.frames[2]) - g(ref.frames[3]) + 8) >> 4;
+    case TemporalReference::Kind::cubic: {
+        const std::int32_t *a = frame(ref.frames[0]), *b = frame(ref.frames[1]), *c = frame(ref.frames[2]),
+                           *d = frame(ref.frames[3]);
+        for (std::size_t k = 0; k < row; ++k)
+            out[k] = (-std::int64_t(a[k]) + 9 * std::int64_t(b[k]) + 9 * std::int64_t(c[k]) - std::int64_t(d[k]) + 8) >> 4;
+        return;
     }
-    return 0;
+    }
 }
 
 inline std::int64_t spatial(const SpatialReference& s, const std::int64_t* residual, int c) {
@@ -132,14 +150,14 @@ std::vector<SpatialReference> spatial_references(std::size_t n, const std::vecto
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& refs,
                                             std::size_t n, const std::vector<std::int32_t>& grid) {
     const std::size_t row = 3 * n;
-    std::vector<std::int64_t> residual(row), coded(row);
+    std::vector<std::int64_t> residual(row), coded(row), prediction(row);
     std::vector<std::string> out;
     ResidualContexts contexts;
     for (const auto& frames : layout.packets) {
         RangeEncoder enc;
         for (std::size_t t : frames) {
-            for (std::size_t k = 0; k < row; ++k)
-                residual[k] = grid[t * row + k] - predict(layout.references[t], t, grid.data(), row, k);
+            predict_frame(layout.references[t], t, grid.data(), row, prediction.data());
+            for (std::size_t k = 0; k < row; ++k) residual[k] = grid[t * row + k] - prediction[k];
             for (int c = 0; c < 3; ++c)  // planar: all x, then y, then z
                 for (std::size_t v = 0; v < n; ++v) {
                     const std::size_t k = 3 * v + static_cast<std::size_t>(c);
@@ -167,7 +185,7 @@ public:
         const auto& frames = layout_.packets[sequence];
         const std::size_t n = header_.vertices, row = 3 * n;
         RangeDecoder dec(payload);
-        std::vector<std::int64_t> residual(row), coded(row);
+        std::vector<std::int64_t> residual(row), coded(row), prediction(row);
         for (std::size_t t : frames) {
             for (int c = 0; c < 3; ++c)
                 for (std::size_t v = 0; v < n; ++v) {
@@ -181,11 +199,15 @@ public:
                     residual[k] = e + spatial(refs_[v], residual.data(), c);
                 }
             if (dec.overrun()) r.fail("residual data is truncated");
+            predict_frame(layout_.references[t], t, grid_.data(), row, prediction.data());
+            std::int32_t* out = grid_.data() + t * row;
+            bool off_grid = false;
             for (std::size_t k = 0; k < row; ++k) {
-                const std::int64_t g = residual[k] + predict(layout_.references[t], t, grid_.data(), row, k);
-                if (g < 0 || g > kMaxGridValue) r.fail("position leaves the quantisation grid");
-                grid_[t * row + k] = static_cast<std::int32_t>(g);
+                const std::int64_t g = residual[k] + prediction[k];
+                off_grid |= g < 0 || g > kMaxGridValue;
+                out[k] = static_cast<std::int32_t>(g);
             }
+            if (off_grid) r.fail("position leaves the quantisation grid");
             decoded_[t] = 1;
         }
         received_ = sequence + 1;
