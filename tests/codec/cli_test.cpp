@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
+#include <iterator>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -60,6 +62,48 @@ TEST(CodecCli, EncodeDecodeRoundTripThroughPc2AndObj) {
         ASSERT_EQ(run("decode " + q(fca) + " -o " + q(dir / "part.pc2") + " --frames 10:20").status, 0);
         EXPECT_EQ(read_pc2(dir / "part.pc2").size(), 10u);
     }
+}
+
+// The "done when": drape -> .fca -> decode -> .pc2 plays in Blender's Mesh Cache
+// modifier.  No Blender here, so this checks the file against what Blender's PC2 reader
+// (source/blender/modifiers/intern/MOD_meshcache_pc2.cc) accepts and how it reads frames:
+// a 32-byte header "POINTCACHE2\0", int32 version 1, int32 vertex count equal to the mesh's
+// (Blender's OBJ importer makes one mesh vertex per `v` line of a single object), float start,
+// float sampling, int32 frame count > 0, then frame k's float32 xyz at 32 + 12 k N.
+TEST(CodecCli, DrapeToFcaToPc2IsWhatBlendersMeshCacheReads) {
+    const auto dir = test::temp_dir();
+    const auto fca = dir / "anim.fca", pc2 = dir / "anim.pc2", obj = dir / "anim.obj";
+    ASSERT_EQ(run("drape --grid 16x12 --frames 20 -o " + q(fca)).status, 0);
+    ASSERT_EQ(run("decode " + q(fca) + " -o " + q(pc2)).status, 0);
+
+    std::ifstream in(pc2, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GE(bytes.size(), 32u);
+    EXPECT_EQ(std::string(bytes.data(), 12), std::string("POINTCACHE2\0", 12));
+    auto i32 = [&](std::size_t at) { std::int32_t v; std::memcpy(&v, bytes.data() + at, 4); return v; };
+    auto f32 = [&](std::size_t at) { float v; std::memcpy(&v, bytes.data() + at, 4); return v; };
+    EXPECT_EQ(i32(12), 1);
+    const std::int32_t verts = i32(16), frames = i32(28);
+    EXPECT_EQ(f32(20), 0.0f);  // start
+    EXPECT_EQ(f32(24), 1.0f);  // sampling: one cache frame per scene frame
+    EXPECT_EQ(frames, 20);
+    ASSERT_EQ(bytes.size(), 32u + std::size_t(frames) * std::size_t(verts) * 12u);
+
+    std::ifstream obj_in(obj);
+    int v_lines = 0, objects = 0;
+    for (std::string line; std::getline(obj_in, line);) {
+        v_lines += line.rfind("v ", 0) == 0;
+        objects += line.rfind("o ", 0) == 0 || line.rfind("g ", 0) == 0;
+    }
+    EXPECT_EQ(v_lines, verts);
+    EXPECT_LE(objects, 1);
+
+    const Animation decoded = codec::decode(codec::read_fca(fca));
+    ASSERT_EQ(decoded.frame_count(), std::size_t(frames));
+    for (std::size_t k : {std::size_t(0), std::size_t(7), std::size_t(19)})
+        for (std::size_t v = 0; v < decoded.vertex_count(); v += 37)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(f32(32 + 12 * (k * std::size_t(verts) + v) + 4 * std::size_t(c)), decoded.frames[k][v][c]);
 }
 
 TEST(CodecCli, TopologyFlagAndTruncatedFileDecodesWithWarning) {
