@@ -70,6 +70,18 @@ inline std::int64_t spatial(const SpatialReference& s, const std::int64_t* resid
            residual[3 * static_cast<std::size_t>(s.c) + static_cast<std::size_t>(c)];
 }
 
+// Context of a coded residual: |q| of the two earlier neighbours its spatial prediction
+// uses (one where there is only one).  Both edges of the parallelogram see a fold front
+// crossing the mesh; one alone misses it when the front runs along that edge.
+inline std::int64_t neighbour_activity(const SpatialReference& s, const std::int64_t* q, int c) {
+    auto at = [&](std::int32_t u) {
+        const std::int64_t x = q[3 * static_cast<std::size_t>(u) + static_cast<std::size_t>(c)];
+        return x < 0 ? -x : x;
+    };
+    if (s.a < 0) return 0;
+    return s.b < 0 ? at(s.a) : at(s.a) + at(s.b);
+}
+
 inline int magnitude_bucket(std::int64_t value) {
     const std::uint64_t mag = value < 0 ? static_cast<std::uint64_t>(-value) : static_cast<std::uint64_t>(value);
     return std::min(static_cast<int>(std::bit_width(mag)), kNeighbourBuckets - 1);
@@ -97,7 +109,7 @@ void run_frame(const std::vector<SpatialReference>& refs, std::size_t n, const s
             f.q[k] = q;
             f.decoded[k] = p + q * m;
             f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
-            const std::int64_t neighbour = refs[v].a < 0 ? 0 : f.q[3 * static_cast<std::size_t>(refs[v].a) + static_cast<std::size_t>(c)];
+            const std::int64_t neighbour = neighbour_activity(refs[v], f.q.data(), c);
             const std::uint64_t mag = q < 0 ? static_cast<std::uint64_t>(-q) : static_cast<std::uint64_t>(q);
             const int length = static_cast<int>(std::bit_width(mag));
             mantissa_bits += length > 1 ? length - 1 : 0;
@@ -248,7 +260,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             for (int c = 0; c < 3; ++c)  // planar: all x, then y, then z
                 for (std::size_t v = 0; v < n; ++v) {
                     const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                    const std::int64_t neighbour = refs[v].a < 0 ? 0 : best.q[3 * static_cast<std::size_t>(refs[v].a) + static_cast<std::size_t>(c)];
+                    const std::int64_t neighbour = neighbour_activity(refs[v], best.q.data(), c);
                     encode_integer(enc, contexts.model(layout.level_class[t], c, neighbour), best.q[k]);
                 }
             for (std::size_t k = 0; k < row; ++k) decoded[t * row + k] = static_cast<std::int32_t>(best.decoded[k]);
@@ -283,7 +295,7 @@ public:
             for (int c = 0; c < 3; ++c)
                 for (std::size_t v = 0; v < n; ++v) {
                     const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                    const std::int64_t neighbour = refs_[v].a < 0 ? 0 : coded[3 * static_cast<std::size_t>(refs_[v].a) + static_cast<std::size_t>(c)];
+                    const std::int64_t neighbour = neighbour_activity(refs_[v], coded.data(), c);
                     std::int64_t q = 0;
                     if (!decode_integer(dec, contexts_.model(layout_.level_class[t], c, neighbour), q) || q > 4 * kMaxGridValue ||
                         q < -4 * kMaxGridValue)
