@@ -14,7 +14,7 @@
 namespace foldcast::codec {
 
 inline constexpr char kMagic[8] = {'\x89', 'F', 'C', 'A', '\r', '\n', '\x1a', '\n'};
-inline constexpr std::uint16_t kFormatVersion = 1;
+inline constexpr std::uint16_t kFormatVersion = 2;
 inline constexpr std::size_t kPacketOverhead = 4 + 1 + 4;
 inline constexpr std::uint32_t kMaxPayloadBytes = 1u << 30;
 // Allocation policy: decoded vertex-frames may exceed the file's bytes by at most this
@@ -31,7 +31,8 @@ struct Header {
     Bounds bounds;
     Topology topology;
     std::uint64_t total_bytes = 0;  // of the whole file, as the encoder wrote it
-    // Quantisation: step in coefficient (paper) or metres (default) units; paper's threshold eps.
+    // Quantisation: step in coefficient (paper) or metres (default: the fine grid) units;
+    // paper: the threshold eps; default: the closed-loop residual step m in grid units.
     double step = 0.0;
     double threshold = 0.0;
     std::uint32_t profile_param = 0;  // default: log2 of the keyframe stride; paper: 0

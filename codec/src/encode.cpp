@@ -97,9 +97,13 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
         }
         packets = enc.packets(header.step, header.threshold);
     } else {
-        // Per-coordinate error <= step/2, so the Euclidean error <= step * sqrt(3) / 2.
+        // Per-coordinate error <= Delta/2 makes the Euclidean error <= Delta * sqrt(3) / 2 =
+        // max_error.  The fine grid (step d) rounds by <= d/2 and the closed-loop residual
+        // quantiser (step m d) by <= m d / 2: d = Delta / (m + 1).
         const float extent = (header.bounds.max - header.bounds.min).maxCoeff();
-        header.step = std::max(2.0 * max_error / std::sqrt(3.0), double(extent) / double(kMaxGridValue / 2));
+        const std::uint32_t m = kDefaultResidualStep;
+        header.threshold = m;
+        header.step = std::max(2.0 * max_error / std::sqrt(3.0) / double(m + 1), double(extent) / double(kMaxGridValue / 2));
         header.profile_param = static_cast<std::uint32_t>(default_stride_log2(anim.frame_count()));
         const std::size_t n = anim.vertex_count();
         std::vector<std::int32_t> grid(anim.frame_count() * 3 * n);
@@ -109,7 +113,7 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
                     grid[(t * n + v) * 3 + static_cast<std::size_t>(c)] = static_cast<std::int32_t>(
                         std::llround((double(anim.frames[t][v][c]) - double(header.bounds.min[c])) / header.step));
         const PredictiveLayout layout(anim.frame_count(), static_cast<int>(header.profile_param));
-        packets = predictive_packets(layout, spatial_references(n, anim.topology.triangles), n, grid);
+        packets = predictive_packets(layout, spatial_references(n, anim.topology.triangles), n, grid, m);
     }
     if (progress) progress("encode", 1.0);
     return assemble(header, packets);

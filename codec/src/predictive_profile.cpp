@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <utility>
 #include <map>
 #include <stdexcept>
 
@@ -19,10 +21,10 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
     return (a % b != 0 && a < 0) ? q - 1 : q;
 }
 
-// Temporal prediction of frame t (all 3N coordinates) from decoded frames, into `out`.
+// Temporal prediction of frame t (all 3N coordinates) by `ref` from decoded frames, into `out`.
 // One loop per kind, so the compiler vectorises it; encoder and decoder share it, so they
 // predict bit for bit alike.
-void predict_frame(const TemporalReference& ref, std::size_t t, const std::int32_t* grid, std::size_t row,
+void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* grid, std::size_t row,
                    std::int64_t* out) {
     auto frame = [&](std::size_t f) { return grid + f * row; };
     switch (ref.kind) {
@@ -55,6 +57,29 @@ void predict_frame(const TemporalReference& ref, std::size_t t, const std::int32
     }
 }
 
+// The two decoded frames a midpoint lies between (left < t < right); keyframes: the
+// previous keyframe twice.
+inline std::pair<std::size_t, std::size_t> bracket(const TemporalReference& ref) {
+    if (ref.kind == TemporalReference::Kind::cubic) return {ref.frames[1], ref.frames[2]};
+    if (ref.kind == TemporalReference::Kind::linear) return {ref.frames[0], ref.frames[1]};
+    return {ref.frames[0], ref.frames[0]};
+}
+
+// Temporal prediction of every coordinate of frame t in `mode` (frame_mode_allowed).
+void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t t, const std::int32_t* grid, std::size_t row,
+                   std::int64_t* out) {
+    const auto [left, right] = bracket(ref);
+    TemporalReference r = ref;
+    switch (mode) {
+    case TemporalMode::layout: break;
+    case TemporalMode::linear: r = {TemporalReference::Kind::linear, {left, right, 0, 0}}; break;
+    case TemporalMode::copy_left: r = {TemporalReference::Kind::copy, {left, 0, 0, 0}}; break;
+    case TemporalMode::copy_right: r = {TemporalReference::Kind::copy, {right, 0, 0, 0}}; break;
+    case TemporalMode::none: r = {}; break;
+    }
+    predict_row(r, t, grid, row, out);
+}
+
 inline std::int64_t spatial(const SpatialReference& s, const std::int64_t* residual, int c) {
     if (s.a < 0) return 0;
     const std::int64_t ra = residual[3 * static_cast<std::size_t>(s.a) + static_cast<std::size_t>(c)];
@@ -62,19 +87,88 @@ inline std::int64_t spatial(const SpatialReference& s, const std::int64_t* resid
     return ra + residual[3 * static_cast<std::size_t>(s.b) + static_cast<std::size_t>(c)] -
            residual[3 * static_cast<std::size_t>(s.c) + static_cast<std::size_t>(c)];
 }
+
+// Context of a coded residual: |q| of the two earlier neighbours its spatial prediction
+// uses (one where there is only one).  Both edges of the parallelogram see a fold front
+// crossing the mesh; one alone misses it when the front runs along that edge.
+inline std::int64_t neighbour_activity(const SpatialReference& s, const std::int64_t* q, int c) {
+    auto at = [&](std::int32_t u) {
+        const std::int64_t x = q[3 * static_cast<std::size_t>(u) + static_cast<std::size_t>(c)];
+        return x < 0 ? -x : x;
+    };
+    if (s.a < 0) return 0;
+    return s.b < 0 ? at(s.a) : at(s.a) + at(s.b);
+}
+
+inline int magnitude_bucket(std::int64_t value) {
+    const std::uint64_t mag = value < 0 ? static_cast<std::uint64_t>(-value) : static_cast<std::uint64_t>(value);
+    return std::min(static_cast<int>(std::bit_width(mag)), kNeighbourBuckets - 1);
+}
+
+// One frame through the closed loop in one mode: quantised residuals q (what is sent) and
+// the decoded coordinates, plus an estimate of the bits q costs: the empirical entropy of
+// (sign, bit length) given the neighbour's bucket (the coder's context), plus the mantissa
+// bits.  It needs nothing from the entropy coder, and is within ~1 % of the real choice.
+struct FrameTrial {
+    std::vector<std::int64_t> q, decoded, temporal_residual, temporal;
+    double bits = 0.0;
+};
+
+void run_frame(const std::vector<SpatialReference>& refs, std::size_t n, const std::int32_t* target, std::int64_t m, bool use_spatial,
+               FrameTrial& f) {
+    constexpr int kSymbols = 2 * 64;
+    std::array<std::uint32_t, kNeighbourBuckets * kSymbols> histogram{};
+    double mantissa_bits = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t v = 0; v < n; ++v) {
+            const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+            const std::int64_t p = f.temporal[k] + (use_spatial ? spatial(refs[v], f.temporal_residual.data(), c) : 0);
+            const std::int64_t q = floor_div(target[k] - p + m / 2, m);
+            f.q[k] = q;
+            f.decoded[k] = p + q * m;
+            f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
+            const std::int64_t neighbour = neighbour_activity(refs[v], f.q.data(), c);
+            const std::uint64_t mag = q < 0 ? static_cast<std::uint64_t>(-q) : static_cast<std::uint64_t>(q);
+            const int length = static_cast<int>(std::bit_width(mag));
+            mantissa_bits += length > 1 ? length - 1 : 0;
+            ++histogram[static_cast<std::size_t>(magnitude_bucket(neighbour) * kSymbols + (q < 0 ? 64 : 0) + length)];
+        }
+    double bits = mantissa_bits;
+    for (int b = 0; b < kNeighbourBuckets; ++b) {
+        double total = 0.0;
+        for (int s = 0; s < kSymbols; ++s) total += histogram[static_cast<std::size_t>(b * kSymbols + s)];
+        for (int s = 0; s < kSymbols; ++s)
+            if (const double h = histogram[static_cast<std::size_t>(b * kSymbols + s)]; h > 0) bits += h * std::log2(total / h);
+    }
+    f.bits = bits;
+}
 }  // namespace
 
 class ResidualContexts {
 public:
     IntegerModel& model(int level_class, int coordinate, std::int64_t neighbour) {
-        const std::uint64_t mag = neighbour < 0 ? static_cast<std::uint64_t>(-neighbour) : static_cast<std::uint64_t>(neighbour);
-        const int bucket = std::min(static_cast<int>(std::bit_width(mag)), kNeighbourBuckets - 1);
-        return models_[static_cast<std::size_t>((std::min(level_class, kMaxLevelClasses - 1) * 3 + coordinate) * kNeighbourBuckets + bucket)];
+        return models_[static_cast<std::size_t>((std::min(level_class, kMaxLevelClasses - 1) * 3 + coordinate) * kNeighbourBuckets +
+                                                magnitude_bucket(neighbour))];
     }
+    // The per-frame prediction mode (one context for all frames).
+    IntegerModel& mode_model() { return mode_; }
 
 private:
     std::vector<IntegerModel> models_ = std::vector<IntegerModel>(kMaxLevelClasses * 3 * kNeighbourBuckets);
+    IntegerModel mode_;
 };
+
+bool frame_mode_allowed(const TemporalReference& reference, int mode) {
+    if (mode < 0 || mode >= kFrameModes) return false;
+    const auto temporal = static_cast<TemporalMode>(mode / 2);
+    switch (reference.kind) {
+    case TemporalReference::Kind::none: return temporal == TemporalMode::layout;  // frame 0: nothing to predict from
+    case TemporalReference::Kind::copy: return temporal == TemporalMode::layout || temporal == TemporalMode::none;
+    case TemporalReference::Kind::linear:
+    case TemporalReference::Kind::cubic: return true;
+    }
+    return false;
+}
 
 int default_stride_log2(std::size_t frames) {
     int l = 0;
@@ -148,23 +242,46 @@ std::vector<SpatialReference> spatial_references(std::size_t n, const std::vecto
 }
 
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& refs,
-                                            std::size_t n, const std::vector<std::int32_t>& grid) {
+                                            std::size_t n, const std::vector<std::int32_t>& grid, std::uint32_t residual_step,
+                                            int forced_mode) {
     const std::size_t row = 3 * n;
-    std::vector<std::int64_t> residual(row), coded(row), prediction(row);
+    const auto m = static_cast<std::int64_t>(residual_step);
+    // Decoded frames (what the decoder will hold) are the references of later frames.
+    std::vector<std::int32_t> decoded(grid.size(), 0);
+    FrameTrial trial, best;
+    for (FrameTrial* f : {&trial, &best}) f->q = f->decoded = f->temporal_residual = f->temporal = std::vector<std::int64_t>(row);
     std::vector<std::string> out;
     ResidualContexts contexts;
     for (const auto& frames : layout.packets) {
         RangeEncoder enc;
         for (std::size_t t : frames) {
-            predict_frame(layout.references[t], t, grid.data(), row, prediction.data());
-            for (std::size_t k = 0; k < row; ++k) residual[k] = grid[t * row + k] - prediction[k];
+            const TemporalReference& ref = layout.references[t];
+            const std::int32_t* target = grid.data() + t * row;
+            int mode = -1;
+            best.bits = 0.0;
+            for (int candidate = 0; candidate < kFrameModes; ++candidate) {
+                if (!frame_mode_allowed(ref, candidate) || (forced_mode >= 0 && candidate != forced_mode)) continue;
+                if (candidate / 2 == static_cast<int>(TemporalMode::linear) && ref.kind == TemporalReference::Kind::linear) continue;
+                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded.data(), row, trial.temporal.data());
+                run_frame(refs, n, target, m, candidate % 2 == 1, trial);
+                if (mode < 0 || trial.bits < best.bits) {
+                    std::swap(trial, best);
+                    mode = candidate;
+                }
+            }
+            if (mode < 0) {  // forced mode not allowed here: the layout's reference with spatial prediction
+                mode = 1;
+                predict_frame(ref, TemporalMode::layout, t, decoded.data(), row, best.temporal.data());
+                run_frame(refs, n, target, m, true, best);
+            }
+            encode_integer(enc, contexts.mode_model(), mode);
             for (int c = 0; c < 3; ++c)  // planar: all x, then y, then z
                 for (std::size_t v = 0; v < n; ++v) {
                     const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                    coded[k] = residual[k] - spatial(refs[v], residual.data(), c);
-                    const std::int64_t neighbour = refs[v].a < 0 ? 0 : coded[3 * static_cast<std::size_t>(refs[v].a) + static_cast<std::size_t>(c)];
-                    encode_integer(enc, contexts.model(layout.level_class[t], c, neighbour), coded[k]);
+                    const std::int64_t neighbour = neighbour_activity(refs[v], best.q.data(), c);
+                    encode_integer(enc, contexts.model(layout.level_class[t], c, neighbour), best.q[k]);
                 }
+            for (std::size_t k = 0; k < row; ++k) decoded[t * row + k] = static_cast<std::int32_t>(best.decoded[k]);
         }
         out.push_back(enc.finish());
     }
@@ -176,7 +293,7 @@ class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
         : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
-          refs_(spatial_references(h.vertices, h.topology.triangles)),
+          refs_(spatial_references(h.vertices, h.topology.triangles)), residual_step_(static_cast<std::int64_t>(h.threshold)),
           grid_(std::size_t(h.frames) * 3 * h.vertices, 0), decoded_(h.frames, 0) {}
 
     void accept(std::size_t sequence, std::string_view payload) override {
@@ -185,29 +302,31 @@ public:
         const auto& frames = layout_.packets[sequence];
         const std::size_t n = header_.vertices, row = 3 * n;
         RangeDecoder dec(payload);
-        std::vector<std::int64_t> residual(row), coded(row), prediction(row);
+        std::vector<std::int64_t> temporal(row), temporal_residual(row), coded(row);
+        const std::int64_t m = residual_step_;
         for (std::size_t t : frames) {
+            std::int64_t mode = -1;
+            if (!decode_integer(dec, contexts_.mode_model(), mode) || !frame_mode_allowed(layout_.references[t], static_cast<int>(std::clamp<std::int64_t>(mode, -1, kFrameModes))))
+                r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) + " is not allowed there (corrupt data)");
+            predict_frame(layout_.references[t], static_cast<TemporalMode>(mode / 2), t, grid_.data(), row, temporal.data());
+            const bool use_spatial = mode % 2 == 1;
             for (int c = 0; c < 3; ++c)
                 for (std::size_t v = 0; v < n; ++v) {
                     const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                    const std::int64_t neighbour = refs_[v].a < 0 ? 0 : coded[3 * static_cast<std::size_t>(refs_[v].a) + static_cast<std::size_t>(c)];
-                    std::int64_t e = 0;
-                    if (!decode_integer(dec, contexts_.model(layout_.level_class[t], c, neighbour), e) ||
-                        e > 4 * kMaxGridValue || e < -4 * kMaxGridValue)
+                    const std::int64_t neighbour = neighbour_activity(refs_[v], coded.data(), c);
+                    std::int64_t q = 0;
+                    if (!decode_integer(dec, contexts_.model(layout_.level_class[t], c, neighbour), q) || q > 4 * kMaxGridValue ||
+                        q < -4 * kMaxGridValue)
                         r.fail("residual out of range (corrupt data)");
-                    coded[k] = e;
-                    residual[k] = e + spatial(refs_[v], residual.data(), c);
+                    coded[k] = q;
+                    const std::int64_t g = temporal[k] + (use_spatial ? spatial(refs_[v], temporal_residual.data(), c) : 0) + q * m;
+                    // Decoded coordinates stay within m / 2 of the encoder's grid [0, kMaxGridValue].
+                    if (g < -static_cast<std::int64_t>(kMaxResidualStep) || g > kMaxGridValue + static_cast<std::int64_t>(kMaxResidualStep))
+                        r.fail("position leaves the quantisation grid (corrupt data)");
+                    temporal_residual[k] = g - temporal[k];
+                    grid_[t * row + k] = static_cast<std::int32_t>(g);
                 }
             if (dec.overrun()) r.fail("residual data is truncated");
-            predict_frame(layout_.references[t], t, grid_.data(), row, prediction.data());
-            std::int32_t* out = grid_.data() + t * row;
-            bool off_grid = false;
-            for (std::size_t k = 0; k < row; ++k) {
-                const std::int64_t g = residual[k] + prediction[k];
-                off_grid |= g < 0 || g > kMaxGridValue;
-                out[k] = static_cast<std::int32_t>(g);
-            }
-            if (off_grid) r.fail("position leaves the quantisation grid");
             decoded_[t] = 1;
         }
         received_ = sequence + 1;
@@ -259,6 +378,7 @@ private:
     std::string what_;
     PredictiveLayout layout_;
     std::vector<SpatialReference> refs_;
+    std::int64_t residual_step_;
     std::vector<std::int32_t> grid_;
     std::vector<char> decoded_;
     ResidualContexts contexts_;
@@ -268,6 +388,9 @@ private:
 
 std::unique_ptr<ProfileDecoder> make_predictive_decoder(const Header& header, const std::string& what) {
     if (header.profile_param > 20) throw InputError(what + ": header: keyframe stride 2^" + std::to_string(header.profile_param) + " (allowed up to 2^20)");
+    if (!(header.threshold >= 1.0 && header.threshold <= double(kMaxResidualStep) && header.threshold == std::floor(header.threshold)))
+        throw InputError(what + ": header: residual step " + std::to_string(header.threshold) + " (allowed: an integer 1.." +
+                         std::to_string(kMaxResidualStep) + ")");
     return std::make_unique<PredictiveDecoder>(header, what);
 }
 

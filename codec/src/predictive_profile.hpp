@@ -1,10 +1,13 @@
 #pragma once
-// Profile `default` (docs/codec.md): positions snapped to a uniform grid of step Delta (the
-// only loss: at most Delta/2 per coordinate), then coded losslessly on that grid in
-// integers: hierarchical temporal prediction (keyframes every 2^L frames, then midpoints
-// by cubic/linear interpolation of decoded frames, coarse to fine), spatial prediction of
-// the temporal residual across mesh neighbours (parallelogram rule), zstd per packet.
-// Integers make encoder and decoder agree bit for bit on every machine.
+// Profile `default` (docs/codec.md): positions on a fine uniform grid of step d, coded by
+// closed-loop prediction in integers: each coordinate is predicted from already decoded
+// values (hierarchical temporal prediction: keyframes every 2^L frames, then midpoints by
+// cubic/linear interpolation of decoded frames, coarse to fine; plus optionally a spatial
+// prediction of the temporal residual across mesh neighbours, parallelogram rule), and the
+// prediction error is quantised with step m grid units, so every decoded coordinate is
+// within (m + 1) d / 2 of the original.  Each frame's prediction mode is chosen by the
+// encoder and sent.  Adaptive binary range coding with contexts.  Integers make encoder
+// and decoder agree bit for bit on every machine.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -40,6 +43,22 @@ std::vector<SpatialReference> spatial_references(std::size_t vertices, const std
 
 int default_stride_log2(std::size_t frames);
 
+// Closed-loop residual quantiser step m, in fine-grid units (header field `threshold`):
+// the grid step is d = Delta / (m + 1) for a per-coordinate bound Delta / 2.  m = 1 with
+// d = Delta codes the grid positions losslessly (every residual is exact).
+constexpr std::uint32_t kDefaultResidualStep = 32;
+constexpr std::uint32_t kMaxResidualStep = 1024;
+
+// Per-frame prediction mode, sent before the frame's residuals as one integer
+// 2 * temporal + spatial.  temporal: the layout's reference (TemporalReference above), the
+// linear one between the frames the layout interpolates (midpoints only), a copy of the
+// left or right one (midpoints only), or no temporal prediction; spatial: whether the
+// temporal residual is predicted across mesh neighbours as well.
+enum class TemporalMode : int { layout = 0, linear = 1, copy_left = 2, copy_right = 3, none = 4 };
+constexpr int kTemporalModes = 5;
+constexpr int kFrameModes = 2 * kTemporalModes;
+bool frame_mode_allowed(const TemporalReference& reference, int mode);
+
 // Grid coordinates must stay below this so every intermediate fits comfortably in int64.
 constexpr std::int64_t kMaxGridValue = std::int64_t(1) << 30;
 
@@ -47,8 +66,11 @@ constexpr std::int64_t kMaxGridValue = std::int64_t(1) << 30;
 // the spatial neighbour's residual); they carry over from packet to packet.
 class ResidualContexts;
 
-// Packet payloads in streaming order; `grid` holds T x 3N grid coordinates (frame-major).
+// Packet payloads in streaming order; `grid` holds T x 3N fine-grid coordinates
+// (frame-major), `residual_step` is m.  `forced_mode` >= 0 codes every frame in that mode
+// where allowed (tests); otherwise the encoder picks each frame's cheapest mode.
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& spatial,
-                                            std::size_t vertices, const std::vector<std::int32_t>& grid);
+                                            std::size_t vertices, const std::vector<std::int32_t>& grid,
+                                            std::uint32_t residual_step, int forced_mode = -1);
 
 }  // namespace foldcast::codec

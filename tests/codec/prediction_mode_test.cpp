@@ -1,0 +1,146 @@
+// The default profile's per-frame prediction modes and its closed-loop residual quantiser
+// (codec/src/predictive_profile.*): every mode decodes to what the encoder meant, the
+// encoder's choice pays off on an abrupt change, and the error bound holds for any m.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "container.hpp"
+#include "foldcast/codec.hpp"
+#include "foldcast/core/error.hpp"
+#include "predictive_profile.hpp"
+#include "profile_decoder.hpp"
+
+namespace foldcast::codec {
+namespace {
+
+constexpr std::size_t kCols = 12, kRows = 10;
+
+std::vector<Triangle> grid_triangles() {
+    std::vector<Triangle> tris;
+    for (std::size_t r = 0; r + 1 < kRows; ++r)
+        for (std::size_t c = 0; c + 1 < kCols; ++c) {
+            const auto v = static_cast<std::uint32_t>(r * kCols + c);
+            tris.push_back({v, v + 1, v + static_cast<std::uint32_t>(kCols)});
+            tris.push_back({v + 1, v + static_cast<std::uint32_t>(kCols) + 1, v + static_cast<std::uint32_t>(kCols)});
+        }
+    return tris;
+}
+
+// Grid coordinates (T x 3N, frame-major) of a sheet drifting smoothly; from `jump_frame`
+// on, a fold pattern (smooth across the sheet, large against the motion) switches on.
+std::vector<std::int32_t> sheet_grid(std::size_t frames, std::size_t jump_frame) {
+    const std::size_t n = kCols * kRows;
+    std::vector<std::int32_t> g(frames * 3 * n);
+    for (std::size_t t = 0; t < frames; ++t)
+        for (std::size_t v = 0; v < n; ++v) {
+            const double x = double(v % kCols), y = double(v / kCols);
+            const double fold = t >= jump_frame ? 4000.0 * std::sin(0.7 * y) : 0.0;
+            const double p[3] = {20000.0 + 1000.0 * x + 37.0 * double(t), 20000.0 + 1000.0 * y + 0.5 * double(t * t),
+                                 20000.0 + 300.0 * std::sin(0.3 * x + 0.05 * double(t)) + fold};
+            for (int c = 0; c < 3; ++c) g[(t * n + v) * 3 + static_cast<std::size_t>(c)] = static_cast<std::int32_t>(std::lround(p[c]));
+        }
+    return g;
+}
+
+struct Coded {
+    std::vector<std::string> packets;
+    std::vector<std::int32_t> decoded;  // T x 3N grid coordinates the decoder reconstructs
+    std::size_t bytes = 0;
+};
+
+// Encodes with `mode` (-1: the encoder's choice) and decodes through the profile decoder;
+// the grid step is 1 m so decoded positions are grid coordinates.
+Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode) {
+    const std::size_t n = kCols * kRows;
+    Header h;
+    h.vertices = static_cast<std::uint32_t>(n);
+    h.frames = static_cast<std::uint32_t>(frames);
+    h.topology.triangles = grid_triangles();
+    h.step = 1.0;
+    h.threshold = m;
+    h.profile_param = static_cast<std::uint32_t>(default_stride_log2(frames));
+    const PredictiveLayout layout(frames, static_cast<int>(h.profile_param));
+    Coded out;
+    out.packets = predictive_packets(layout, spatial_references(n, h.topology.triangles), n, grid, m, mode);
+    auto decoder = make_predictive_decoder(h, "test");
+    for (std::size_t i = 0; i < out.packets.size(); ++i) {
+        decoder->accept(i, out.packets[i]);
+        out.bytes += out.packets[i].size();
+    }
+    std::vector<std::vector<Vec3f>> positions;
+    decoder->reconstruct(positions);
+    for (const auto& f : positions)
+        for (const auto& p : f)
+            for (int c = 0; c < 3; ++c) out.decoded.push_back(static_cast<std::int32_t>(std::lround(p[c])));
+    return out;
+}
+
+std::int64_t max_abs_error(const std::vector<std::int32_t>& a, const std::vector<std::int32_t>& b) {
+    std::int64_t worst = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) worst = std::max<std::int64_t>(worst, std::abs(std::int64_t(a[i]) - b[i]));
+    return worst;
+}
+
+TEST(PredictionModes, EveryModeRoundTripsWithinHalfTheResidualStep) {
+    const std::size_t frames = 40;
+    const auto grid = sheet_grid(frames, 21);
+    for (std::uint32_t m : {1u, 6u, 32u})
+        for (int mode = 0; mode < kFrameModes; ++mode) {
+            const Coded c = code(grid, frames, m, mode);
+            // m = 1 is lossless; otherwise every coordinate is within m / 2 grid units.
+            EXPECT_LE(max_abs_error(grid, c.decoded), std::int64_t(m / 2)) << "m " << m << " mode " << mode;
+        }
+}
+
+TEST(PredictionModes, ModesAreAllowedOnlyWhereTheirReferencesExist) {
+    const PredictiveLayout layout(40, 4);
+    EXPECT_TRUE(frame_mode_allowed(layout.references[0], 0));
+    EXPECT_FALSE(frame_mode_allowed(layout.references[0], 2 * int(TemporalMode::copy_left)));
+    EXPECT_TRUE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::none) + 1));   // keyframe
+    EXPECT_FALSE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::copy_right)));
+    for (int mode = 0; mode < kFrameModes; ++mode) EXPECT_TRUE(frame_mode_allowed(layout.references[8], mode));
+    EXPECT_FALSE(frame_mode_allowed(layout.references[8], kFrameModes));
+    EXPECT_FALSE(frame_mode_allowed(layout.references[8], -1));
+}
+
+TEST(PredictionModes, EncoderChoiceBeatsTheFixedHierarchyAcrossAnAbruptJump) {
+    const std::size_t frames = 48;
+    const auto grid = sheet_grid(frames, 21);  // inside a 16-frame group: poisons its interpolations
+    const Coded chosen = code(grid, frames, 8, -1);
+    const Coded fixed = code(grid, frames, 8, 1);  // the layout's reference + spatial prediction every frame
+    EXPECT_LE(max_abs_error(grid, chosen.decoded), 4);
+    EXPECT_LT(double(chosen.bytes), 0.8 * double(fixed.bytes)) << chosen.bytes << " vs " << fixed.bytes;
+    for (int mode = 0; mode < kFrameModes; ++mode)  // no single mode does better than choosing per frame
+        EXPECT_LE(double(chosen.bytes), 1.05 * double(code(grid, frames, 8, mode).bytes)) << "mode " << mode;
+}
+
+TEST(PredictionModes, ClosedLoopQuantiserCostsLessThanCodingTheGridLosslessly) {
+    // Same error bound: m = 1 on a grid of step Delta vs m = 15 on a grid of step Delta / 16.
+    const std::size_t frames = 160, n = kCols * kRows;
+    std::vector<std::int32_t> coarse(frames * 3 * n), fine(frames * 3 * n);
+    const auto exact = sheet_grid(frames, frames);  // smooth, no jump; units of Delta / 100
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+        coarse[i] = static_cast<std::int32_t>(std::lround(exact[i] / 100.0));
+        fine[i] = static_cast<std::int32_t>(std::lround(exact[i] / 100.0 * 16.0));
+    }
+    const std::size_t closed_loop = code(fine, frames, 15, -1).bytes, lossless = code(coarse, frames, 1, -1).bytes;
+    EXPECT_LT(double(closed_loop), 0.7 * double(lossless)) << closed_loop << " vs " << lossless;
+}
+
+TEST(PredictionModes, HeaderResidualStepOutsideItsRangeIsRejected) {
+    Header h;
+    h.vertices = 3;
+    h.frames = 2;
+    h.step = 1e-3;
+    h.topology.triangles = {{0, 1, 2}};
+    for (double m : {0.0, 2.5, double(kMaxResidualStep) + 1.0}) {
+        h.threshold = m;
+        EXPECT_THROW((void)make_predictive_decoder(h, "test"), InputError) << m;
+    }
+    h.threshold = 32.0;
+    EXPECT_NO_THROW((void)make_predictive_decoder(h, "test"));
+}
+
+}  // namespace
+}  // namespace foldcast::codec
