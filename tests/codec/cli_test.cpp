@@ -1,6 +1,5 @@
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <cstring>
 #include <iterator>
 #include <fstream>
@@ -8,25 +7,14 @@
 
 #include "foldcast/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
+#include "run_command.hpp"
 #include "test_paths.hpp"
 
 namespace foldcast {
 namespace {
 
-struct Result {
-    int status;
-    std::string out;
-};
-
-Result run(const std::string& args) {
-    const std::string cmd = std::string(FOLDCAST_BINARY_DIR) + "/foldcast " + args + " 2>/dev/null";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    std::string out;
-    char buf[4096];
-    while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-    const int rc = pclose(pipe);
-    return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, out};
-}
+// foldcast with `args`, stderr dropped.
+test::CommandResult run(const std::string& args) { return test::run_command(test::foldcast_binary() + " " + args + " 2>/dev/null"); }
 
 std::string q(const std::filesystem::path& p) {
     std::string quoted(1, '\'');
@@ -40,8 +28,8 @@ TEST(CodecCli, EncodeDecodeRoundTripThroughPc2AndObj) {
     const auto pc2 = test::test_data("animations/basicCloth.pc2");
     for (const char* profile : {"paper", "default"}) {
         const auto fca = dir / std::string(profile).append(".fca");
-        const Result enc = run("encode " + q(pc2) + " -o " + q(fca) + " --profile " + std::string(profile) + " --max-error-m 0.001 --json");
-        ASSERT_EQ(enc.status, 0) << enc.out;
+        const test::CommandResult enc = run("encode " + q(pc2) + " -o " + q(fca) + " --profile " + std::string(profile) + " --max-error-m 0.001 --json");
+        ASSERT_EQ(enc.exit_code, 0) << enc.out;
         const auto j = nlohmann::json::parse(enc.out);
         for (const char* key : {"frames", "vertices", "bytes", "bpvf", "rms_error_rel", "max_error_rel", "kg_error"})
             EXPECT_TRUE(j.contains(key)) << key;
@@ -50,16 +38,16 @@ TEST(CodecCli, EncodeDecodeRoundTripThroughPc2AndObj) {
         EXPECT_LE(j["max_error_m"].get<double>(), 0.001 * 1.00001);
 
         const auto out = dir / std::string(profile).append(".pc2");
-        const Result dec = run("decode " + q(fca) + " -o " + q(out) + " --json");
-        ASSERT_EQ(dec.status, 0);
+        const test::CommandResult dec = run("decode " + q(fca) + " -o " + q(out) + " --json");
+        ASSERT_EQ(dec.exit_code, 0);
         const Animation original = read_pc2_animation(pc2, test::test_data("animations/basicCloth.obj"));
         const Animation back = read_pc2_animation(out, std::filesystem::path(out).replace_extension(".obj"));
         EXPECT_EQ(back.topology.triangles, original.topology.triangles);
         EXPECT_LE(codec::measure(original, back, 1).max_error_m, 0.001 * 1.00001);
 
         // Re-encoding an .fca works, and --frames selects a range.
-        ASSERT_EQ(run("encode " + q(fca) + " -o " + q(dir / "again.fca") + " --profile " + std::string(profile)).status, 0);
-        ASSERT_EQ(run("decode " + q(fca) + " -o " + q(dir / "part.pc2") + " --frames 10:20").status, 0);
+        ASSERT_EQ(run("encode " + q(fca) + " -o " + q(dir / "again.fca") + " --profile " + std::string(profile)).exit_code, 0);
+        ASSERT_EQ(run("decode " + q(fca) + " -o " + q(dir / "part.pc2") + " --frames 10:20").exit_code, 0);
         EXPECT_EQ(read_pc2(dir / "part.pc2").size(), 10u);
     }
 }
@@ -73,8 +61,8 @@ TEST(CodecCli, EncodeDecodeRoundTripThroughPc2AndObj) {
 TEST(CodecCli, DrapeToFcaToPc2IsWhatBlendersMeshCacheReads) {
     const auto dir = test::temp_dir();
     const auto fca = dir / "anim.fca", pc2 = dir / "anim.pc2", obj = dir / "anim.obj";
-    ASSERT_EQ(run("drape --grid 16x12 --frames 20 -o " + q(fca)).status, 0);
-    ASSERT_EQ(run("decode " + q(fca) + " -o " + q(pc2)).status, 0);
+    ASSERT_EQ(run("drape --grid 16x12 --frames 20 -o " + q(fca)).exit_code, 0);
+    ASSERT_EQ(run("decode " + q(fca) + " -o " + q(pc2)).exit_code, 0);
 
     std::ifstream in(pc2, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -109,13 +97,13 @@ TEST(CodecCli, DrapeToFcaToPc2IsWhatBlendersMeshCacheReads) {
 TEST(CodecCli, TopologyFlagAndTruncatedFileDecodesWithWarning) {
     const auto dir = test::temp_dir();
     std::filesystem::copy_file(test::test_data("animations/basicCloth.pc2"), dir / "cache.pc2");
-    EXPECT_EQ(run("encode " + q(dir / "cache.pc2") + " -o " + q(dir / "a.fca")).status, 2);  // no cache.obj
+    EXPECT_EQ(run("encode " + q(dir / "cache.pc2") + " -o " + q(dir / "a.fca")).exit_code, 2);  // no cache.obj
     ASSERT_EQ(run("encode " + q(dir / "cache.pc2") + " --topology " + q(test::test_data("animations/basicCloth.obj")) +
-                  " -o " + q(dir / "a.fca")).status, 0);
+                  " -o " + q(dir / "a.fca")).exit_code, 0);
     std::string bytes = codec::read_fca(dir / "a.fca");
     codec::write_fca(dir / "half.fca", std::string_view(bytes).substr(0, bytes.size() / 2));
-    const Result half = run("decode " + q(dir / "half.fca") + " -o " + q(dir / "half.pc2") + " --json");
-    ASSERT_EQ(half.status, 0);
+    const test::CommandResult half = run("decode " + q(dir / "half.fca") + " -o " + q(dir / "half.pc2") + " --json");
+    ASSERT_EQ(half.exit_code, 0);
     EXPECT_FALSE(nlohmann::json::parse(half.out)["complete"].get<bool>());
     EXPECT_EQ(read_pc2(dir / "half.pc2").size(), 150u);
 }
@@ -123,24 +111,24 @@ TEST(CodecCli, TopologyFlagAndTruncatedFileDecodesWithWarning) {
 TEST(CodecCli, ErrorsExitTwo) {
     const auto dir = test::temp_dir();
     const auto pc2 = q(test::test_data("animations/basicCloth.pc2"));
-    EXPECT_EQ(run("encode " + q(dir / "missing.pc2") + " -o " + q(dir / "x.fca")).status, 2);
-    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --profile fast").status, 2);
-    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --max-error-m 0.1 --keep 0.5").status, 2);
-    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --keep 0.5").status, 2);  // default profile
-    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --profile paper --keep 2").status, 2);
-    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.pc2")).status, 2);
-    EXPECT_EQ(run("encode " + pc2).status, 2);
-    ASSERT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca")).status, 0);
-    EXPECT_EQ(run("decode " + q(dir / "x.fca") + " -o " + q(dir / "y.pc2") + " --frames 5:500").status, 2);
-    EXPECT_EQ(run("decode " + q(dir / "x.fca") + " -o " + q(dir / "y.pc2") + " --frames abc").status, 2);
-    EXPECT_EQ(run("decode " + q(dir / "x.fca") + " -o " + q(dir / "y.obj")).status, 2);
+    EXPECT_EQ(run("encode " + q(dir / "missing.pc2") + " -o " + q(dir / "x.fca")).exit_code, 2);
+    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --profile fast").exit_code, 2);
+    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --max-error-m 0.1 --keep 0.5").exit_code, 2);
+    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --keep 0.5").exit_code, 2);  // default profile
+    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca") + " --profile paper --keep 2").exit_code, 2);
+    EXPECT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.pc2")).exit_code, 2);
+    EXPECT_EQ(run("encode " + pc2).exit_code, 2);
+    ASSERT_EQ(run("encode " + pc2 + " -o " + q(dir / "x.fca")).exit_code, 0);
+    EXPECT_EQ(run("decode " + q(dir / "x.fca") + " -o " + q(dir / "y.pc2") + " --frames 5:500").exit_code, 2);
+    EXPECT_EQ(run("decode " + q(dir / "x.fca") + " -o " + q(dir / "y.pc2") + " --frames abc").exit_code, 2);
+    EXPECT_EQ(run("decode " + q(dir / "x.fca") + " -o " + q(dir / "y.obj")).exit_code, 2);
     std::string bytes = codec::read_fca(dir / "x.fca");
     codec::write_fca(dir / "head.fca", std::string_view(bytes).substr(0, 30));
-    EXPECT_EQ(run("decode " + q(dir / "head.fca") + " -o " + q(dir / "y.pc2")).status, 2);
+    EXPECT_EQ(run("decode " + q(dir / "head.fca") + " -o " + q(dir / "y.pc2")).exit_code, 2);
     bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x40);
     codec::write_fca(dir / "bad.fca", bytes);
-    EXPECT_EQ(run("decode " + q(dir / "bad.fca") + " -o " + q(dir / "y.pc2")).status, 2);
-    EXPECT_EQ(run("decode " + pc2 + " -o " + q(dir / "y.pc2")).status, 2);  // not an .fca
+    EXPECT_EQ(run("decode " + q(dir / "bad.fca") + " -o " + q(dir / "y.pc2")).exit_code, 2);
+    EXPECT_EQ(run("decode " + pc2 + " -o " + q(dir / "y.pc2")).exit_code, 2);  // not an .fca
     EXPECT_FALSE(std::filesystem::exists(dir / "y.pc2"));
 }
 

@@ -1,16 +1,16 @@
 // `foldcast drape`: JSON report, outputs (OBJ, PLY, PC2 round trip) and exit status 2 with
 // one line naming the flag for bad input, leaving nothing behind.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape.hpp"
+#include "run_command.hpp"
 #include "test_paths.hpp"
 
 namespace fs = std::filesystem;
@@ -21,23 +21,15 @@ struct Result {
     std::string out, err;
 };
 
+// `foldcast drape --quiet ARGUMENTS` run in `dir`, stdout and stderr apart.
 Result run(const std::string& arguments, const fs::path& dir) {
     const fs::path err = dir / "stderr.txt";
-    const std::string command = "cd '" + dir.string() + "' && " + std::string(FOLDCAST_BINARY_DIR) +
-                                "/foldcast drape --quiet " + arguments + " 2> '" + err.string() + "'";
-    Result result;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer{};
-    size_t n = 0;
-    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.out.append(buffer.data(), n);
-    const int raw = ::pclose(pipe);
-    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    FILE* f = std::fopen(err.c_str(), "r");
-    if (f) {
-        while ((n = std::fread(buffer.data(), 1, buffer.size(), f)) > 0) result.err.append(buffer.data(), n);
-        std::fclose(f);
-    }
+    const foldcast::test::CommandResult ran = foldcast::test::run_command(
+        "cd '" + dir.string() + "' && " + foldcast::test::foldcast_binary() + " drape --quiet " + arguments + " 2> '" + err.string() + "'");
+    Result result{ran.exit_code, ran.out, {}};
+    std::ifstream in(err);
+    result.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    in.close();
     fs::remove(err);
     return result;
 }

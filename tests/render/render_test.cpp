@@ -3,15 +3,14 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 
 #include "foldcast/codec.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "render_fixtures.hpp"
+#include "run_command.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -135,32 +134,22 @@ TEST(Render, FcaGarmentRendersLikeItsSourceMesh) {
     EXPECT_THROW(render_still(fca, {}), InputError);  // names the frame range
 }
 
-std::string run(const std::string& cmd, int* status) {
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (std::fgets(buf, sizeof(buf), p)) out += buf;
-    *status = WEXITSTATUS(pclose(p));
-    return out;
-}
-
 TEST(RenderCli, JsonReportAndExitStatuses) {
     const auto dir = test::temp_dir();
     std::ofstream(dir / "s.toml") << "[garment]\npath = \"" << test::test_data("animations/basicCloth.obj").string()
                                   << "\"\nscale = 0.1\n[output]\nwidth = 32\nheight = 24\nspp = 2\n";
-    const std::string bin = std::string(FOLDCAST_BINARY_DIR) + "/foldcast";
-    int status = -1;
-    const std::string out = run(bin + " render " + (dir / "s.toml").string() + " -o " + (dir / "o.png").string() +
-                                    " --json --threads 2 2>&1",
-                                &status);
-    EXPECT_EQ(status, 0) << out;
+    const std::string bin = test::foldcast_binary();
+    const test::CommandResult ok = test::run_command(bin + " render " + (dir / "s.toml").string() + " -o " +
+                                                     (dir / "o.png").string() + " --json --threads 2 2>&1");
+    EXPECT_EQ(ok.exit_code, 0) << ok.out;
     for (const char* key : {"\"width\":32", "\"height\":24", "\"spp\":2", "\"seconds\"", "\"rays\"", "\"rays_per_second\""})
-        EXPECT_NE(out.find(key), std::string::npos) << key << " in " << out;
+        EXPECT_NE(ok.out.find(key), std::string::npos) << key << " in " << ok.out;
     EXPECT_TRUE(std::filesystem::exists(dir / "o.png"));
     std::ofstream(dir / "bad.toml") << "[output]\nwidht = 3\n";
-    const std::string err = run(bin + " render " + (dir / "bad.toml").string() + " -o " + (dir / "b.png").string() + " 2>&1", &status);
-    EXPECT_EQ(status, 2);
-    EXPECT_NE(err.find("bad.toml:2"), std::string::npos) << err;
+    const test::CommandResult bad =
+        test::run_command(bin + " render " + (dir / "bad.toml").string() + " -o " + (dir / "b.png").string() + " 2>&1");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.out.find("bad.toml:2"), std::string::npos) << bad.out;
     EXPECT_FALSE(std::filesystem::exists(dir / "b.png"));
 }
 
