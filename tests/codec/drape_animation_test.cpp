@@ -2,11 +2,11 @@
 // Only the test links drape; the codec library itself never does.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 
 #include "foldcast/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape.hpp"
+#include "run_command.hpp"
 #include "test_paths.hpp"
 
 namespace foldcast::codec {
@@ -39,10 +39,10 @@ TEST(DrapeAnimation, DefaultProfileBeatsRawFloatsByFar) {
 
 TEST(DrapeAnimation, DrapeWritesFcaThatDecodesToPc2) {
     const auto dir = test::temp_dir();
-    const std::string bin = std::string(FOLDCAST_BINARY_DIR) + "/foldcast";
+    const std::string bin = test::foldcast_binary();
     const std::string fca = (dir / "anim.fca").string(), pc2 = (dir / "anim.pc2").string();
-    ASSERT_EQ(std::system((bin + " drape --grid 12x10 --frames 20 -q -o '" + fca + "' > /dev/null").c_str()), 0);
-    ASSERT_EQ(std::system((bin + " decode '" + fca + "' -o '" + pc2 + "' > /dev/null").c_str()), 0);
+    ASSERT_EQ(test::run_command(bin + " drape --grid 12x10 --frames 20 -q -o '" + fca + "'").exit_code, 0);
+    ASSERT_EQ(test::run_command(bin + " decode '" + fca + "' -o '" + pc2 + "'").exit_code, 0);
     EXPECT_EQ(read_pc2(pc2).size(), 20u);
     EXPECT_TRUE(std::filesystem::exists(dir / "anim.obj"));
 }

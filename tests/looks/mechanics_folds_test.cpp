@@ -7,20 +7,15 @@
 
 #include "foldcast/drape.hpp"
 #include "foldcast/looks.hpp"
+#include "shipped_looks.hpp"
 
-namespace fs = std::filesystem;
 using namespace foldcast;
 
 namespace {
-const looks::Library& shipped() {
-    static const looks::Library library =
-        looks::Library::load_directory(fs::path(FOLDCAST_SOURCE_DIR) / "looks" / "data");
-    return library;
-}
 
 drape::FoldSolution solve(const char* look, double width_m, double height_m, double inset_m) {
     return drape::solve_folds(
-        drape::cloth_from_look(shipped().get(look).mechanics, width_m, height_m, inset_m));
+        drape::cloth_from_look(test::shipped_looks().get(look).mechanics, width_m, height_m, inset_m));
 }
 
 // Mean vertical distance between neighbouring fold lines at the centre (a_{i-1} - a_i).
@@ -67,7 +62,7 @@ TEST(LookMechanics, StiffnessOrderGivesFoldCountOrder) {
 }
 
 TEST(LookMechanics, EveryShippedLookDrapesWithoutError) {
-    for (const auto& name : shipped().names()) {
+    for (const auto& name : test::shipped_looks().names()) {
         const auto solution = solve(name.c_str(), 0.5, 0.7, 0.1);
         EXPECT_FALSE(solution.explanation.empty()) << name;
         EXPECT_NE(solution.regime, drape::FoldSolution::Regime::no_feasible_folds)

@@ -4,8 +4,8 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/looks.hpp"
+#include "shipped_looks.hpp"
 
-namespace fs = std::filesystem;
 using foldcast::InputError;
 using namespace foldcast::looks;
 
@@ -14,15 +14,10 @@ toml::table parse_toml(std::string_view text, std::string_view origin) {
     return toml::parse(text, origin);
 }
 
-const Library& shipped() {
-    static const Library library =
-        Library::load_directory(fs::path(FOLDCAST_SOURCE_DIR) / "looks" / "data");
-    return library;
-}
 }  // namespace
 
 TEST(LookOverride, ReplacesOnlyTheGivenKeys) {
-    const Look& denim = shipped().get("denim");
+    const Look& denim = foldcast::test::shipped_looks().get("denim");
     const toml::table overrides = parse_toml(
         "[appearance]\nbase_colour = \"#000000\"\n[mechanics]\ngsm = 300\n", "scene.toml");
     const Look black = override_look(denim, overrides, "scene.toml");
@@ -36,7 +31,7 @@ TEST(LookOverride, ReplacesOnlyTheGivenKeys) {
 TEST(LookOverride, ValidatesLikeALookFile) {
     const toml::table overrides = parse_toml("[mechanics]\nthickness_mm = -1\n", "scene.toml");
     try {
-        override_look(shipped().get("denim"), overrides, "scene.toml");
+        override_look(foldcast::test::shipped_looks().get("denim"), overrides, "scene.toml");
         FAIL() << "negative thickness accepted";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("scene.toml:2: mechanics.thickness_mm = -1"),
@@ -50,13 +45,13 @@ TEST(ResolveLook, ByNameOrByTableWithBase) {
         "look = \"satin\"\n"
         "[garment]\nlook = { base = \"chiffon\", appearance = { roughness = 0.2 } }\n",
         "scene.toml");
-    const Look satin = resolve_look(shipped(), *scene.get("look"), "scene.toml");
+    const Look satin = resolve_look(foldcast::test::shipped_looks(), *scene.get("look"), "scene.toml");
     EXPECT_EQ(satin.name, "satin");
     const Look chiffon =
-        resolve_look(shipped(), *scene["garment"]["look"].node(), "scene.toml");
+        resolve_look(foldcast::test::shipped_looks(), *scene["garment"]["look"].node(), "scene.toml");
     EXPECT_EQ(chiffon.name, "chiffon");
     EXPECT_DOUBLE_EQ(chiffon.appearance.roughness, 0.2);
-    EXPECT_DOUBLE_EQ(chiffon.mechanics.gsm, shipped().get("chiffon").mechanics.gsm);
+    EXPECT_DOUBLE_EQ(chiffon.mechanics.gsm, foldcast::test::shipped_looks().get("chiffon").mechanics.gsm);
 }
 
 TEST(ResolveLook, ErrorsNameTheProblem) {
@@ -66,7 +61,7 @@ TEST(ResolveLook, ErrorsNameTheProblem) {
         "scene.toml");
     auto message = [&](const char* key) {
         try {
-            resolve_look(shipped(), *scene.get(key), "scene.toml");
+            resolve_look(foldcast::test::shipped_looks(), *scene.get(key), "scene.toml");
         } catch (const InputError& e) {
             return std::string(e.what());
         }

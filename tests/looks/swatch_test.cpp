@@ -1,25 +1,19 @@
 // The swatch sheet: every chosen look rendered the same way, tiled and labelled.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/render/swatches.hpp"
+#include "run_command.hpp"
+#include "shipped_looks.hpp"
 
 namespace fs = std::filesystem;
 using namespace foldcast;
 
 namespace {
-const looks::Library& shipped() {
-    static const looks::Library library =
-        looks::Library::load_directory(fs::path(FOLDCAST_SOURCE_DIR) / "looks" / "data");
-    return library;
-}
 
 render::SwatchOptions tiny(std::vector<std::string> looks) {
     render::SwatchOptions o;
@@ -50,15 +44,13 @@ double tile_difference(const render::SwatchSheet& sheet, const render::SwatchOpt
 }
 
 int run_status(const std::string& arguments) {
-    const std::string command = std::string(FOLDCAST_BINARY_DIR) + "/foldcast " + arguments;
-    const int raw = std::system(command.c_str());
-    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return test::run_command(test::foldcast_binary() + " " + arguments).exit_code;
 }
 }  // namespace
 
 TEST(SwatchSheet, TilesEveryChosenLookInOrderWithItsFolds) {
     const auto options = tiny({"denim", "chiffon", "satin"});
-    const auto sheet = render::render_swatch_sheet(shipped(), options);
+    const auto sheet = render::render_swatch_sheet(test::shipped_looks(), options);
     ASSERT_EQ(sheet.tiles.size(), 3u);
     EXPECT_EQ(sheet.tiles[0].look, "denim");
     EXPECT_EQ(sheet.tiles[2].look, "satin");
@@ -75,15 +67,15 @@ TEST(SwatchSheet, SameBytesWhateverTheThreadCount) {
     one.threads = 1;
     auto two = one;
     two.threads = 2;
-    EXPECT_EQ(render::render_swatch_sheet(shipped(), one).rgb,
-              render::render_swatch_sheet(shipped(), two).rgb);
+    EXPECT_EQ(render::render_swatch_sheet(test::shipped_looks(), one).rgb,
+              render::render_swatch_sheet(test::shipped_looks(), two).rgb);
 }
 
 TEST(SwatchSheet, BadInputsAreInputErrors) {
-    EXPECT_THROW(render::render_swatch_sheet(shipped(), tiny({"denim", "velour"})), InputError);
+    EXPECT_THROW(render::render_swatch_sheet(test::shipped_looks(), tiny({"denim", "velour"})), InputError);
     auto small = tiny({"denim"});
     small.tile_width = 4;
-    EXPECT_THROW(render::render_swatch_sheet(shipped(), small), InputError);
+    EXPECT_THROW(render::render_swatch_sheet(test::shipped_looks(), small), InputError);
     EXPECT_THROW(render::write_swatch_sheet("/tmp/sheet.jpg", render::SwatchSheet{}), InputError);
 }
 
