@@ -336,32 +336,37 @@ public:
     std::size_t playable_frames() const override { return layout_.playable_after[received_]; }
 
     void reconstruct(std::vector<std::vector<Vec3f>>& frames) const override {
-        const std::size_t n = header_.vertices, row = 3 * n, t_count = header_.frames;
-        frames.assign(t_count, std::vector<Vec3f>(n));
-        const Vec3f centre = 0.5f * (header_.bounds.min + header_.bounds.max);
-        // Frames not decoded yet: linear interpolation between the nearest decoded ones
-        // (held constant past the last), so a prefix gives a coarser animation.
-        std::size_t prev = t_count;
-        for (std::size_t t = 0; t < t_count; ++t) {
-            if (decoded_[t]) {
-                to_positions(t, frames[t]);
-                prev = t;
-                continue;
-            }
-            std::size_t next = t + 1;
-            while (next < t_count && !decoded_[next]) ++next;
-            if (prev == t_count && next == t_count) {
-                std::fill(frames[t].begin(), frames[t].end(), centre);
-            } else if (prev == t_count || next == t_count) {
-                to_positions(prev == t_count ? next : prev, frames[t]);
-            } else {
-                const float w = float(t - prev) / float(next - prev);
-                std::vector<Vec3f> b(n);
-                to_positions(next, b);
-                for (std::size_t v = 0; v < n; ++v) frames[t][v] = (1.0f - w) * frames[prev][v] + w * b[v];
-            }
+        frames.resize(header_.frames);
+        for (std::size_t t = 0; t < frames.size(); ++t) reconstruct_frame(t, frames[t]);
+    }
+
+    // Decoded frames exactly; a frame not decoded yet is interpolated linearly between the
+    // nearest decoded ones (held constant past the last), so a prefix gives a coarser
+    // animation.  Costs one or two frames' conversion, whatever t.
+    void reconstruct_frame(std::size_t t, std::vector<Vec3f>& out) const override {
+        const std::size_t t_count = header_.frames;
+        out.resize(header_.vertices);
+        if (decoded_[t]) {
+            to_positions(t, out);
+            return;
         }
-        (void)row;
+        std::size_t prev = t;
+        while (prev > 0 && !decoded_[prev - 1]) --prev;
+        const bool has_prev = prev > 0;
+        std::size_t next = t + 1;
+        while (next < t_count && !decoded_[next]) ++next;
+        const bool has_next = next < t_count;
+        if (!has_prev && !has_next) {
+            std::fill(out.begin(), out.end(), Vec3f(0.5f * (header_.bounds.min + header_.bounds.max)));
+        } else if (!has_prev || !has_next) {
+            to_positions(has_prev ? prev - 1 : next, out);
+        } else {
+            const float w = float(t - (prev - 1)) / float(next - (prev - 1));
+            std::vector<Vec3f> b(out.size());
+            to_positions(prev - 1, out);
+            to_positions(next, b);
+            for (std::size_t v = 0; v < out.size(); ++v) out[v] = (1.0f - w) * out[v] + w * b[v];
+        }
     }
 
 private:

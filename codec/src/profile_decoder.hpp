@@ -1,6 +1,6 @@
 #pragma once
 // What the streaming decoder needs from a profile: accept data packets in order, say which
-// frames are final, and reconstruct all frames from what has arrived.
+// frames are final, and reconstruct frames from what has arrived.
 #include <memory>
 #include <string>
 #include <string_view>
@@ -19,6 +19,13 @@ public:
     virtual std::size_t playable_frames() const = 0;
     // frames is resized to T frames of N vertices.
     virtual void reconstruct(std::vector<std::vector<Vec3f>>& frames) const = 0;
+    // Frame t alone, the same values as reconstruct() gives it; profiles that can, do it
+    // without reconstructing the others.
+    virtual void reconstruct_frame(std::size_t t, std::vector<Vec3f>& out) const {
+        std::vector<std::vector<Vec3f>> frames;
+        reconstruct(frames);
+        out = std::move(frames[t]);
+    }
 };
 
 std::unique_ptr<ProfileDecoder> make_paper_decoder(const Header& header, const std::string& what);

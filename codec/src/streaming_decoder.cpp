@@ -136,9 +136,9 @@ Animation StreamingDecoder::animation() const {
 std::vector<Vec3f> StreamingDecoder::frame(std::size_t t) const {
     impl_->require();
     if (t >= impl_->header.frames) throw InputError(impl_->what + ": frame " + std::to_string(t) + " out of range (" + std::to_string(impl_->header.frames) + " frames)");
-    std::vector<std::vector<Vec3f>> frames;
-    impl_->profile->reconstruct(frames);
-    return std::move(frames[t]);
+    std::vector<Vec3f> frame;
+    impl_->profile->reconstruct_frame(t, frame);
+    return frame;
 }
 
 Animation decode(std::string_view bytes, const std::string& what) {

@@ -42,6 +42,12 @@ TEST_P(Streaming, PrefixesDecodeCoarserAndErrorFallsAsBytesArrive) {
         previous_error = error;
         if (first_error < 0.0) first_error = error;
         for (std::size_t t = 0; t < s.playable_frames; ++t) ASSERT_EQ(partial.frames[t], full.frames[t]) << "frame " << t;
+        // One frame alone (a player's access) is the same as in the whole animation, for
+        // final and for interpolated frames alike.
+        for (std::size_t t : {std::size_t(0), s.playable_frames, a.frame_count() / 2, a.frame_count() - 1})
+            if (t < a.frame_count()) {
+                ASSERT_EQ(decoder.frame(t), partial.frames[t]) << "frame " << t << ", cut at " << end;
+            }
         ++checked;
     }
     EXPECT_GT(checked, 5u);
@@ -69,6 +75,28 @@ TEST_P(Streaming, FrameAccessorMatchesAnimation) {
     EXPECT_THROW(d.frame(30), InputError);
     EXPECT_EQ(d.vertex_count(), 30u);
     EXPECT_EQ(d.profile(), GetParam());
+}
+
+// Before a group's packet arrives, its frames are the linear blend of the keyframes around
+// them (the default profile's keyframes come first).
+TEST(StreamingDefault, FramesBetweenKeyframesBlendThem) {
+    const Animation a = test::wave_grid(6, 5, 40);  // keyframes 0, 16, 32, 39
+    const std::string bytes = encode(a, profile_options(Profile::predictive));
+    StreamingDecoder d("s");
+    for (std::size_t at = 0; at < bytes.size() && d.status().playable_frames == 0; ++at)
+        d.feed(std::string_view(bytes).substr(at, 1));
+    ASSERT_EQ(d.status().playable_frames, 1u);  // the keyframe packet: only frame 0 is final
+    ASSERT_FALSE(d.status().complete);
+    const std::vector<Vec3f> k0 = d.frame(0), k16 = d.frame(16), k32 = d.frame(32);
+    EXPECT_NE(k0, k16);
+    for (std::size_t t : {std::size_t(5), std::size_t(20)}) {
+        const std::vector<Vec3f>& left = t < 16 ? k0 : k16;
+        const std::vector<Vec3f>& right = t < 16 ? k16 : k32;
+        const float w = float(t % 16) / 16.0f;
+        const std::vector<Vec3f> frame = d.frame(t);
+        ASSERT_EQ(frame.size(), left.size());
+        for (std::size_t v = 0; v < frame.size(); ++v) EXPECT_EQ(frame[v], (1.0f - w) * left[v] + w * right[v]) << "frame " << t;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Profiles, Streaming, ::testing::Values(Profile::paper, Profile::predictive),
