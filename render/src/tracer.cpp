@@ -387,9 +387,10 @@ struct Tracer::Impl {
 
 Tracer::Tracer(const SceneSpec& scene, FrameGeometry geometry) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
-    // One build thread: Embree's BVH is then the same on every run (determinism); builds
-    // are per frame, ~10-30 ms, so this costs little.
-    m.device = rtcNewDevice("threads=1");
+    // No thread count in the device's configuration: Embree turns one into a process-wide
+    // tbb::global_control, which silently capped every TBB arena of the process, the
+    // tracer's tiles included, at that many threads (RenderKit/embree#507).
+    m.device = rtcNewDevice(nullptr);
     if (!m.device) throw std::runtime_error("Embree: cannot create a device");
     m.scene = rtcNewScene(m.device);
     rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
@@ -432,7 +433,12 @@ Tracer::Tracer(const SceneSpec& scene, FrameGeometry geometry) : impl_(std::make
         g.triangles = std::move(s.triangles);
         m.add(std::move(g));
     }
-    rtcCommitScene(m.scene);
+    // The BVH is built by one thread, in an arena of its own: Embree's multi-threaded
+    // high-quality builds can differ from run to run, and a different hierarchy can report
+    // a different one of two triangles hit at the same distance (determinism).  Builds are
+    // per frame and take ~10-30 ms.
+    tbb::task_arena one_thread(1);
+    one_thread.execute([&] { rtcCommitScene(m.scene); });
 
     if (scene.lights.size() > static_cast<std::size_t>(kMaxLights))
         throw InputError(scene.file.string() + ": at most " + std::to_string(kMaxLights) + " lights are supported");

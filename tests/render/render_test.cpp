@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <tbb/global_control.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -33,6 +34,24 @@ TEST(Render, ByteIdenticalForAnyThreadCount) {
     RenderOptions other = one;
     other.seed = 12345;
     EXPECT_NE(render_still(s, other).beauty.pixels, a.beauty.pixels);
+}
+
+// Embree turns a thread count in its device configuration into a process-wide
+// tbb::global_control: that once capped the tracer's own tiles at one thread, silently
+// (the images were right, only twice as slow on two cores).  Rendering must leave the
+// process's parallelism as it found it.
+TEST(Render, LeavesTheProcessParallelismUncapped) {
+    using tbb::global_control;
+    const std::size_t before = global_control::active_value(global_control::max_allowed_parallelism);
+    std::size_t during = 0;  // read while the tracer (and its Embree device) is alive
+    RenderOptions two;
+    two.threads = 2;
+    (void)render_still(test::cloth_scene(16, 12, 1), two, [&](std::string_view, double) {
+        during = std::max(during, global_control::active_value(global_control::max_allowed_parallelism));
+    });
+    ASSERT_GT(during, 0u) << "the progress callback never ran";
+    EXPECT_EQ(during, before);
+    EXPECT_EQ(global_control::active_value(global_control::max_allowed_parallelism), before);
 }
 
 TEST(Render, WhiteFurnaceSphereStaysWithinOnePercent) {
