@@ -16,10 +16,24 @@ namespace {
 constexpr int kNeighbourBuckets = 5;
 constexpr int kMaxLevelClasses = 22;
 
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
-    const std::int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
-}
+// Floor division by a positive divisor fixed for a loop: an arithmetic shift when it is a
+// power of two (the encoder's residual step, the hierarchy's spans), a division otherwise.
+class FloorDivider {
+public:
+    explicit FloorDivider(std::int64_t divisor)
+        : divisor_(divisor),
+          shift_(std::has_single_bit(static_cast<std::uint64_t>(divisor)) ? std::countr_zero(static_cast<std::uint64_t>(divisor))
+                                                                          : -1) {}
+    std::int64_t operator()(std::int64_t a) const {
+        if (shift_ >= 0) return a >> shift_;
+        const std::int64_t q = a / divisor_;
+        return (a % divisor_ != 0 && a < 0) ? q - 1 : q;
+    }
+
+private:
+    std::int64_t divisor_;
+    int shift_;
+};
 
 // Temporal prediction of frame t (all 3N coordinates) by `ref` from decoded frames, into `out`.
 // One loop per kind, so the compiler vectorises it; encoder and decoder share it, so they
@@ -38,13 +52,8 @@ void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t
         const std::int32_t *a = frame(ref.frames[0]), *b = frame(ref.frames[1]);
         const auto span = static_cast<std::int64_t>(ref.frames[1] - ref.frames[0]);
         const auto offset = static_cast<std::int64_t>(t - ref.frames[0]);
-        if (std::has_single_bit(static_cast<std::uint64_t>(span))) {  // the usual case: a shift
-            const int shift = std::countr_zero(static_cast<std::uint64_t>(span));
-            for (std::size_t k = 0; k < row; ++k)
-                out[k] = a[k] + ((std::int64_t(b[k] - a[k]) * offset + span / 2) >> shift);
-        } else {
-            for (std::size_t k = 0; k < row; ++k) out[k] = a[k] + floor_div(std::int64_t(b[k] - a[k]) * offset + span / 2, span);
-        }
+        const FloorDivider divide(span);
+        for (std::size_t k = 0; k < row; ++k) out[k] = a[k] + divide(std::int64_t(b[k] - a[k]) * offset + span / 2);
         return;
     }
     case TemporalReference::Kind::cubic: {
@@ -119,11 +128,12 @@ void run_frame(const std::vector<SpatialReference>& refs, std::size_t n, const s
     constexpr int kSymbols = 2 * 64;
     std::array<std::uint32_t, kNeighbourBuckets * kSymbols> histogram{};
     double mantissa_bits = 0.0;
+    const FloorDivider divide(m);
     for (int c = 0; c < 3; ++c)
         for (std::size_t v = 0; v < n; ++v) {
             const std::size_t k = 3 * v + static_cast<std::size_t>(c);
             const std::int64_t p = f.temporal[k] + (use_spatial ? spatial(refs[v], f.temporal_residual.data(), c) : 0);
-            const std::int64_t q = floor_div(target[k] - p + m / 2, m);
+            const std::int64_t q = divide(target[k] - p + m / 2);
             f.q[k] = q;
             f.decoded[k] = p + q * m;
             f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
