@@ -14,7 +14,7 @@
 namespace foldcast::codec {
 
 inline constexpr char kMagic[8] = {'\x89', 'F', 'C', 'A', '\r', '\n', '\x1a', '\n'};
-inline constexpr std::uint16_t kFormatVersion = 2;
+inline constexpr std::uint16_t kFormatVersion = 3;
 inline constexpr std::size_t kPacketOverhead = 4 + 1 + 4;
 inline constexpr std::uint32_t kMaxPayloadBytes = 1u << 30;
 // Allocation policy: decoded vertex-frames may exceed the file's bytes by at most this

@@ -4,17 +4,14 @@
 #include <bit>
 #include <cmath>
 #include <utility>
-#include <map>
-#include <stdexcept>
 
+#include "bit_stream.hpp"
 #include "byte_io.hpp"
-#include "profile_decoder.hpp"
-#include "range_coder.hpp"
+#include "rans_coder.hpp"
+#include "residual_tokens.hpp"
 
 namespace foldcast::codec {
 namespace {
-constexpr int kNeighbourBuckets = 5;
-constexpr int kMaxLevelClasses = 22;
 
 // Floor division by a positive divisor fixed for a loop: an arithmetic shift when it is a
 // power of two (the encoder's residual step, the hierarchy's spans), a division otherwise.
@@ -38,9 +35,9 @@ private:
 // Temporal prediction of frame t (all 3N coordinates) by `ref` from decoded frames, into `out`.
 // One loop per kind, so the compiler vectorises it; encoder and decoder share it, so they
 // predict bit for bit alike.
-void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* grid, std::size_t row,
-                   std::int64_t* out) {
-    auto frame = [&](std::size_t f) { return grid + f * row; };
+void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* const* frames, std::size_t row,
+                 std::int32_t* out) {
+    auto frame = [&](std::size_t f) { return frames[f]; };
     switch (ref.kind) {
     case TemporalReference::Kind::none: std::fill(out, out + row, 0); return;
     case TemporalReference::Kind::copy: {
@@ -53,14 +50,15 @@ void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t
         const auto span = static_cast<std::int64_t>(ref.frames[1] - ref.frames[0]);
         const auto offset = static_cast<std::int64_t>(t - ref.frames[0]);
         const FloorDivider divide(span);
-        for (std::size_t k = 0; k < row; ++k) out[k] = a[k] + divide(std::int64_t(b[k] - a[k]) * offset + span / 2);
+        for (std::size_t k = 0; k < row; ++k)
+            out[k] = static_cast<std::int32_t>(a[k] + divide(std::int64_t(b[k] - a[k]) * offset + span / 2));
         return;
     }
     case TemporalReference::Kind::cubic: {
         const std::int32_t *a = frame(ref.frames[0]), *b = frame(ref.frames[1]), *c = frame(ref.frames[2]),
                            *d = frame(ref.frames[3]);
         for (std::size_t k = 0; k < row; ++k)
-            out[k] = (-std::int64_t(a[k]) + 9 * std::int64_t(b[k]) + 9 * std::int64_t(c[k]) - std::int64_t(d[k]) + 8) >> 4;
+            out[k] = static_cast<std::int32_t>((-std::int64_t(a[k]) + 9 * std::int64_t(b[k]) + 9 * std::int64_t(c[k]) - std::int64_t(d[k]) + 8) >> 4);
         return;
     }
     }
@@ -74,9 +72,10 @@ inline std::pair<std::size_t, std::size_t> bracket(const TemporalReference& ref)
     return {ref.frames[0], ref.frames[0]};
 }
 
-// Temporal prediction of every coordinate of frame t in `mode` (frame_mode_allowed).
-void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t t, const std::int32_t* grid, std::size_t row,
-                   std::int64_t* out) {
+}  // namespace
+
+void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t t, const std::int32_t* const* frames,
+                   std::size_t row, std::int32_t* out) {
     const auto [left, right] = bracket(ref);
     TemporalReference r = ref;
     switch (mode) {
@@ -86,87 +85,64 @@ void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t 
     case TemporalMode::copy_right: r = {TemporalReference::Kind::copy, {right, 0, 0, 0}}; break;
     case TemporalMode::none: r = {}; break;
     }
-    predict_row(r, t, grid, row, out);
+    predict_row(r, t, frames, row, out);
 }
 
-inline std::int64_t spatial(const SpatialReference& s, const std::int64_t* residual, int c) {
-    if (s.a < 0) return 0;
-    const std::int64_t ra = residual[3 * static_cast<std::size_t>(s.a) + static_cast<std::size_t>(c)];
-    if (s.c < 0) return ra;
-    return ra + residual[3 * static_cast<std::size_t>(s.b) + static_cast<std::size_t>(c)] -
-           residual[3 * static_cast<std::size_t>(s.c) + static_cast<std::size_t>(c)];
-}
 
-// Context of a coded residual: |q| of the two earlier neighbours its spatial prediction
-// uses (one where there is only one).  Both edges of the parallelogram see a fold front
-// crossing the mesh; one alone misses it when the front runs along that edge.
-inline std::int64_t neighbour_activity(const SpatialReference& s, const std::int64_t* q, int c) {
-    auto at = [&](std::int32_t u) {
-        const std::int64_t x = q[3 * static_cast<std::size_t>(u) + static_cast<std::size_t>(c)];
-        return x < 0 ? -x : x;
-    };
-    if (s.a < 0) return 0;
-    return s.b < 0 ? at(s.a) : at(s.a) + at(s.b);
-}
-
-inline int magnitude_bucket(std::int64_t value) {
-    const std::uint64_t mag = value < 0 ? static_cast<std::uint64_t>(-value) : static_cast<std::uint64_t>(value);
-    return std::min(static_cast<int>(std::bit_width(mag)), kNeighbourBuckets - 1);
-}
-
+namespace {
 // One frame through the closed loop in one mode: quantised residuals q (what is sent) and
 // the decoded coordinates, plus an estimate of the bits q costs: the empirical entropy of
-// (sign, bit length) given the neighbour's bucket (the coder's context), plus the mantissa
-// bits.  It needs nothing from the entropy coder, and is within ~1 % of the real choice.
+// the tokens given their activity bucket, of the escape symbols, and the raw bits.  It
+// needs nothing from the entropy coder and tracks the real choice closely.
 struct FrameTrial {
-    std::vector<std::int64_t> q, decoded, temporal_residual, temporal;
+    std::vector<std::int64_t> q, decoded, temporal_residual;
+    std::vector<std::int32_t> temporal;
+    std::vector<std::uint8_t> token;
     double bits = 0.0;
 };
 
-void run_frame(const std::vector<SpatialReference>& refs, std::size_t n, const std::int32_t* target, std::int64_t m, bool use_spatial,
-               FrameTrial& f) {
-    constexpr int kSymbols = 2 * 64;
-    std::array<std::uint32_t, kNeighbourBuckets * kSymbols> histogram{};
-    double mantissa_bits = 0.0;
+double entropy_bits(const std::uint32_t* histogram, int symbols) {
+    double total = 0.0, bits = 0.0;
+    for (int s = 0; s < symbols; ++s) total += histogram[s];
+    for (int s = 0; s < symbols; ++s)
+        if (const double h = histogram[s]; h > 0) bits += h * std::log2(total / h);
+    return bits;
+}
+
+void run_frame(const std::vector<SpatialReference>& refs, const ContextNeighbours& neighbours, std::size_t n,
+               const std::int32_t* target, std::int64_t m, bool use_spatial, FrameTrial& f) {
     const FloorDivider divide(m);
     for (int c = 0; c < 3; ++c)
         for (std::size_t v = 0; v < n; ++v) {
             const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-            const std::int64_t p = f.temporal[k] + (use_spatial ? spatial(refs[v], f.temporal_residual.data(), c) : 0);
+            const std::int64_t p = f.temporal[k] + (use_spatial ? spatial_prediction(refs[v], f.temporal_residual.data(), c) : 0);
             const std::int64_t q = divide(target[k] - p + m / 2);
             f.q[k] = q;
             f.decoded[k] = p + q * m;
             f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
-            const std::int64_t neighbour = neighbour_activity(refs[v], f.q.data(), c);
-            const std::uint64_t mag = q < 0 ? static_cast<std::uint64_t>(-q) : static_cast<std::uint64_t>(q);
-            const int length = static_cast<int>(std::bit_width(mag));
-            mantissa_bits += length > 1 ? length - 1 : 0;
-            ++histogram[static_cast<std::size_t>(magnitude_bucket(neighbour) * kSymbols + (q < 0 ? 64 : 0) + length)];
         }
-    double bits = mantissa_bits;
-    for (int b = 0; b < kNeighbourBuckets; ++b) {
-        double total = 0.0;
-        for (int s = 0; s < kSymbols; ++s) total += histogram[static_cast<std::size_t>(b * kSymbols + s)];
-        for (int s = 0; s < kSymbols; ++s)
-            if (const double h = histogram[static_cast<std::size_t>(b * kSymbols + s)]; h > 0) bits += h * std::log2(total / h);
+    std::array<std::uint32_t, kActivityBuckets * kRansAlphabet> tokens{};
+    std::array<std::uint32_t, kRansAlphabet> escapes{};
+    double raw_bits = 0.0;
+    std::uint8_t weight_none = 0;
+    auto weight = [&](std::uint32_t u) { return u < n ? kTokens.weight[f.token[u]] : weight_none; };
+    for (std::size_t v = 0; v < n; ++v) {
+        const std::int64_t* q = &f.q[3 * v];
+        const int token = vertex_token(q[0], q[1], q[2]);
+        f.token[v] = static_cast<std::uint8_t>(token);
+        const int bucket = kTokens.bucket[weight(neighbours.far[v]) + weight(neighbours.opposite[v])];
+        ++tokens[static_cast<std::size_t>(bucket * kRansAlphabet + token)];
+        for (int c = 0; c < 3; ++c)
+            if (token_class(token, c) == 3) {
+                ++escapes[static_cast<std::size_t>(escape_symbol(q[c]))];
+                raw_bits += escape_length(q[c]) - 1;
+            }
     }
+    double bits = raw_bits + entropy_bits(escapes.data(), kRansAlphabet);
+    for (int b = 0; b < kActivityBuckets; ++b) bits += entropy_bits(tokens.data() + b * kRansAlphabet, kRansAlphabet);
     f.bits = bits;
 }
 }  // namespace
-
-class ResidualContexts {
-public:
-    IntegerModel& model(int level_class, int coordinate, std::int64_t neighbour) {
-        return models_[static_cast<std::size_t>((std::min(level_class, kMaxLevelClasses - 1) * 3 + coordinate) * kNeighbourBuckets +
-                                                magnitude_bucket(neighbour))];
-    }
-    // The per-frame prediction mode (one context for all frames).
-    IntegerModel& mode_model() { return mode_; }
-
-private:
-    std::vector<IntegerModel> models_ = std::vector<IntegerModel>(kMaxLevelClasses * 3 * kNeighbourBuckets);
-    IntegerModel mode_;
-};
 
 bool frame_mode_allowed(const TemporalReference& reference, int mode) {
     if (mode < 0 || mode >= kFrameModes) return false;
@@ -225,11 +201,25 @@ PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), 
 
 std::vector<SpatialReference> spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {
     std::vector<SpatialReference> refs(n);
-    // Opposite vertices of each edge, to find the parallelogram's fourth corner.
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> opposite;
-    auto key = [](std::uint32_t x, std::uint32_t y) { return std::pair(std::min(x, y), std::max(x, y)); };
+    // Triangles around each vertex, in triangle order (compressed rows): the parallelogram's
+    // fourth corner is the third vertex of another triangle on the same edge.
+    std::vector<std::uint32_t> first(n + 1, 0), around(3 * triangles.size());
     for (const auto& tri : triangles)
-        for (int e = 0; e < 3; ++e) opposite[key(tri[e], tri[(e + 1) % 3])].push_back(tri[(e + 2) % 3]);
+        for (std::uint32_t v : tri) ++first[v + 1];
+    for (std::size_t v = 0; v < n; ++v) first[v + 1] += first[v];
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::size_t i = 0; i < triangles.size(); ++i)
+        for (std::uint32_t v : triangles[i]) around[fill[v]++] = static_cast<std::uint32_t>(i);
+    // The first vertex other than `v` opposite edge (a, b), below v, or -1.
+    auto opposite = [&](std::uint32_t a, std::uint32_t b, std::uint32_t v) -> std::int32_t {
+        for (std::uint32_t k = first[a]; k < first[a + 1]; ++k) {
+            const Triangle& t = triangles[around[k]];
+            if (t[0] != b && t[1] != b && t[2] != b) continue;
+            const std::uint32_t c = t[0] != a && t[0] != b ? t[0] : t[1] != a && t[1] != b ? t[1] : t[2];
+            if (c != v && c < v) return static_cast<std::int32_t>(c);
+        }
+        return -1;
+    };
     std::vector<std::int32_t> best_neighbour(n, -1);
     for (const auto& tri : triangles)
         for (int e = 0; e < 3; ++e) {
@@ -240,15 +230,65 @@ std::vector<SpatialReference> spatial_references(std::size_t n, const std::vecto
             }
             const std::uint32_t a = tri[(e + 1) % 3], b = tri[(e + 2) % 3];
             if (a < v && b < v && refs[v].c < 0)
-                for (std::uint32_t c : opposite[key(a, b)])
-                    if (c != v && c < v) {
-                        refs[v] = {static_cast<std::int32_t>(a), static_cast<std::int32_t>(b), static_cast<std::int32_t>(c)};
-                        break;
-                    }
+                if (const std::int32_t c = opposite(a, b, v); c >= 0)
+                    refs[v] = {static_cast<std::int32_t>(a), static_cast<std::int32_t>(b), c};
         }
     for (std::size_t v = 0; v < n; ++v)
         if (refs[v].c < 0) refs[v] = {best_neighbour[v], -1, -1};
     return refs;
+}
+
+ContextNeighbours context_neighbours(const std::vector<SpatialReference>& refs) {
+    const std::size_t n = refs.size();
+    ContextNeighbours out{std::vector<std::uint32_t>(n, static_cast<std::uint32_t>(n)),
+                          std::vector<std::uint32_t>(n, static_cast<std::uint32_t>(n))};
+    // A neighbour counts only if decoded at least kRansLanes tokens earlier.
+    auto usable = [](std::int32_t u, std::size_t v) { return u >= 0 && std::size_t(u) + kRansLanes <= v; };
+    for (std::size_t v = 0; v < n; ++v) {
+        const SpatialReference& r = refs[v];
+        const std::int32_t far = r.b < 0 ? r.a : std::min(r.a, r.b);
+        if (usable(far, v)) out.far[v] = static_cast<std::uint32_t>(far);
+        if (usable(r.c, v)) out.opposite[v] = static_cast<std::uint32_t>(r.c);
+    }
+    return out;
+}
+
+namespace {
+// Which frequency tables a packet sends: each table in use picks between the one it holds
+// (from earlier packets, or uniform) and a new one, whichever codes its symbols in fewer bits.
+struct TableChoice {
+    bool send = false;
+    QuantisedTable table;
+};
+
+TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current) {
+    TableChoice choice;
+    std::uint64_t total = 0;
+    for (std::uint64_t c : counts) total += c;
+    if (total == 0) return choice;
+    choice.table = quantise_table(counts);
+    const double fresh = table_bits(choice.table) + coded_bits(counts, make_table(choice.table, false));
+    const double kept = coded_bits(counts, current);
+    choice.send = kept < 0.0 || fresh < kept;
+    return choice;
+}
+
+// The level classes of a packet's frames, ascending: which table groups it may update.
+std::vector<int> packet_levels(const PredictiveLayout& layout, const std::vector<std::size_t>& frames) {
+    std::vector<int> levels;
+    for (std::size_t t : frames) levels.push_back(level_table_base(layout.level_class[t]) / kActivityBuckets);
+    std::sort(levels.begin(), levels.end());
+    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+    return levels;
+}
+}  // namespace
+
+std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vector<std::size_t>& frames) {
+    std::vector<int> ids;
+    for (int level : packet_levels(layout, frames))
+        for (int b = 0; b < kActivityBuckets; ++b) ids.push_back(level * kActivityBuckets + b);
+    ids.push_back(kEscapeTable);
+    return ids;
 }
 
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& refs,
@@ -256,14 +296,27 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
                                             int forced_mode) {
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
+    const ContextNeighbours neighbours = context_neighbours(refs);
     // Decoded frames (what the decoder will hold) are the references of later frames.
     std::vector<std::int32_t> decoded(grid.size(), 0);
+    std::vector<const std::int32_t*> decoded_frames(layout.frames);
+    for (std::size_t t = 0; t < layout.frames; ++t) decoded_frames[t] = decoded.data() + t * row;
     FrameTrial trial, best;
-    for (FrameTrial* f : {&trial, &best}) f->q = f->decoded = f->temporal_residual = f->temporal = std::vector<std::int64_t>(row);
+    for (FrameTrial* f : {&trial, &best}) {
+        f->q = f->decoded = f->temporal_residual = std::vector<std::int64_t>(row);
+        f->temporal.assign(row, 0);
+        f->token.assign(n, 0);
+    }
+    std::vector<SymbolTable> tables(kTables, uniform_table(false));
     std::vector<std::string> out;
-    ResidualContexts contexts;
+    struct Symbol {
+        std::uint8_t table, symbol, lane;
+    };
     for (const auto& frames : layout.packets) {
-        RangeEncoder enc;
+        std::vector<int> modes;
+        std::vector<Symbol> symbols;
+        std::vector<std::pair<std::uint32_t, int>> raw;  // mantissas: value, bits
+        std::vector<SymbolCounts> counts(kTables, SymbolCounts{});
         for (std::size_t t : frames) {
             const TemporalReference& ref = layout.references[t];
             const std::int32_t* target = grid.data() + t * row;
@@ -272,8 +325,8 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             for (int candidate = 0; candidate < kFrameModes; ++candidate) {
                 if (!frame_mode_allowed(ref, candidate) || (forced_mode >= 0 && candidate != forced_mode)) continue;
                 if (candidate / 2 == static_cast<int>(TemporalMode::linear) && ref.kind == TemporalReference::Kind::linear) continue;
-                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded.data(), row, trial.temporal.data());
-                run_frame(refs, n, target, m, candidate % 2 == 1, trial);
+                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded_frames.data(), row, trial.temporal.data());
+                run_frame(refs, neighbours, n, target, m, candidate % 2 == 1, trial);
                 if (mode < 0 || trial.bits < best.bits) {
                     std::swap(trial, best);
                     mode = candidate;
@@ -281,132 +334,54 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             }
             if (mode < 0) {  // forced mode not allowed here: the layout's reference with spatial prediction
                 mode = 1;
-                predict_frame(ref, TemporalMode::layout, t, decoded.data(), row, best.temporal.data());
-                run_frame(refs, n, target, m, true, best);
+                predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, best.temporal.data());
+                run_frame(refs, neighbours, n, target, m, true, best);
             }
-            encode_integer(enc, contexts.mode_model(), mode);
-            for (int c = 0; c < 3; ++c)  // planar: all x, then y, then z
-                for (std::size_t v = 0; v < n; ++v) {
-                    const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                    const std::int64_t neighbour = neighbour_activity(refs[v], best.q.data(), c);
-                    encode_integer(enc, contexts.model(layout.level_class[t], c, neighbour), best.q[k]);
+            modes.push_back(mode);
+            // Symbol k of a frame (tokens, then escapes) goes to rANS state k mod kRansLanes.
+            std::size_t k = 0;
+            const int base = level_table_base(layout.level_class[t]);
+            auto weight = [&](std::uint32_t u) { return u < n ? kTokens.weight[best.token[u]] : std::uint8_t(0); };
+            for (std::size_t v = 0; v < n; ++v, ++k) {
+                const int table = base + kTokens.bucket[weight(neighbours.far[v]) + weight(neighbours.opposite[v])];
+                symbols.push_back({static_cast<std::uint8_t>(table), best.token[v], static_cast<std::uint8_t>(k % kRansLanes)});
+                ++counts[static_cast<std::size_t>(table)][best.token[v]];
+            }
+            for (std::size_t v = 0; v < n; ++v)
+                for (int c = 0; c < 3; ++c) {
+                    const std::int64_t q = best.q[3 * v + static_cast<std::size_t>(c)];
+                    if (token_class(best.token[v], c) != 3) continue;
+                    const int symbol = escape_symbol(q);
+                    symbols.push_back({static_cast<std::uint8_t>(kEscapeTable), static_cast<std::uint8_t>(symbol),
+                                       static_cast<std::uint8_t>(k++ % kRansLanes)});
+                    ++counts[kEscapeTable][static_cast<std::size_t>(symbol)];
+                    const int length = escape_length(q);
+                    const std::uint64_t mag = static_cast<std::uint64_t>(q < 0 ? -q : q);
+                    raw.push_back({static_cast<std::uint32_t>(mag - (std::uint64_t(1) << (length - 1))), length - 1});
                 }
-            for (std::size_t k = 0; k < row; ++k) decoded[t * row + k] = static_cast<std::int32_t>(best.decoded[k]);
+            for (std::size_t i = 0; i < row; ++i) decoded[t * row + i] = static_cast<std::int32_t>(best.decoded[i]);
         }
-        out.push_back(enc.finish());
+        // Side information first (modes, tables), then the raw mantissas in decoding order.
+        BitWriter bits;
+        for (int mode : modes) bits.put(static_cast<std::uint32_t>(mode), kModeBits);
+        for (int id : packet_table_ids(layout, frames)) {
+            const TableChoice choice = choose_table(counts[static_cast<std::size_t>(id)], tables[static_cast<std::size_t>(id)]);
+            bits.put(choice.send, 1);
+            if (!choice.send) continue;
+            write_table(bits, choice.table);
+            tables[static_cast<std::size_t>(id)] = make_table(choice.table, false);
+        }
+        for (const auto& [value, count] : raw) bits.put(value, count);
+        RansEncoder rans;
+        for (const Symbol& s : symbols) rans.push(tables[s.table], s.symbol, s.lane);
+        ByteWriter payload;
+        const std::string side = bits.finish();
+        payload.put_varint(side.size());
+        payload.put_bytes(side);
+        payload.put_bytes(rans.finish());
+        out.push_back(std::move(payload.bytes()));
     }
     return out;
-}
-
-namespace {
-class PredictiveDecoder final : public ProfileDecoder {
-public:
-    PredictiveDecoder(const Header& h, std::string what)
-        : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
-          refs_(spatial_references(h.vertices, h.topology.triangles)), residual_step_(static_cast<std::int64_t>(h.threshold)),
-          grid_(std::size_t(h.frames) * 3 * h.vertices, 0), decoded_(h.frames, 0) {}
-
-    void accept(std::size_t sequence, std::string_view payload) override {
-        ByteReader r(payload, what_ + ": data packet " + std::to_string(sequence));
-        if (sequence >= layout_.packets.size()) r.fail("more data packets than the header implies");
-        const auto& frames = layout_.packets[sequence];
-        const std::size_t n = header_.vertices, row = 3 * n;
-        RangeDecoder dec(payload);
-        std::vector<std::int64_t> temporal(row), temporal_residual(row), coded(row);
-        const std::int64_t m = residual_step_;
-        for (std::size_t t : frames) {
-            std::int64_t mode = -1;
-            if (!decode_integer(dec, contexts_.mode_model(), mode) || !frame_mode_allowed(layout_.references[t], static_cast<int>(std::clamp<std::int64_t>(mode, -1, kFrameModes))))
-                r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) + " is not allowed there (corrupt data)");
-            predict_frame(layout_.references[t], static_cast<TemporalMode>(mode / 2), t, grid_.data(), row, temporal.data());
-            const bool use_spatial = mode % 2 == 1;
-            for (int c = 0; c < 3; ++c)
-                for (std::size_t v = 0; v < n; ++v) {
-                    const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                    const std::int64_t neighbour = neighbour_activity(refs_[v], coded.data(), c);
-                    std::int64_t q = 0;
-                    if (!decode_integer(dec, contexts_.model(layout_.level_class[t], c, neighbour), q) || q > 4 * kMaxGridValue ||
-                        q < -4 * kMaxGridValue)
-                        r.fail("residual out of range (corrupt data)");
-                    coded[k] = q;
-                    const std::int64_t g = temporal[k] + (use_spatial ? spatial(refs_[v], temporal_residual.data(), c) : 0) + q * m;
-                    // Decoded coordinates stay within m / 2 of the encoder's grid [0, kMaxGridValue].
-                    if (g < -static_cast<std::int64_t>(kMaxResidualStep) || g > kMaxGridValue + static_cast<std::int64_t>(kMaxResidualStep))
-                        r.fail("position leaves the quantisation grid (corrupt data)");
-                    temporal_residual[k] = g - temporal[k];
-                    grid_[t * row + k] = static_cast<std::int32_t>(g);
-                }
-            if (dec.overrun()) r.fail("residual data is truncated");
-            decoded_[t] = 1;
-        }
-        received_ = sequence + 1;
-    }
-
-    std::size_t expected_packets() const override { return layout_.packets.size(); }
-    std::size_t playable_frames() const override { return layout_.playable_after[received_]; }
-
-    void reconstruct(std::vector<std::vector<Vec3f>>& frames) const override {
-        frames.resize(header_.frames);
-        for (std::size_t t = 0; t < frames.size(); ++t) reconstruct_frame(t, frames[t]);
-    }
-
-    // Decoded frames exactly; a frame not decoded yet is interpolated linearly between the
-    // nearest decoded ones (held constant past the last), so a prefix gives a coarser
-    // animation.  Costs one or two frames' conversion, whatever t.
-    void reconstruct_frame(std::size_t t, std::vector<Vec3f>& out) const override {
-        const std::size_t t_count = header_.frames;
-        out.resize(header_.vertices);
-        if (decoded_[t]) {
-            to_positions(t, out);
-            return;
-        }
-        std::size_t prev = t;
-        while (prev > 0 && !decoded_[prev - 1]) --prev;
-        const bool has_prev = prev > 0;
-        std::size_t next = t + 1;
-        while (next < t_count && !decoded_[next]) ++next;
-        const bool has_next = next < t_count;
-        if (!has_prev && !has_next) {
-            std::fill(out.begin(), out.end(), Vec3f(0.5f * (header_.bounds.min + header_.bounds.max)));
-        } else if (!has_prev || !has_next) {
-            to_positions(has_prev ? prev - 1 : next, out);
-        } else {
-            const float w = float(t - (prev - 1)) / float(next - (prev - 1));
-            std::vector<Vec3f> b(out.size());
-            to_positions(prev - 1, out);
-            to_positions(next, b);
-            for (std::size_t v = 0; v < out.size(); ++v) out[v] = (1.0f - w) * out[v] + w * b[v];
-        }
-    }
-
-private:
-    void to_positions(std::size_t t, std::vector<Vec3f>& out) const {
-        const std::size_t n = header_.vertices;
-        const std::int32_t* g = grid_.data() + t * 3 * n;
-        const double step = header_.step;
-        for (std::size_t v = 0; v < n; ++v)
-            for (int c = 0; c < 3; ++c)
-                out[v][c] = static_cast<float>(double(header_.bounds.min[c]) + step * double(g[3 * v + static_cast<std::size_t>(c)]));
-    }
-
-    Header header_;
-    std::string what_;
-    PredictiveLayout layout_;
-    std::vector<SpatialReference> refs_;
-    std::int64_t residual_step_;
-    std::vector<std::int32_t> grid_;
-    std::vector<char> decoded_;
-    ResidualContexts contexts_;
-    std::size_t received_ = 0;
-};
-}  // namespace
-
-std::unique_ptr<ProfileDecoder> make_predictive_decoder(const Header& header, const std::string& what) {
-    if (header.profile_param > 20) throw InputError(what + ": header: keyframe stride 2^" + std::to_string(header.profile_param) + " (allowed up to 2^20)");
-    if (!(header.threshold >= 1.0 && header.threshold <= double(kMaxResidualStep) && header.threshold == std::floor(header.threshold)))
-        throw InputError(what + ": header: residual step " + std::to_string(header.threshold) + " (allowed: an integer 1.." +
-                         std::to_string(kMaxResidualStep) + ")");
-    return std::make_unique<PredictiveDecoder>(header, what);
 }
 
 }  // namespace foldcast::codec

@@ -6,8 +6,8 @@
 // prediction of the temporal residual across mesh neighbours, parallelogram rule), and the
 // prediction error is quantised with step m grid units, so every decoded coordinate is
 // within (m + 1) d / 2 of the original.  Each frame's prediction mode is chosen by the
-// encoder and sent.  Adaptive binary range coding with contexts.  Integers make encoder
-// and decoder agree bit for bit on every machine.
+// encoder and sent.  Static-model rANS of one token per vertex (residual_tokens.hpp).
+// Integers make encoder and decoder agree bit for bit on every machine.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -62,9 +62,28 @@ bool frame_mode_allowed(const TemporalReference& reference, int mode);
 // Grid coordinates must stay below this so every intermediate fits comfortably in int64.
 constexpr std::int64_t kMaxGridValue = std::int64_t(1) << 30;
 
-// Adaptive models of the residuals, one per (frame level class, coordinate, magnitude of
-// the spatial neighbour's residual); they carry over from packet to packet.
-class ResidualContexts;
+constexpr int kModeBits = 4;  // per frame, in the packet's side information
+
+// Temporal prediction of every coordinate of frame t in `mode` (frame_mode_allowed) from
+// decoded frames (frames[f]: frame f's 3N grid coordinates; only the references are read);
+// encoder and decoder share it, so they agree bit for bit.  Predictions of in-range frames
+// stay within int32.
+void predict_frame(const TemporalReference& reference, TemporalMode mode, std::size_t t, const std::int32_t* const* frames,
+                   std::size_t row, std::int32_t* out);
+
+// Spatial prediction of coordinate c's temporal residual at a vertex: r_a + r_b - r_c.
+template <typename Residual>
+inline std::int64_t spatial_prediction(const SpatialReference& s, const Residual* residual, int c) {
+    if (s.a < 0) return 0;
+    const std::int64_t ra = residual[3 * static_cast<std::size_t>(s.a) + static_cast<std::size_t>(c)];
+    if (s.c < 0) return ra;
+    return ra + residual[3 * static_cast<std::size_t>(s.b) + static_cast<std::size_t>(c)] -
+           residual[3 * static_cast<std::size_t>(s.c) + static_cast<std::size_t>(c)];
+}
+
+// The frequency tables a packet carries a keep-or-replace flag for, in order: the token
+// tables of each level class its frames have (ascending), then the escape table.
+std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vector<std::size_t>& frames);
 
 // Packet payloads in streaming order; `grid` holds T x 3N fine-grid coordinates
 // (frame-major), `residual_step` is m.  `forced_mode` >= 0 codes every frame in that mode

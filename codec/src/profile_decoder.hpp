@@ -19,6 +19,9 @@ public:
     virtual std::size_t playable_frames() const = 0;
     // frames is resized to T frames of N vertices.
     virtual void reconstruct(std::vector<std::vector<Vec3f>>& frames) const = 0;
+    // reconstruct(), but a profile may hand over its own frames instead of copying them,
+    // after which it is empty.
+    virtual void release(std::vector<std::vector<Vec3f>>& frames) { reconstruct(frames); }
     // Frame t alone, the same values as reconstruct() gives it; profiles that can, do it
     // without reconstructing the others.
     virtual void reconstruct_frame(std::size_t t, std::vector<Vec3f>& out) const {

@@ -133,18 +133,31 @@ Animation StreamingDecoder::animation() const {
     return anim;
 }
 
-std::vector<Vec3f> StreamingDecoder::frame(std::size_t t) const {
+Animation StreamingDecoder::take_animation() {
+    impl_->require();
+    Animation anim;
+    anim.topology = impl_->header.topology;
+    anim.fps = impl_->header.fps;
+    impl_->profile->release(anim.frames);
+    return anim;
+}
+
+void StreamingDecoder::frame(std::size_t t, std::vector<Vec3f>& out) const {
     impl_->require();
     if (t >= impl_->header.frames) throw InputError(impl_->what + ": frame " + std::to_string(t) + " out of range (" + std::to_string(impl_->header.frames) + " frames)");
-    std::vector<Vec3f> frame;
-    impl_->profile->reconstruct_frame(t, frame);
-    return frame;
+    impl_->profile->reconstruct_frame(t, out);
+}
+
+std::vector<Vec3f> StreamingDecoder::frame(std::size_t t) const {
+    std::vector<Vec3f> out;
+    frame(t, out);
+    return out;
 }
 
 Animation decode(std::string_view bytes, const std::string& what) {
     StreamingDecoder decoder(what, bytes.size());
     decoder.feed(bytes);
-    return decoder.animation();
+    return decoder.take_animation();
 }
 
 }  // namespace foldcast::codec

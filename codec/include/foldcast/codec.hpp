@@ -81,7 +81,12 @@ public:
 
     // Best reconstruction of one frame / all frames from the packets accepted so far.
     std::vector<Vec3f> frame(std::size_t t) const;
+    // The same into a caller's buffer: no allocation once it has the size (playback).
+    void frame(std::size_t t, std::vector<Vec3f>& out) const;
     Animation animation() const;
+    // animation(), handing the decoded frames over where the profile can instead of copying
+    // them; the decoder holds no frames afterwards.
+    Animation take_animation();
 
 private:
     struct Impl;

@@ -1,0 +1,296 @@
+// Decoder of the default profile (predictive_profile.hpp, docs/fca-format.md).  Per frame:
+// the tokens of all vertices (four interleaved rANS states, contexts from vertices decoded
+// at least four tokens earlier), the escaped residuals, then the closed-loop reconstruction
+// in integers.  Corrupt data can only produce an error, never a read outside the packet.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "bit_stream.hpp"
+#include "byte_io.hpp"
+#include "predictive_profile.hpp"
+#include "profile_decoder.hpp"
+#include "rans_coder.hpp"
+#include "residual_tokens.hpp"
+
+namespace foldcast::codec {
+namespace {
+
+// Per token, its three residuals as int32 (escaped ones 0 until their value is decoded),
+// padded to 16 bytes so one copy writes a vertex.
+struct TokenValues {
+    std::array<std::array<std::int32_t, 4>, kRansAlphabet> q{};
+    constexpr TokenValues() {
+        for (std::size_t t = 0; t < q.size(); ++t)
+            for (std::size_t c = 0; c < 3; ++c) q[t][c] = kTokens.value[t][c];
+    }
+};
+inline constexpr TokenValues kTokenValues{};
+
+struct TokenPass {
+    const std::uint32_t* const* slots;  // the level's kActivityBuckets tables
+    const std::uint32_t* far;
+    const std::uint32_t* opposite;
+    std::uint8_t* token;
+    std::uint8_t* weight;  // per vertex, plus a zero at index n for "no neighbour"
+    std::uint32_t* escaped;
+    std::int32_t* q;       // 3n + 1: each vertex writes 4 values
+};
+
+// Tokens of vertices [0, n), vertex v with state v mod 4, and their residuals into pass.q.
+// Returns how many vertices have escapes (listed in pass.escaped).
+std::size_t decode_tokens(RansDecoder& rans, const TokenPass& pass, std::size_t n) {
+    // Everything in locals: the byte stores below may alias any memory, so the compiler
+    // would otherwise reload pointers and spill the states after every token.
+    const std::uint32_t* const* slots = pass.slots;
+    const std::uint32_t *far = pass.far, *opposite = pass.opposite;
+    std::uint8_t *token_out = pass.token, *weight = pass.weight;
+    std::uint32_t* escaped_out = pass.escaped;
+    std::int32_t* q = pass.q;
+    const std::uint8_t* pos = rans.position();
+    std::size_t escaped = 0;
+    auto one = [&](std::size_t v, std::uint32_t& x) {
+        const int bucket = kTokens.bucket[weight[far[v]] + weight[opposite[v]]];
+        const auto token = static_cast<std::size_t>(RansDecoder::decode(slots[bucket], x, pos));
+        token_out[v] = static_cast<std::uint8_t>(token);
+        weight[v] = kTokens.weight[token];
+        std::memcpy(q + 3 * v, kTokenValues.q[token].data(), 4 * sizeof(std::int32_t));
+        escaped_out[escaped] = static_cast<std::uint32_t>(v);
+        escaped += kTokens.escapes[token] != 0;
+    };
+    std::uint32_t x0 = rans.state[0], x1 = rans.state[1], x2 = rans.state[2], x3 = rans.state[3];
+    std::size_t v = 0;
+    for (; v + kRansLanes <= n; v += kRansLanes) {
+        one(v, x0);
+        one(v + 1, x1);
+        one(v + 2, x2);
+        one(v + 3, x3);
+    }
+    rans.state = {x0, x1, x2, x3};
+    for (std::size_t lane = 0; v < n; ++v, ++lane) one(v, rans.state[lane]);
+    rans.set_position(pos);
+    return escaped;
+}
+
+class PredictiveDecoder final : public ProfileDecoder {
+public:
+    PredictiveDecoder(const Header& h, std::string what)
+        : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
+          refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)),
+          residual_step_(static_cast<std::int64_t>(h.threshold)), positions_(h.frames), decoded_(h.frames, 0),
+          grids_(h.frames), frame_grid_(h.frames, nullptr), kept_(h.frames, 0), uniform_(uniform_table(true)),
+          tables_(kTables) {
+        slots_.fill(uniform_.slots.data());
+        // Integer frames are kept after their packet only if a later packet predicts from
+        // them (the keyframes); the others live in per-packet scratch.
+        for (std::size_t k = 0; k < layout_.packets.size(); ++k)
+            for (std::size_t t : layout_.packets[k]) packet_of_.emplace_back(t, k);
+        std::vector<std::size_t> packet(h.frames, 0);
+        for (const auto& [t, k] : packet_of_) packet[t] = k;
+        for (const auto& [t, k] : packet_of_) {
+            const TemporalReference& ref = layout_.references[t];
+            const int count = ref.kind == TemporalReference::Kind::cubic ? 4 : ref.kind == TemporalReference::Kind::linear ? 2
+                              : ref.kind == TemporalReference::Kind::copy                                        ? 1
+                                                                                                                  : 0;
+            for (int i = 0; i < count; ++i)
+                if (packet[ref.frames[static_cast<std::size_t>(i)]] < k) kept_[ref.frames[static_cast<std::size_t>(i)]] = 1;
+        }
+    }
+
+    // Hands the decoded frames over instead of copying them when every frame is decoded.
+    void release(std::vector<std::vector<Vec3f>>& frames) override {
+        if (std::find(decoded_.begin(), decoded_.end(), 0) != decoded_.end()) {
+            reconstruct(frames);
+            return;
+        }
+        frames = std::move(positions_);
+        positions_.assign(header_.frames, {});
+        std::fill(decoded_.begin(), decoded_.end(), 0);
+        received_ = 0;
+    }
+
+    void accept(std::size_t sequence, std::string_view payload) override {
+        ByteReader r(payload, what_ + ": data packet " + std::to_string(sequence));
+        if (sequence >= layout_.packets.size()) r.fail("more data packets than the header implies");
+        const auto& frames = layout_.packets[sequence];
+        const std::size_t side_bytes = r.get_varint("side information length");
+        BitReader bits(r.get_bytes(side_bytes, "side information"));
+        // A frame decodes at most 4 symbols per vertex (a token and three escapes).
+        RansDecoder rans(r.get_bytes(r.remaining(), "residual stream"), 4 * std::size_t(header_.vertices));
+
+        std::vector<int> modes;
+        for (std::size_t t : frames) {
+            const int mode = static_cast<int>(bits.get(kModeBits));
+            if (!frame_mode_allowed(layout_.references[t], mode))
+                r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) + " is not allowed there (corrupt data)");
+            modes.push_back(mode);
+        }
+        for (int id : packet_table_ids(layout_, frames)) {
+            if (!bits.get(1)) continue;
+            const QuantisedTable table = read_table(bits);
+            if (std::all_of(table.code.begin(), table.code.end(), [](std::uint8_t c) { return c == 0; }))
+                r.fail("frequency table " + std::to_string(id) + " has no symbols (corrupt data)");
+            tables_[static_cast<std::size_t>(id)] = make_table(table, true);
+            slots_[static_cast<std::size_t>(id)] = tables_[static_cast<std::size_t>(id)].slots.data();
+        }
+        if (bits.overrun()) r.fail("side information is truncated");
+
+        const std::size_t n = header_.vertices, row = 3 * n;
+        token_.resize(n);
+        weight_.assign(n + 1, 0);
+        escaped_.resize(n + 1);
+        q_.resize(row + 1);
+        temporal_.resize(row);
+        residual_.resize(row);
+        scratch_.resize(frames.size() * row);
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const std::size_t t = frames[i];
+            decode_residuals(rans, bits, layout_.level_class[t], r);
+            predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, temporal_.data());
+            if (kept_[t]) grids_[t].resize(row);
+            std::int32_t* grid = kept_[t] ? grids_[t].data() : scratch_.data() + i * row;
+            positions_[t].resize(n);
+            if (!reconstruct_grid(modes[i] % 2 == 1, grid, positions_[t]))
+                r.fail("frame " + std::to_string(t) + ": position leaves the quantisation grid (corrupt data)");
+            frame_grid_[t] = grid;
+            decoded_[t] = 1;
+        }
+        received_ = sequence + 1;
+    }
+
+    std::size_t expected_packets() const override { return layout_.packets.size(); }
+    std::size_t playable_frames() const override { return layout_.playable_after[received_]; }
+
+    void reconstruct(std::vector<std::vector<Vec3f>>& frames) const override {
+        frames.resize(header_.frames);
+        for (std::size_t t = 0; t < frames.size(); ++t) reconstruct_frame(t, frames[t]);
+    }
+
+    // Decoded frames exactly; a frame not decoded yet is interpolated linearly between the
+    // nearest decoded ones (held constant past the last), so a prefix gives a coarser
+    // animation.  Costs one or two frames' conversion, whatever t.
+    void reconstruct_frame(std::size_t t, std::vector<Vec3f>& out) const override {
+        const std::size_t t_count = header_.frames;
+        out.resize(header_.vertices);
+        if (decoded_[t]) {
+            out = positions_[t];
+            return;
+        }
+        std::size_t prev = t;
+        while (prev > 0 && !decoded_[prev - 1]) --prev;
+        const bool has_prev = prev > 0;
+        std::size_t next = t + 1;
+        while (next < t_count && !decoded_[next]) ++next;
+        const bool has_next = next < t_count;
+        if (!has_prev && !has_next) {
+            std::fill(out.begin(), out.end(), Vec3f(0.5f * (header_.bounds.min + header_.bounds.max)));
+        } else if (!has_prev || !has_next) {
+            out = positions_[has_prev ? prev - 1 : next];
+        } else {
+            const float w = float(t - (prev - 1)) / float(next - (prev - 1));
+            const std::vector<Vec3f>&a = positions_[prev - 1], &b = positions_[next];
+            for (std::size_t v = 0; v < out.size(); ++v) out[v] = (1.0f - w) * a[v] + w * b[v];
+        }
+    }
+
+private:
+    // One frame's quantised residuals into q_.
+    void decode_residuals(RansDecoder& rans, BitReader& bits, int level_class, const ByteReader& r) {
+        const std::size_t n = header_.vertices;
+        const TokenPass pass{slots_.data() + level_table_base(level_class), neighbours_.far.data(), neighbours_.opposite.data(),
+                             token_.data(), weight_.data(), escaped_.data(), q_.data()};
+        const std::size_t escaped = decode_tokens(rans, pass, n);
+        const std::uint32_t* escape_slots = slots_[kEscapeTable];
+        // Anything larger cannot land on the grid; bounding it keeps the sums in int32.
+        const std::int64_t largest = (kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1;
+        std::size_t lane = n % kRansLanes;
+        for (std::size_t i = 0; i < escaped; ++i) {
+            const std::uint32_t v = escaped_[i];
+            for (int c = 0; c < 3; ++c) {
+                if (token_class(token_[v], c) != 3) continue;
+                const int symbol = rans.decode(escape_slots, rans.state[lane]);
+                lane = (lane + 1) % kRansLanes;
+                const int length = symbol / 2 + 2;
+                const std::int64_t magnitude = length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
+                if (magnitude > largest) r.fail("residual out of range (corrupt data)");
+                q_[3 * v + static_cast<std::size_t>(c)] = static_cast<std::int32_t>((symbol & 1) ? -magnitude : magnitude);
+            }
+        }
+        if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
+    }
+
+    // grid = temporal prediction + (spatial prediction) + q m, checked against the grid's
+    // range, and the positions it stands for.
+    bool reconstruct_grid(bool use_spatial, std::int32_t* grid, std::vector<Vec3f>& positions) {
+        const std::size_t n = header_.vertices, row = 3 * n;
+        const auto m = static_cast<std::int32_t>(residual_step_);
+        // Decoded coordinates stay within m / 2 of the encoder's grid [0, kMaxGridValue].
+        constexpr std::int32_t low = -static_cast<std::int32_t>(kMaxResidualStep), high = kMaxGridValue + kMaxResidualStep;
+        if (!use_spatial) {
+            // |q m| and the prediction are each below 2^30.2: the sum fits int32.
+            std::int32_t lowest = 0, highest = 0;
+            for (std::size_t k = 0; k < row; ++k) {
+                const std::int32_t g = temporal_[k] + q_[k] * m;
+                lowest = std::min(lowest, g);
+                highest = std::max(highest, g);
+                grid[k] = g;
+            }
+            if (lowest < low || highest > high) return false;
+        } else {
+            for (std::size_t v = 0; v < n; ++v) {
+                bool inside = true;
+                for (int c = 0; c < 3; ++c) {
+                    const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+                    const std::int64_t residual = std::int64_t(q_[k]) * m + spatial_prediction(refs_[v], residual_.data(), c);
+                    const std::int64_t g = temporal_[k] + residual;
+                    inside &= g >= low && g <= high;
+                    residual_[k] = static_cast<std::int32_t>(residual);
+                    grid[k] = static_cast<std::int32_t>(g);
+                }
+                // Stopping at the first stray vertex keeps every residual within the grid's
+                // range, so the spatial sums of later vertices cannot overflow.
+                if (!inside) return false;
+            }
+        }
+        const double step = header_.step;
+        const double origin[3] = {header_.bounds.min.x(), header_.bounds.min.y(), header_.bounds.min.z()};
+        float* out = positions.data()->data();
+        for (std::size_t v = 0; v < n; ++v)
+            for (std::size_t c = 0; c < 3; ++c) out[3 * v + c] = static_cast<float>(origin[c] + step * double(grid[3 * v + c]));
+        return true;
+    }
+
+    Header header_;
+    std::string what_;
+    PredictiveLayout layout_;
+    std::vector<SpatialReference> refs_;
+    ContextNeighbours neighbours_;
+    std::int64_t residual_step_;
+    std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
+    std::vector<char> decoded_;
+    std::vector<std::vector<std::int32_t>> grids_;  // integer frames kept for later packets
+    std::vector<const std::int32_t*> frame_grid_;   // each decoded frame's integers, while they are needed
+    std::vector<char> kept_;
+    std::vector<std::pair<std::size_t, std::size_t>> packet_of_;  // (frame, packet)
+    std::vector<std::int32_t> scratch_;
+    SymbolTable uniform_;
+    std::vector<SymbolTable> tables_;
+    std::array<const std::uint32_t*, kTables> slots_{};
+    std::size_t received_ = 0;
+    // Per-frame scratch.
+    std::vector<std::uint8_t> token_, weight_;
+    std::vector<std::uint32_t> escaped_;
+    std::vector<std::int32_t> q_;
+    std::vector<std::int32_t> temporal_, residual_;
+};
+}  // namespace
+
+std::unique_ptr<ProfileDecoder> make_predictive_decoder(const Header& header, const std::string& what) {
+    if (header.profile_param > 20) throw InputError(what + ": header: keyframe stride 2^" + std::to_string(header.profile_param) + " (allowed up to 2^20)");
+    if (!(header.threshold >= 1.0 && header.threshold <= double(kMaxResidualStep) && header.threshold == std::floor(header.threshold)))
+        throw InputError(what + ": header: residual step " + std::to_string(header.threshold) + " (allowed: an integer 1.." +
+                         std::to_string(kMaxResidualStep) + ")");
+    return std::make_unique<PredictiveDecoder>(header, what);
+}
+
+}  // namespace foldcast::codec

@@ -1,0 +1,156 @@
+#include "rans_coder.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace foldcast::codec {
+namespace {
+constexpr int kCodeBits = 6;
+constexpr std::uint32_t kLow = std::uint32_t(1) << 16;
+
+// Code c: 1..7 are the values themselves; from 8 on, a leading-two-bits float
+// (4..7) << e, e >= 1, decoded to the middle of its interval.
+std::uint32_t code_value(std::uint8_t c) {
+    if (c < 8) return c;
+    const int e = 1 + (c - 8) / 4;
+    const std::uint32_t m = 4u + static_cast<std::uint32_t>((c - 8) % 4);
+    return (m << e) + (std::uint32_t(1) << (e - 1));
+}
+
+std::uint8_t value_code(std::uint32_t v) {
+    if (v < 8) return static_cast<std::uint8_t>(v);
+    const int e = std::bit_width(v) - 3;
+    return static_cast<std::uint8_t>(8 + (e - 1) * 4 + static_cast<int>((v >> e) - 4));
+}
+
+void build_slots(SymbolTable& t) {
+    t.slots.resize(kRansTotal);
+    for (int s = 0; s < kRansAlphabet; ++s) {
+        const std::uint32_t start = t.start[static_cast<std::size_t>(s)], freq = t.freq[static_cast<std::size_t>(s)];
+        for (std::uint32_t k = 0; k < freq; ++k)
+            t.slots[start + k] = static_cast<std::uint32_t>(s) | (freq << 6) | (k << 19);
+    }
+}
+
+void finish_table(SymbolTable& t, bool with_slots) {
+    std::uint32_t start = 0;
+    for (std::size_t s = 0; s < t.freq.size(); ++s) {
+        t.start[s] = static_cast<std::uint16_t>(start);
+        start += t.freq[s];
+    }
+    if (with_slots) build_slots(t);
+}
+}  // namespace
+
+QuantisedTable quantise_table(const SymbolCounts& counts) {
+    std::uint64_t total = 0;
+    for (std::uint64_t c : counts) total += c;
+    QuantisedTable q;
+    if (total == 0) return q;
+    for (std::size_t s = 0; s < counts.size(); ++s) {
+        if (counts[s] == 0) continue;
+        const std::uint64_t scaled = (counts[s] * kRansTotal + total / 2) / total;
+        q.code[s] = value_code(static_cast<std::uint32_t>(std::clamp<std::uint64_t>(scaled, 1, kRansTotal)));
+    }
+    return q;
+}
+
+void write_table(BitWriter& out, const QuantisedTable& table) {
+    for (std::uint8_t c : table.code) {
+        out.put(c != 0, 1);
+        if (c != 0) out.put(c, kCodeBits);
+    }
+}
+
+QuantisedTable read_table(BitReader& in) {
+    QuantisedTable q;
+    for (auto& c : q.code)
+        if (in.get(1)) c = static_cast<std::uint8_t>(std::max<std::uint32_t>(1, in.get(kCodeBits)));
+    return q;
+}
+
+SymbolTable uniform_table(bool with_slots) {
+    SymbolTable t;
+    t.freq.fill(static_cast<std::uint16_t>(kRansTotal / kRansAlphabet));
+    finish_table(t, with_slots);
+    return t;
+}
+
+SymbolTable make_table(const QuantisedTable& table, bool with_slots) {
+    std::array<std::uint64_t, kRansAlphabet> value{};
+    std::uint64_t total = 0;
+    for (std::size_t s = 0; s < value.size(); ++s) total += value[s] = code_value(table.code[s]);
+    if (total == 0) return uniform_table(with_slots);
+    SymbolTable t;
+    std::int64_t left = kRansTotal;
+    for (std::size_t s = 0; s < value.size(); ++s) {
+        if (value[s] == 0) continue;
+        t.freq[s] = static_cast<std::uint16_t>(std::max<std::uint64_t>(1, value[s] * kRansTotal / total));
+        left -= t.freq[s];
+    }
+    // Rounding leaves a remainder of either sign: the most frequent symbol absorbs it, where
+    // it costs least.  While the sum is too large some frequency exceeds 1 (64 ones sum to
+    // less than kRansTotal), so every round makes progress.
+    while (left != 0) {
+        const auto big = static_cast<std::size_t>(std::max_element(t.freq.begin(), t.freq.end()) - t.freq.begin());
+        const std::int64_t change = left > 0 ? left : std::max<std::int64_t>(left, 1 - std::int64_t(t.freq[big]));
+        t.freq[big] = static_cast<std::uint16_t>(std::int64_t(t.freq[big]) + change);
+        left -= change;
+    }
+    finish_table(t, with_slots);
+    return t;
+}
+
+double coded_bits(const SymbolCounts& counts, const SymbolTable& table) {
+    double bits = 0.0;
+    for (std::size_t s = 0; s < counts.size(); ++s) {
+        if (counts[s] == 0) continue;
+        if (table.freq[s] == 0) return -1.0;
+        bits += double(counts[s]) * (kRansProbabilityBits - std::log2(double(table.freq[s])));
+    }
+    return bits;
+}
+
+std::string RansEncoder::finish() {
+    std::array<std::uint32_t, kRansLanes> x;
+    x.fill(kLow);
+    std::vector<std::uint16_t> words;  // in emission order: the reverse of reading order
+    words.reserve(symbols_.size() / 2 + 2 * kRansLanes);
+    for (std::size_t i = symbols_.size(); i-- > 0;) {
+        const Coded& c = symbols_[i];
+        std::uint32_t& s = x[c.lane];
+        // Keep the state in [kLow, 2^32) after coding: emit 16 bits first if it would overflow.
+        const std::uint64_t limit = std::uint64_t((kLow >> kRansProbabilityBits) << 16) * c.freq;  // 2^32 for freq = kRansTotal
+        if (s >= limit) {
+            words.push_back(static_cast<std::uint16_t>(s & 0xffffu));
+            s >>= 16;
+        }
+        s = ((s / c.freq) << kRansProbabilityBits) + (s % c.freq) + c.start;
+    }
+    for (int lane = kRansLanes - 1; lane >= 0; --lane) {
+        words.push_back(static_cast<std::uint16_t>(x[static_cast<std::size_t>(lane)] >> 16));
+        words.push_back(static_cast<std::uint16_t>(x[static_cast<std::size_t>(lane)] & 0xffffu));
+    }
+    std::string out(2 * words.size(), '\0');
+    for (std::size_t i = 0; i < words.size(); ++i) {
+        const std::uint16_t w = words[words.size() - 1 - i];
+        out[2 * i] = static_cast<char>(w & 0xffu);
+        out[2 * i + 1] = static_cast<char>(w >> 8);
+    }
+    symbols_.clear();
+    return out;
+}
+
+RansDecoder::RansDecoder(std::string_view bytes, std::size_t words_between_checks)
+    : bytes_(bytes.size() + 2 * (words_between_checks + 2 * kRansLanes), 0) {
+    std::copy(bytes.begin(), bytes.end(), bytes_.begin());
+    pos_ = bytes_.data();
+    end_ = bytes_.data() + bytes.size();
+    for (auto& x : state) {
+        x = std::uint32_t(pos_[0]) | std::uint32_t(pos_[1]) << 8 | std::uint32_t(pos_[2]) << 16 | std::uint32_t(pos_[3]) << 24;
+        pos_ += 4;
+    }
+}
+
+}  // namespace foldcast::codec

@@ -1,0 +1,63 @@
+#pragma once
+// How the default profile turns a frame's quantised residuals into rANS symbols
+// (docs/codec.md, docs/fca-format.md): one token per vertex classing its three residuals
+// as 0, +1, -1 or "escape" (|q| >= 2), then per escaped coordinate a symbol for its sign
+// and bit length, whose lower bits go raw.  A token's context is the frame's level class
+// and the activity of two neighbours decoded at least kRansLanes tokens earlier (the
+// previous row on a grid), so the four interleaved rANS states never wait for each other.
+#include <array>
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+#include "predictive_profile.hpp"
+#include "rans_coder.hpp"
+
+namespace foldcast::codec {
+
+constexpr int kTokenLevels = 8;     // level classes 0..6, then 7 and above together
+constexpr int kActivityBuckets = 5;
+constexpr int kTokenTables = kTokenLevels * kActivityBuckets;
+constexpr int kEscapeTable = kTokenTables;  // one table for every escape
+constexpr int kTables = kTokenTables + 1;
+constexpr int kMaxEscapeLength = 31;       // |q| < 2^31: more than any grid coordinate allows
+
+constexpr int residual_class(std::int64_t q) { return q == 0 ? 0 : q == 1 ? 1 : q == -1 ? 2 : 3; }
+constexpr int vertex_token(std::int64_t qx, std::int64_t qy, std::int64_t qz) {
+    return residual_class(qx) | residual_class(qy) << 2 | residual_class(qz) << 4;
+}
+constexpr int token_class(int token, int coordinate) { return (token >> (2 * coordinate)) & 3; }
+
+struct TokenTraits {
+    std::array<std::uint8_t, kRansAlphabet> weight{};      // sum of 0, 1, 1, 2 per class
+    std::array<std::uint8_t, kRansAlphabet> escapes{};     // escaped coordinates
+    std::array<std::array<std::int8_t, 3>, kRansAlphabet> value{};  // q of the non-escaped ones
+    std::array<std::uint8_t, 13> bucket{};                 // of two weights summed: 0, 1, 2-3, 4-7, 8-12
+    constexpr TokenTraits() {
+        for (int t = 0; t < kRansAlphabet; ++t)
+            for (int c = 0; c < 3; ++c) {
+                const int k = token_class(t, c);
+                weight[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(weight[static_cast<std::size_t>(t)] + (k == 3 ? 2 : k != 0));
+                escapes[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(escapes[static_cast<std::size_t>(t)] + (k == 3));
+                value[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)] = static_cast<std::int8_t>(k == 1 ? 1 : k == 2 ? -1 : 0);
+            }
+        for (int a = 0; a < 13; ++a) bucket[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>(std::min(static_cast<int>(std::bit_width(unsigned(a))), kActivityBuckets - 1));
+    }
+};
+inline constexpr TokenTraits kTokens{};
+
+constexpr int level_table_base(int level_class) { return (level_class < kTokenLevels ? level_class : kTokenLevels - 1) * kActivityBuckets; }
+
+// Escape symbol of |q| >= 2: (bit length - 2) * 2 + sign; the bits below the leading one go raw.
+constexpr int escape_length(std::int64_t q) { return std::bit_width(static_cast<std::uint64_t>(q < 0 ? -q : q)); }
+constexpr int escape_symbol(std::int64_t q) { return (escape_length(q) - 2) * 2 + (q < 0); }
+
+// Per vertex, the two context neighbours (index `vertices` when there is none): the farther
+// of the spatial prediction's two edge neighbours and the parallelogram's opposite corner.
+struct ContextNeighbours {
+    std::vector<std::uint32_t> far, opposite;
+};
+ContextNeighbours context_neighbours(const std::vector<SpatialReference>& refs);
+
+}  // namespace foldcast::codec
