@@ -116,7 +116,7 @@ public:
         const std::size_t side_bytes = r.get_varint("side information length");
         BitReader bits(r.get_bytes(side_bytes, "side information"));
         // A frame decodes at most 4 symbols per vertex (a token and three escapes).
-        RansDecoder rans(r.get_bytes(r.remaining(), "residual stream"), 4 * std::size_t(header_.vertices));
+        RansDecoder rans(r.get_bytes(r.remaining(), "residual stream"), 4 * std::size_t(header_.vertices), stream_);
 
         std::vector<int> modes;
         for (std::size_t t : frames) {
@@ -203,19 +203,34 @@ private:
         const std::uint32_t* escape_slots = slots_[kEscapeTable];
         // Anything larger cannot land on the grid; bounding it keeps the sums in int32.
         const std::int64_t largest = (kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1;
-        std::size_t lane = n % kRansLanes;
+        // Escape symbol k of the frame goes to state (n + k) mod 4: the four states rotate
+        // through locals, `x` always the next one.
+        const std::size_t first_lane = n % kRansLanes;
+        std::uint32_t x = rans.state[first_lane], y = rans.state[(first_lane + 1) % kRansLanes],
+                      z = rans.state[(first_lane + 2) % kRansLanes], w = rans.state[(first_lane + 3) % kRansLanes];
+        const std::uint8_t* pos = rans.position();
+        std::size_t symbols = 0;
+        bool in_range = true;
         for (std::size_t i = 0; i < escaped; ++i) {
             const std::uint32_t v = escaped_[i];
-            for (int c = 0; c < 3; ++c) {
-                if (token_class(token_[v], c) != 3) continue;
-                const int symbol = rans.decode(escape_slots, rans.state[lane]);
-                lane = (lane + 1) % kRansLanes;
+            const auto& coordinates = kTokens.escaped_coordinates[token_[v]];
+            for (std::size_t j = 0; j < kTokens.escapes[token_[v]]; ++j) {
+                const int symbol = RansDecoder::decode(escape_slots, x, pos);
+                std::swap(x, y);
+                std::swap(y, z);
+                std::swap(z, w);
+                ++symbols;
                 const int length = symbol / 2 + 2;
-                const std::int64_t magnitude = length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
-                if (magnitude > largest) r.fail("residual out of range (corrupt data)");
-                q_[3 * v + static_cast<std::size_t>(c)] = static_cast<std::int32_t>((symbol & 1) ? -magnitude : magnitude);
+                const std::int64_t magnitude =
+                    length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
+                in_range &= magnitude <= largest;
+                q_[3 * v + coordinates[j]] = static_cast<std::int32_t>((symbol & 1) ? -std::min(magnitude, largest) : std::min(magnitude, largest));
             }
         }
+        const std::uint32_t rotated[kRansLanes] = {x, y, z, w};
+        for (std::size_t k = 0; k < kRansLanes; ++k) rans.state[(first_lane + symbols + k) % kRansLanes] = rotated[k];
+        rans.set_position(pos);
+        if (!in_range) r.fail("residual out of range (corrupt data)");
         if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
     }
 
@@ -273,6 +288,7 @@ private:
     std::vector<char> kept_;
     std::vector<std::pair<std::size_t, std::size_t>> packet_of_;  // (frame, packet)
     std::vector<std::int32_t> scratch_;
+    std::vector<std::uint8_t> stream_;  // the packet's rANS words, padded
     SymbolTable uniform_;
     std::vector<SymbolTable> tables_;
     std::array<const std::uint32_t*, kTables> slots_{};

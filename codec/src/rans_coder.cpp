@@ -142,11 +142,11 @@ std::string RansEncoder::finish() {
     return out;
 }
 
-RansDecoder::RansDecoder(std::string_view bytes, std::size_t words_between_checks)
-    : bytes_(bytes.size() + 2 * (words_between_checks + 2 * kRansLanes), 0) {
-    std::copy(bytes.begin(), bytes.end(), bytes_.begin());
-    pos_ = bytes_.data();
-    end_ = bytes_.data() + bytes.size();
+RansDecoder::RansDecoder(std::string_view bytes, std::size_t words_between_checks, std::vector<std::uint8_t>& storage) {
+    storage.assign(bytes.begin(), bytes.end());
+    storage.resize(bytes.size() + 2 * (words_between_checks + 2 * kRansLanes), 0);
+    pos_ = storage.data();
+    end_ = storage.data() + bytes.size();
     for (auto& x : state) {
         x = std::uint32_t(pos_[0]) | std::uint32_t(pos_[1]) << 8 | std::uint32_t(pos_[2]) << 16 | std::uint32_t(pos_[3]) << 24;
         pos_ += 4;

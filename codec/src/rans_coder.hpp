@@ -68,10 +68,10 @@ private:
 // Decodes from a copy of the stream padded with zero words, so no single read needs a
 // bounds check: whoever decodes must call overrun() at least every `words_between_checks`
 // symbols (each reads at most one word), and a stream that ran into the padding was
-// truncated or corrupt.
+// truncated or corrupt.  The copy lives in `storage`, which a decoder of many packets reuses.
 class RansDecoder {
 public:
-    RansDecoder(std::string_view bytes, std::size_t words_between_checks);
+    RansDecoder(std::string_view bytes, std::size_t words_between_checks, std::vector<std::uint8_t>& storage);
     bool overrun() const { return pos_ > end_; }
     std::array<std::uint32_t, kRansLanes> state{};
 
@@ -94,7 +94,6 @@ public:
 
 private:
     static constexpr std::uint32_t kLow = std::uint32_t(1) << 16;
-    std::vector<std::uint8_t> bytes_;
     const std::uint8_t* pos_;
     const std::uint8_t* end_;
 };

@@ -33,13 +33,14 @@ struct TokenTraits {
     std::array<std::uint8_t, kRansAlphabet> weight{};      // sum of 0, 1, 1, 2 per class
     std::array<std::uint8_t, kRansAlphabet> escapes{};     // escaped coordinates
     std::array<std::array<std::int8_t, 3>, kRansAlphabet> value{};  // q of the non-escaped ones
+    std::array<std::array<std::uint8_t, 3>, kRansAlphabet> escaped_coordinates{};  // the first `escapes` entries
     std::array<std::uint8_t, 13> bucket{};                 // of two weights summed: 0, 1, 2-3, 4-7, 8-12
     constexpr TokenTraits() {
         for (int t = 0; t < kRansAlphabet; ++t)
             for (int c = 0; c < 3; ++c) {
                 const int k = token_class(t, c);
                 weight[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(weight[static_cast<std::size_t>(t)] + (k == 3 ? 2 : k != 0));
-                escapes[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(escapes[static_cast<std::size_t>(t)] + (k == 3));
+                if (k == 3) escaped_coordinates[static_cast<std::size_t>(t)][escapes[static_cast<std::size_t>(t)]++] = static_cast<std::uint8_t>(c);
                 value[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)] = static_cast<std::int8_t>(k == 1 ? 1 : k == 2 ? -1 : 0);
             }
         for (int a = 0; a < 13; ++a) bucket[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>(std::min(static_cast<int>(std::bit_width(unsigned(a))), kActivityBuckets - 1));
