@@ -1,7 +1,7 @@
 #pragma once
-// Plain bit packing, least significant bit first: the side information of a packet of the
-// default profile (frame modes, frequency tables) and the raw mantissa bits of large
-// residuals, which an entropy coder could not shrink.
+// Bit packing, most significant bit first: the Huffman codes of the `paper` profile, and
+// the side information (frame modes, frequency tables) and raw mantissa bits of the
+// default profile.
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -10,55 +10,54 @@ namespace foldcast::codec {
 
 class BitWriter {
 public:
-    // `count` <= 32.
-    void put(std::uint32_t value, int count) {
-        buffer_ |= std::uint64_t(value & mask(count)) << filled_;
-        filled_ += count;
-        while (filled_ >= 8) {
-            bytes_.push_back(static_cast<char>(buffer_ & 0xffu));
-            buffer_ >>= 8;
-            filled_ -= 8;
+    // The low `count` bits of `bits`, most significant first; count <= 32.
+    void put(std::uint32_t bits, int count) {
+        acc_ = (acc_ << count) | (count == 32 ? bits : (bits & ((1u << count) - 1u)));
+        fill_ += count;
+        while (fill_ >= 8) {
+            fill_ -= 8;
+            bytes_.push_back(static_cast<char>((acc_ >> fill_) & 0xffu));
         }
     }
+    // Pads the last byte with zeros.
     std::string finish() {
-        if (filled_ > 0) bytes_.push_back(static_cast<char>(buffer_ & 0xffu));
-        buffer_ = 0;
-        filled_ = 0;
+        if (fill_ > 0) bytes_.push_back(static_cast<char>((acc_ << (8 - fill_)) & 0xffu));
+        fill_ = 0;
+        acc_ = 0;
         return std::move(bytes_);
     }
 
 private:
-    static std::uint32_t mask(int count) { return count >= 32 ? 0xffffffffu : (std::uint32_t(1) << count) - 1; }
     std::string bytes_;
-    std::uint64_t buffer_ = 0;
-    int filled_ = 0;
+    std::uint64_t acc_ = 0;
+    int fill_ = 0;
 };
 
-// Reads past the end as zero bits and remembers that it did (corrupt or truncated data):
-// callers check overrun() once per frame instead of per read.
+// Reads past the end as zero bits and remembers that it did (corrupt or truncated data),
+// so callers may check overrun() once after many reads.
 class BitReader {
 public:
     explicit BitReader(std::string_view bytes) : bytes_(bytes) {}
-    // `count` <= 32.
+    // count <= 32.
     std::uint32_t get(int count) {
-        while (filled_ < count) {
-            const std::uint64_t byte = pos_ < bytes_.size() ? static_cast<std::uint8_t>(bytes_[pos_]) : 0;
-            ++pos_;
-            buffer_ |= byte << filled_;
-            filled_ += 8;
+        while (fill_ < count) {  // a byte is fetched only when its bits are needed
+            std::uint64_t byte = 0;
+            if (pos_ < bytes_.size()) byte = static_cast<std::uint8_t>(bytes_[pos_++]);
+            else overrun_ = true;
+            acc_ = (acc_ << 8) | byte;
+            fill_ += 8;
         }
-        const auto value = static_cast<std::uint32_t>(buffer_ & ((std::uint64_t(1) << count) - 1));
-        buffer_ >>= count;
-        filled_ -= count;
-        return value;
+        fill_ -= count;
+        return static_cast<std::uint32_t>((acc_ >> fill_) & ((std::uint64_t(1) << count) - 1));
     }
-    bool overrun() const { return pos_ > bytes_.size(); }
+    bool overrun() const { return overrun_; }
 
 private:
     std::string_view bytes_;
     std::size_t pos_ = 0;
-    std::uint64_t buffer_ = 0;
-    int filled_ = 0;
+    std::uint64_t acc_ = 0;
+    int fill_ = 0;
+    bool overrun_ = false;
 };
 
 }  // namespace foldcast::codec

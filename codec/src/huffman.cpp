@@ -6,37 +6,6 @@
 
 namespace foldcast::codec {
 
-void BitWriter::put(std::uint32_t bits, int count) {
-    acc_ = (acc_ << count) | (count == 32 ? bits : (bits & ((1u << count) - 1u)));
-    fill_ += count;
-    while (fill_ >= 8) {
-        fill_ -= 8;
-        bytes_.push_back(static_cast<char>((acc_ >> fill_) & 0xffu));
-    }
-}
-
-std::string BitWriter::finish() {
-    if (fill_ > 0) bytes_.push_back(static_cast<char>((acc_ << (8 - fill_)) & 0xffu));
-    fill_ = 0;
-    acc_ = 0;
-    return std::move(bytes_);
-}
-
-std::uint32_t BitReader::get(int count) {
-    std::uint32_t v = 0;
-    for (int i = 0; i < count; ++i) {
-        const std::size_t byte = bit_ >> 3;
-        std::uint32_t b = 0;
-        if (byte < bytes_.size())
-            b = (static_cast<std::uint8_t>(bytes_[byte]) >> (7 - (bit_ & 7))) & 1u;
-        else
-            overrun_ = true;
-        v = (v << 1) | b;
-        ++bit_;
-    }
-    return v;
-}
-
 namespace {
 // Plain Huffman code lengths from counts (zero counts get length 0).
 std::vector<std::uint8_t> huffman_lengths(const std::vector<std::uint64_t>& counts) {

@@ -8,32 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "bit_stream.hpp"
 #include "byte_io.hpp"
 
 namespace foldcast::codec {
-
-class BitWriter {
-public:
-    void put(std::uint32_t bits, int count);  // most significant of `count` bits first
-    std::string finish();                     // pads the last byte with zeros
-
-private:
-    std::string bytes_;
-    std::uint64_t acc_ = 0;
-    int fill_ = 0;
-};
-
-class BitReader {
-public:
-    explicit BitReader(std::string_view bytes) : bytes_(bytes) {}
-    std::uint32_t get(int count);  // past the end reads zeros and sets overrun()
-    bool overrun() const { return overrun_; }
-
-private:
-    std::string_view bytes_;
-    std::size_t bit_ = 0;
-    bool overrun_ = false;
-};
 
 constexpr int kMaxHuffmanLength = 24;
 
