@@ -83,11 +83,12 @@ public:
         slots_.fill(uniform_.slots.data());
         // Integer frames are kept after their packet only if a later packet predicts from
         // them (the keyframes); the others live in per-packet scratch.
+        std::vector<std::pair<std::size_t, std::size_t>> packet_of;  // (frame, packet)
         for (std::size_t k = 0; k < layout_.packets.size(); ++k)
-            for (std::size_t t : layout_.packets[k]) packet_of_.emplace_back(t, k);
+            for (std::size_t t : layout_.packets[k]) packet_of.emplace_back(t, k);
         std::vector<std::size_t> packet(h.frames, 0);
-        for (const auto& [t, k] : packet_of_) packet[t] = k;
-        for (const auto& [t, k] : packet_of_) {
+        for (const auto& [t, k] : packet_of) packet[t] = k;
+        for (const auto& [t, k] : packet_of) {
             const TemporalReference& ref = layout_.references[t];
             const int count = ref.kind == TemporalReference::Kind::cubic ? 4 : ref.kind == TemporalReference::Kind::linear ? 2
                               : ref.kind == TemporalReference::Kind::copy                                        ? 1
@@ -286,7 +287,6 @@ private:
     std::vector<std::vector<std::int32_t>> grids_;  // integer frames kept for later packets
     std::vector<const std::int32_t*> frame_grid_;   // each decoded frame's integers, while they are needed
     std::vector<char> kept_;
-    std::vector<std::pair<std::size_t, std::size_t>> packet_of_;  // (frame, packet)
     std::vector<std::int32_t> scratch_;
     std::vector<std::uint8_t> stream_;  // the packet's rANS words, padded
     SymbolTable uniform_;

@@ -26,6 +26,13 @@ struct StreamingDecoder::Impl {
     void require() const {
         if (!profile) fail("no complete header yet (too short to be an .fca file)");
     }
+    Animation without_frames() const {
+        require();
+        Animation anim;
+        anim.topology = header.topology;
+        anim.fps = header.fps;
+        return anim;
+    }
     [[noreturn]] void fail(const std::string& message) const { throw InputError(what + ": " + message); }
 
     void handle(PacketType type, std::string_view payload) {
@@ -125,19 +132,13 @@ Profile StreamingDecoder::profile() const { impl_->require(); return impl_->head
 const Topology& StreamingDecoder::topology() const { impl_->require(); return impl_->header.topology; }
 
 Animation StreamingDecoder::animation() const {
-    impl_->require();
-    Animation anim;
-    anim.topology = impl_->header.topology;
-    anim.fps = impl_->header.fps;
+    Animation anim = impl_->without_frames();
     impl_->profile->reconstruct(anim.frames);
     return anim;
 }
 
 Animation StreamingDecoder::take_animation() {
-    impl_->require();
-    Animation anim;
-    anim.topology = impl_->header.topology;
-    anim.fps = impl_->header.fps;
+    Animation anim = impl_->without_frames();
     impl_->profile->release(anim.frames);
     return anim;
 }
