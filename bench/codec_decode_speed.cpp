@@ -75,6 +75,7 @@ void speed(const char* name, const Animation& a, int runs) {
         best_warm = std::min(best_warm, cpu_seconds() - t0);
         back = Animation{};
     }
+    // Back to glibc's initial thresholds (fixed now; glibc would otherwise adjust them).
     mallopt(M_MMAP_THRESHOLD, 128 * 1024);
     mallopt(M_TRIM_THRESHOLD, 128 * 1024);
     std::printf("%s: decode into pages the process already has %.2f ms CPU (best of %d), %.1f M vertex-frames/s per core\n", name,

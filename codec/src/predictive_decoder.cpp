@@ -16,17 +16,6 @@
 namespace foldcast::codec {
 namespace {
 
-// Per token, its three residuals as int32 (escaped ones 0 until their value is decoded),
-// padded to 16 bytes so one copy writes a vertex.
-struct TokenValues {
-    std::array<std::array<std::int32_t, 4>, kRansAlphabet> q{};
-    constexpr TokenValues() {
-        for (std::size_t t = 0; t < q.size(); ++t)
-            for (std::size_t c = 0; c < 3; ++c) q[t][c] = kTokens.value[t][c];
-    }
-};
-inline constexpr TokenValues kTokenValues{};
-
 struct TokenPass {
     const std::uint32_t* const* slots;  // the level's kActivityBuckets tables
     const std::uint32_t* far;
@@ -54,7 +43,7 @@ std::size_t decode_tokens(RansDecoder& rans, const TokenPass& pass, std::size_t 
         const auto token = static_cast<std::size_t>(RansDecoder::decode(slots[bucket], x, pos));
         token_out[v] = static_cast<std::uint8_t>(token);
         weight[v] = kTokens.weight[token];
-        std::memcpy(q + 3 * v, kTokenValues.q[token].data(), 4 * sizeof(std::int32_t));
+        std::memcpy(q + 3 * v, kTokens.value[token].data(), 4 * sizeof(std::int32_t));
         escaped_out[escaped] = static_cast<std::uint32_t>(v);
         escaped += kTokens.escapes[token] != 0;
     };
@@ -78,24 +67,8 @@ public:
         : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
           refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)),
           residual_step_(static_cast<std::int64_t>(h.threshold)), positions_(h.frames), decoded_(h.frames, 0),
-          grids_(h.frames), frame_grid_(h.frames, nullptr), kept_(h.frames, 0), uniform_(uniform_table(true)),
-          tables_(kTables) {
+          grids_(h.frames), frame_grid_(h.frames, nullptr), uniform_(uniform_table(true)), tables_(kTables) {
         slots_.fill(uniform_.slots.data());
-        // Integer frames are kept after their packet only if a later packet predicts from
-        // them (the keyframes); the others live in per-packet scratch.
-        std::vector<std::pair<std::size_t, std::size_t>> packet_of;  // (frame, packet)
-        for (std::size_t k = 0; k < layout_.packets.size(); ++k)
-            for (std::size_t t : layout_.packets[k]) packet_of.emplace_back(t, k);
-        std::vector<std::size_t> packet(h.frames, 0);
-        for (const auto& [t, k] : packet_of) packet[t] = k;
-        for (const auto& [t, k] : packet_of) {
-            const TemporalReference& ref = layout_.references[t];
-            const int count = ref.kind == TemporalReference::Kind::cubic ? 4 : ref.kind == TemporalReference::Kind::linear ? 2
-                              : ref.kind == TemporalReference::Kind::copy                                        ? 1
-                                                                                                                  : 0;
-            for (int i = 0; i < count; ++i)
-                if (packet[ref.frames[static_cast<std::size_t>(i)]] < k) kept_[ref.frames[static_cast<std::size_t>(i)]] = 1;
-        }
     }
 
     // Hands the decoded frames over instead of copying them when every frame is decoded.
@@ -148,8 +121,10 @@ public:
             const std::size_t t = frames[i];
             decode_residuals(rans, bits, layout_.level_class[t], r);
             predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, temporal_.data());
-            if (kept_[t]) grids_[t].resize(row);
-            std::int32_t* grid = kept_[t] ? grids_[t].data() : scratch_.data() + i * row;
+            // Integer frames outlive their packet only if a later packet predicts from them.
+            const bool kept = layout_.referenced_later[t];
+            if (kept) grids_[t].resize(row);
+            std::int32_t* grid = kept ? grids_[t].data() : scratch_.data() + i * row;
             positions_[t].resize(n);
             if (!reconstruct_grid(modes[i] % 2 == 1, grid, positions_[t]))
                 r.fail("frame " + std::to_string(t) + ": position leaves the quantisation grid (corrupt data)");
@@ -225,7 +200,8 @@ private:
                 const std::int64_t magnitude =
                     length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
                 in_range &= magnitude <= largest;
-                q_[3 * v + coordinates[j]] = static_cast<std::int32_t>((symbol & 1) ? -std::min(magnitude, largest) : std::min(magnitude, largest));
+                const auto bounded = static_cast<std::int32_t>(std::min(magnitude, largest));
+                q_[3 * v + coordinates[j]] = (symbol & 1) ? -bounded : bounded;
             }
         }
         const std::uint32_t rotated[kRansLanes] = {x, y, z, w};
@@ -286,7 +262,6 @@ private:
     std::vector<char> decoded_;
     std::vector<std::vector<std::int32_t>> grids_;  // integer frames kept for later packets
     std::vector<const std::int32_t*> frame_grid_;   // each decoded frame's integers, while they are needed
-    std::vector<char> kept_;
     std::vector<std::int32_t> scratch_;
     std::vector<std::uint8_t> stream_;  // the packet's rANS words, padded
     SymbolTable uniform_;

@@ -37,16 +37,15 @@ private:
 // predict bit for bit alike.
 void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* const* frames, std::size_t row,
                  std::int32_t* out) {
-    auto frame = [&](std::size_t f) { return frames[f]; };
     switch (ref.kind) {
     case TemporalReference::Kind::none: std::fill(out, out + row, 0); return;
     case TemporalReference::Kind::copy: {
-        const std::int32_t* a = frame(ref.frames[0]);
+        const std::int32_t* a = frames[ref.frames[0]];
         for (std::size_t k = 0; k < row; ++k) out[k] = a[k];
         return;
     }
     case TemporalReference::Kind::linear: {
-        const std::int32_t *a = frame(ref.frames[0]), *b = frame(ref.frames[1]);
+        const std::int32_t *a = frames[ref.frames[0]], *b = frames[ref.frames[1]];
         const auto span = static_cast<std::int64_t>(ref.frames[1] - ref.frames[0]);
         const auto offset = static_cast<std::int64_t>(t - ref.frames[0]);
         const FloorDivider divide(span);
@@ -55,8 +54,8 @@ void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t
         return;
     }
     case TemporalReference::Kind::cubic: {
-        const std::int32_t *a = frame(ref.frames[0]), *b = frame(ref.frames[1]), *c = frame(ref.frames[2]),
-                           *d = frame(ref.frames[3]);
+        const std::int32_t *a = frames[ref.frames[0]], *b = frames[ref.frames[1]], *c = frames[ref.frames[2]],
+                           *d = frames[ref.frames[3]];
         for (std::size_t k = 0; k < row; ++k)
             out[k] = static_cast<std::int32_t>((-std::int64_t(a[k]) + 9 * std::int64_t(b[k]) + 9 * std::int64_t(c[k]) - std::int64_t(d[k]) + 8) >> 4);
         return;
@@ -97,7 +96,7 @@ namespace {
 struct FrameTrial {
     std::vector<std::int64_t> q, decoded, temporal_residual;
     std::vector<std::int32_t> temporal;
-    std::vector<std::uint8_t> token;
+    std::vector<std::uint8_t> token, bucket;  // per vertex: its token and the token's activity bucket
     double bits = 0.0;
 };
 
@@ -124,19 +123,18 @@ void run_frame(const std::vector<SpatialReference>& refs, const ContextNeighbour
     std::array<std::uint32_t, kActivityBuckets * kRansAlphabet> tokens{};
     std::array<std::uint32_t, kRansAlphabet> escapes{};
     double raw_bits = 0.0;
-    std::uint8_t weight_none = 0;
-    auto weight = [&](std::uint32_t u) { return u < n ? kTokens.weight[f.token[u]] : weight_none; };
+    auto weight = [&](std::uint32_t u) { return u < n ? kTokens.weight[f.token[u]] : std::uint8_t(0); };
     for (std::size_t v = 0; v < n; ++v) {
         const std::int64_t* q = &f.q[3 * v];
-        const int token = vertex_token(q[0], q[1], q[2]);
+        const auto token = static_cast<std::size_t>(vertex_token(q[0], q[1], q[2]));
         f.token[v] = static_cast<std::uint8_t>(token);
-        const int bucket = kTokens.bucket[weight(neighbours.far[v]) + weight(neighbours.opposite[v])];
-        ++tokens[static_cast<std::size_t>(bucket * kRansAlphabet + token)];
-        for (int c = 0; c < 3; ++c)
-            if (token_class(token, c) == 3) {
-                ++escapes[static_cast<std::size_t>(escape_symbol(q[c]))];
-                raw_bits += escape_length(q[c]) - 1;
-            }
+        f.bucket[v] = kTokens.bucket[weight(neighbours.far[v]) + weight(neighbours.opposite[v])];
+        ++tokens[f.bucket[v] * std::size_t(kRansAlphabet) + token];
+        for (std::size_t j = 0; j < kTokens.escapes[token]; ++j) {
+            const std::int64_t e = q[kTokens.escaped_coordinates[token][j]];
+            ++escapes[static_cast<std::size_t>(escape_symbol(e))];
+            raw_bits += escape_length(e) - 1;
+        }
     }
     double bits = raw_bits + entropy_bits(escapes.data(), kRansAlphabet);
     for (int b = 0; b < kActivityBuckets; ++b) bits += entropy_bits(tokens.data() + b * kRansAlphabet, kRansAlphabet);
@@ -197,6 +195,13 @@ PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), 
     playable_after[1] = packets.size() == 1 ? t : 1;
     for (std::size_t k = 2; k <= packets.size(); ++k)
         playable_after[k] = k == packets.size() ? t : std::min(t, (k - 1) * stride + 1);
+    std::vector<std::size_t> packet_of(t, 0);
+    for (std::size_t k = 0; k < packets.size(); ++k)
+        for (std::size_t f : packets[k]) packet_of[f] = k;
+    referenced_later.assign(t, 0);
+    for (std::size_t f = 0; f < t; ++f)
+        for (std::size_t i = 0; i < references[f].count(); ++i)
+            if (const std::size_t r = references[f].frames[i]; packet_of[r] < packet_of[f]) referenced_later[r] = 1;
 }
 
 std::vector<SpatialReference> spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {
@@ -276,7 +281,7 @@ TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current)
 // The level classes of a packet's frames, ascending: which table groups it may update.
 std::vector<int> packet_levels(const PredictiveLayout& layout, const std::vector<std::size_t>& frames) {
     std::vector<int> levels;
-    for (std::size_t t : frames) levels.push_back(level_table_base(layout.level_class[t]) / kActivityBuckets);
+    for (std::size_t t : frames) levels.push_back(token_level(layout.level_class[t]));
     std::sort(levels.begin(), levels.end());
     levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
     return levels;
@@ -306,6 +311,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
         f->q = f->decoded = f->temporal_residual = std::vector<std::int64_t>(row);
         f->temporal.assign(row, 0);
         f->token.assign(n, 0);
+        f->bucket.assign(n, 0);
     }
     std::vector<SymbolTable> tables(kTables, uniform_table(false));
     std::vector<std::string> out;
@@ -341,16 +347,14 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             // Symbol k of a frame (tokens, then escapes) goes to rANS state k mod kRansLanes.
             std::size_t k = 0;
             const int base = level_table_base(layout.level_class[t]);
-            auto weight = [&](std::uint32_t u) { return u < n ? kTokens.weight[best.token[u]] : std::uint8_t(0); };
             for (std::size_t v = 0; v < n; ++v, ++k) {
-                const int table = base + kTokens.bucket[weight(neighbours.far[v]) + weight(neighbours.opposite[v])];
+                const int table = base + best.bucket[v];
                 symbols.push_back({static_cast<std::uint8_t>(table), best.token[v], static_cast<std::uint8_t>(k % kRansLanes)});
                 ++counts[static_cast<std::size_t>(table)][best.token[v]];
             }
             for (std::size_t v = 0; v < n; ++v)
-                for (int c = 0; c < 3; ++c) {
-                    const std::int64_t q = best.q[3 * v + static_cast<std::size_t>(c)];
-                    if (token_class(best.token[v], c) != 3) continue;
+                for (std::size_t j = 0; j < kTokens.escapes[best.token[v]]; ++j) {
+                    const std::int64_t q = best.q[3 * v + kTokens.escaped_coordinates[best.token[v]][j]];
                     const int symbol = escape_symbol(q);
                     symbols.push_back({static_cast<std::uint8_t>(kEscapeTable), static_cast<std::uint8_t>(symbol),
                                        static_cast<std::uint8_t>(k++ % kRansLanes)});

@@ -21,6 +21,8 @@ namespace foldcast::codec {
 struct TemporalReference {
     enum class Kind { none, copy, linear, cubic } kind = Kind::none;
     std::array<std::size_t, 4> frames{};  // copy: [0]; linear: [0], [1] (a < t < b); cubic: t-3h, t-h, t+h, t+3h
+    // How many of `frames` it reads (every mode's frames are among them).
+    std::size_t count() const { return kind == Kind::cubic ? 4 : kind == Kind::linear ? 2 : kind == Kind::copy ? 1 : 0; }
 };
 
 struct PredictiveLayout {
@@ -32,6 +34,7 @@ struct PredictiveLayout {
     std::vector<TemporalReference> references;  // per frame
     std::vector<int> level_class;               // per frame: 0 keyframe, 1 + log2(h) for midpoints at spacing h
     std::vector<std::size_t> playable_after;    // frames final once packets [0, k) arrived
+    std::vector<char> referenced_later;         // per frame: a later packet predicts from it (the keyframes)
 };
 
 // Per vertex: earlier vertices whose residuals predict this one's: (a, b, c) means

@@ -32,7 +32,9 @@ constexpr int token_class(int token, int coordinate) { return (token >> (2 * coo
 struct TokenTraits {
     std::array<std::uint8_t, kRansAlphabet> weight{};      // sum of 0, 1, 1, 2 per class
     std::array<std::uint8_t, kRansAlphabet> escapes{};     // escaped coordinates
-    std::array<std::array<std::int8_t, 3>, kRansAlphabet> value{};  // q of the non-escaped ones
+    // q of the non-escaped coordinates (escaped ones 0), padded to 16 bytes so one copy
+    // writes a vertex.
+    std::array<std::array<std::int32_t, 4>, kRansAlphabet> value{};
     std::array<std::array<std::uint8_t, 3>, kRansAlphabet> escaped_coordinates{};  // the first `escapes` entries
     std::array<std::uint8_t, 13> bucket{};                 // of two weights summed: 0, 1, 2-3, 4-7, 8-12
     constexpr TokenTraits() {
@@ -41,14 +43,15 @@ struct TokenTraits {
                 const int k = token_class(t, c);
                 weight[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(weight[static_cast<std::size_t>(t)] + (k == 3 ? 2 : k != 0));
                 if (k == 3) escaped_coordinates[static_cast<std::size_t>(t)][escapes[static_cast<std::size_t>(t)]++] = static_cast<std::uint8_t>(c);
-                value[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)] = static_cast<std::int8_t>(k == 1 ? 1 : k == 2 ? -1 : 0);
+                value[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)] = k == 1 ? 1 : k == 2 ? -1 : 0;
             }
         for (int a = 0; a < 13; ++a) bucket[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>(std::min(static_cast<int>(std::bit_width(unsigned(a))), kActivityBuckets - 1));
     }
 };
 inline constexpr TokenTraits kTokens{};
 
-constexpr int level_table_base(int level_class) { return (level_class < kTokenLevels ? level_class : kTokenLevels - 1) * kActivityBuckets; }
+constexpr int token_level(int level_class) { return level_class < kTokenLevels ? level_class : kTokenLevels - 1; }
+constexpr int level_table_base(int level_class) { return token_level(level_class) * kActivityBuckets; }
 
 // Escape symbol of |q| >= 2: (bit length - 2) * 2 + sign; the bits below the leading one go raw.
 constexpr int escape_length(std::int64_t q) { return std::bit_width(static_cast<std::uint64_t>(q < 0 ? -q : q)); }
