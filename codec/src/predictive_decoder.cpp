@@ -12,6 +12,7 @@
 #include "profile_decoder.hpp"
 #include "rans_coder.hpp"
 #include "residual_tokens.hpp"
+#include "spatial_runs.hpp"
 
 namespace foldcast::codec {
 namespace {
@@ -65,7 +66,7 @@ class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
         : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
-          refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)),
+          refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)), runs_(spatial_runs(refs_)),
           residual_step_(static_cast<std::int64_t>(h.threshold)), positions_(h.frames), decoded_(h.frames, 0),
           grids_(h.frames), frame_grid_(h.frames, nullptr), uniform_(uniform_table(true)), tables_(kTables) {
         slots_.fill(uniform_.slots.data());
@@ -212,44 +213,88 @@ private:
     }
 
     // grid = temporal prediction + (spatial prediction) + q m, checked against the grid's
-    // range, and the positions it stands for.
+    // range, and the positions it stands for.  The sums wrap modulo 2^32 (unsigned): for a
+    // valid file every true value lies in int32, so wrapping changes nothing, and corrupt
+    // data can only produce an out-of-range coordinate, caught below, never overflow.
     bool reconstruct_grid(bool use_spatial, std::int32_t* grid, std::vector<Vec3f>& positions) {
         const std::size_t n = header_.vertices, row = 3 * n;
-        const auto m = static_cast<std::int32_t>(residual_step_);
+        const auto m = static_cast<std::uint32_t>(residual_step_);
+        const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
+        const auto* temporal = reinterpret_cast<const std::uint32_t*>(temporal_.data());
+        std::uint32_t* r = residual_.data();
+        if (use_spatial) {
+            for (const SpatialRun& run : runs_) spatial_run(run, q, m, r);
+        } else {
+            for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
+        }
         // Decoded coordinates stay within m / 2 of the encoder's grid [0, kMaxGridValue].
         constexpr std::int32_t low = -static_cast<std::int32_t>(kMaxResidualStep), high = kMaxGridValue + kMaxResidualStep;
-        if (!use_spatial) {
-            // |q m| and the prediction are each below 2^30.2: the sum fits int32.
-            std::int32_t lowest = 0, highest = 0;
-            for (std::size_t k = 0; k < row; ++k) {
-                const std::int32_t g = temporal_[k] + q_[k] * m;
-                lowest = std::min(lowest, g);
-                highest = std::max(highest, g);
-                grid[k] = g;
-            }
-            if (lowest < low || highest > high) return false;
-        } else {
-            for (std::size_t v = 0; v < n; ++v) {
-                bool inside = true;
-                for (int c = 0; c < 3; ++c) {
-                    const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                    const std::int64_t residual = std::int64_t(q_[k]) * m + spatial_prediction(refs_[v], residual_.data(), c);
-                    const std::int64_t g = temporal_[k] + residual;
-                    inside &= g >= low && g <= high;
-                    residual_[k] = static_cast<std::int32_t>(residual);
-                    grid[k] = static_cast<std::int32_t>(g);
-                }
-                // Stopping at the first stray vertex keeps every residual within the grid's
-                // range, so the spatial sums of later vertices cannot overflow.
-                if (!inside) return false;
-            }
+        std::int32_t lowest = 0, highest = 0;
+        for (std::size_t k = 0; k < row; ++k) {
+            const auto g = static_cast<std::int32_t>(temporal[k] + r[k]);
+            lowest = std::min(lowest, g);
+            highest = std::max(highest, g);
+            grid[k] = g;
         }
-        const double step = header_.step;
-        const double origin[3] = {header_.bounds.min.x(), header_.bounds.min.y(), header_.bounds.min.z()};
-        float* out = positions.data()->data();
-        for (std::size_t v = 0; v < n; ++v)
-            for (std::size_t c = 0; c < 3; ++c) out[3 * v + c] = static_cast<float>(origin[c] + step * double(grid[3 * v + c]));
+        if (lowest < low || highest > high) return false;
+        to_positions(grid, positions.data()->data());
         return true;
+    }
+
+    // Residuals of one run of vertices (see SpatialRun), in place in r.
+    void spatial_run(const SpatialRun& run, const std::uint32_t* q, std::uint32_t m, std::uint32_t* r) const {
+        const std::size_t begin = 3 * std::size_t(run.begin), end = 3 * std::size_t(run.end);
+        switch (run.kind) {
+        case SpatialRun::Kind::none:
+            for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m;
+            return;
+        case SpatialRun::Kind::gather:
+            for (std::size_t v = run.begin; v < run.end; ++v) {
+                const SpatialReference& s = refs_[v];
+                for (std::size_t c = 0; c < 3; ++c) {
+                    std::uint32_t p = s.a < 0 ? 0 : r[3 * std::size_t(s.a) + c];
+                    if (s.c >= 0) p += r[3 * std::size_t(s.b) + c] - r[3 * std::size_t(s.c) + c];
+                    r[3 * v + c] = q[3 * v + c] * m + p;
+                }
+            }
+            return;
+        case SpatialRun::Kind::row: {
+            // r_v = r_{v-1} + (q_v m + r_{v-up} - r_{v-corner}): the bracket reads only
+            // vertices before the run (vectorised), then a running sum along the run.
+            const std::size_t up = 3 * std::size_t(run.up), corner = 3 * std::size_t(run.corner);
+            for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m + r[k - up] - r[k - corner];
+            std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
+            for (std::size_t k = begin; k < end; k += 3) {
+                r[k] = x += r[k];
+                r[k + 1] = y += r[k + 1];
+                r[k + 2] = z += r[k + 2];
+            }
+            return;
+        }
+        case SpatialRun::Kind::chain: {
+            std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
+            for (std::size_t k = begin; k < end; k += 3) {
+                r[k] = x += q[k] * m;
+                r[k + 1] = y += q[k + 1] * m;
+                r[k + 2] = z += q[k + 2] * m;
+            }
+            return;
+        }
+        }
+    }
+
+    // position = bounds.min + step * grid, in double (grid values need up to 31 bits).
+    void to_positions(const std::int32_t* grid, float* out) const {
+        const std::size_t row = 3 * std::size_t(header_.vertices);
+        const double step = header_.step;
+        // Four vertices at a time with the origin repeated, so the loop vectorises.
+        constexpr std::size_t kBlock = 12;
+        double origin[kBlock];
+        for (std::size_t j = 0; j < kBlock; ++j) origin[j] = header_.bounds.min[static_cast<Eigen::Index>(j % 3)];
+        std::size_t k = 0;
+        for (; k + kBlock <= row; k += kBlock)
+            for (std::size_t j = 0; j < kBlock; ++j) out[k + j] = static_cast<float>(origin[j] + step * double(grid[k + j]));
+        for (std::size_t j = 0; k < row; ++k, ++j) out[k] = static_cast<float>(origin[j] + step * double(grid[k]));
     }
 
     Header header_;
@@ -257,6 +302,7 @@ private:
     PredictiveLayout layout_;
     std::vector<SpatialReference> refs_;
     ContextNeighbours neighbours_;
+    std::vector<SpatialRun> runs_;
     std::int64_t residual_step_;
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
@@ -272,7 +318,8 @@ private:
     std::vector<std::uint8_t> token_, weight_;
     std::vector<std::uint32_t> escaped_;
     std::vector<std::int32_t> q_;
-    std::vector<std::int32_t> temporal_, residual_;
+    std::vector<std::int32_t> temporal_;
+    std::vector<std::uint32_t> residual_;
 };
 }  // namespace
 

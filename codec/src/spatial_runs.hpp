@@ -1,0 +1,29 @@
+#pragma once
+// The decoder's plan for the spatial prediction of a frame's residuals (r_v = q_v m +
+// r_a + r_b - r_c, predictive_profile.hpp), vertex order kept: runs of consecutive vertices
+// predicted alike.  On a regular grid nearly every vertex is a `row` vertex, predicted from
+// the one before it, the one a row up and a corner, so a run's brackets depend only on
+// earlier rows (a vectorised pass) and the rest is a running sum along the row.  Other
+// meshes fall back to per-vertex gathers.
+#include <cstdint>
+#include <vector>
+
+#include "predictive_profile.hpp"
+
+namespace foldcast::codec {
+
+struct SpatialRun {
+    enum class Kind {
+        none,    // no prediction: r_v = q_v m
+        chain,   // r_v = q_v m + r_{v-1}
+        row,     // r_v = q_v m + r_{v-1} + r_{v-up} - r_{v-corner}, v - up and v - corner before the run
+        gather,  // anything else, vertex by vertex from the references
+    } kind = Kind::none;
+    std::uint32_t begin = 0, end = 0;  // vertices [begin, end)
+    std::uint32_t up = 0, corner = 0;  // row runs only
+};
+
+// Runs covering [0, refs.size()) in order.
+std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs);
+
+}  // namespace foldcast::codec
