@@ -17,36 +17,20 @@
 namespace foldcast::codec {
 namespace {
 
-struct TokenPass {
-    const std::uint32_t* const* slots;  // the level's kActivityBuckets tables
-    const std::uint32_t* far;
-    const std::uint32_t* opposite;
-    std::uint8_t* token;
-    std::uint8_t* weight;  // per vertex, plus a zero at index n for "no neighbour"
-    std::uint32_t* escaped;
-    std::int32_t* q;       // 3n + 1: each vertex writes 4 values
-};
-
-// Tokens of vertices [0, n), vertex v with state v mod 4, and their residuals into pass.q.
-// Returns how many vertices have escapes (listed in pass.escaped).
-std::size_t decode_tokens(RansDecoder& rans, const TokenPass& pass, std::size_t n) {
+// Tokens of vertices [0, n) into token[0, n), vertex v with state v mod 4; token[n] is 0,
+// the context of a missing neighbour.  Only what the next tokens need happens here; their
+// values come after (token_values).
+void decode_tokens(RansDecoder& rans, const std::uint32_t* const* level_slots, const ContextNeighbours* neighbours,
+                   std::uint8_t* token, std::size_t n) {
     // Everything in locals: the byte stores below may alias any memory, so the compiler
     // would otherwise reload pointers and spill the states after every token.
-    const std::uint32_t* const* slots = pass.slots;
-    const std::uint32_t *far = pass.far, *opposite = pass.opposite;
-    std::uint8_t *token_out = pass.token, *weight = pass.weight;
-    std::uint32_t* escaped_out = pass.escaped;
-    std::int32_t* q = pass.q;
+    const std::uint32_t* slots[kActivityBuckets];
+    std::copy(level_slots, level_slots + kActivityBuckets, slots);
     const std::uint8_t* pos = rans.position();
-    std::size_t escaped = 0;
     auto one = [&](std::size_t v, std::uint32_t& x) {
-        const int bucket = kTokens.bucket[weight[far[v]] + weight[opposite[v]]];
-        const auto token = static_cast<std::size_t>(RansDecoder::decode(slots[bucket], x, pos));
-        token_out[v] = static_cast<std::uint8_t>(token);
-        weight[v] = kTokens.weight[token];
-        std::memcpy(q + 3 * v, kTokens.value[token].data(), 4 * sizeof(std::int32_t));
-        escaped_out[escaped] = static_cast<std::uint32_t>(v);
-        escaped += kTokens.escapes[token] != 0;
+        const ContextNeighbours nb = neighbours[v];
+        const std::size_t bucket = kTokens.pair_bucket[std::size_t(token[nb.far]) << 6 | token[nb.opposite]];
+        token[v] = static_cast<std::uint8_t>(RansDecoder::decode(slots[bucket], x, pos));
     };
     std::uint32_t x0 = rans.state[0], x1 = rans.state[1], x2 = rans.state[2], x3 = rans.state[3];
     std::size_t v = 0;
@@ -59,7 +43,18 @@ std::size_t decode_tokens(RansDecoder& rans, const TokenPass& pass, std::size_t 
     rans.state = {x0, x1, x2, x3};
     for (std::size_t lane = 0; v < n; ++v, ++lane) one(v, rans.state[lane]);
     rans.set_position(pos);
-    return escaped;
+}
+
+// The residuals the tokens stand for into q (3n + 1 values: each vertex writes 4), escaped
+// coordinates 0 for now; returns how many vertices have escapes, listed in `escaped`.
+std::size_t token_values(const std::uint8_t* token, std::size_t n, std::int32_t* q, std::uint32_t* escaped) {
+    std::size_t count = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        std::memcpy(q + 3 * v, kTokens.value[token[v]].data(), 4 * sizeof(std::int32_t));
+        escaped[count] = static_cast<std::uint32_t>(v);
+        count += kTokens.escapes[token[v]] != 0;
+    }
+    return count;
 }
 
 class PredictiveDecoder final : public ProfileDecoder {
@@ -111,8 +106,7 @@ public:
         if (bits.overrun()) r.fail("side information is truncated");
 
         const std::size_t n = header_.vertices, row = 3 * n;
-        token_.resize(n);
-        weight_.assign(n + 1, 0);
+        token_.assign(n + 1, 0);
         escaped_.resize(n + 1);
         q_.resize(row + 1);
         temporal_.resize(row);
@@ -174,9 +168,8 @@ private:
     // One frame's quantised residuals into q_.
     void decode_residuals(RansDecoder& rans, BitReader& bits, int level_class, const ByteReader& r) {
         const std::size_t n = header_.vertices;
-        const TokenPass pass{slots_.data() + level_table_base(level_class), neighbours_.far.data(), neighbours_.opposite.data(),
-                             token_.data(), weight_.data(), escaped_.data(), q_.data()};
-        const std::size_t escaped = decode_tokens(rans, pass, n);
+        decode_tokens(rans, slots_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
+        const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
         const std::uint32_t* escape_slots = slots_[kEscapeTable];
         // Anything larger cannot land on the grid; bounding it keeps the sums in int32.
         const std::int64_t largest = (kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1;
@@ -301,7 +294,7 @@ private:
     std::string what_;
     PredictiveLayout layout_;
     std::vector<SpatialReference> refs_;
-    ContextNeighbours neighbours_;
+    std::vector<ContextNeighbours> neighbours_;
     std::vector<SpatialRun> runs_;
     std::int64_t residual_step_;
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
@@ -315,7 +308,7 @@ private:
     std::array<const std::uint32_t*, kTables> slots_{};
     std::size_t received_ = 0;
     // Per-frame scratch.
-    std::vector<std::uint8_t> token_, weight_;
+    std::vector<std::uint8_t> token_;
     std::vector<std::uint32_t> escaped_;
     std::vector<std::int32_t> q_;
     std::vector<std::int32_t> temporal_;

@@ -108,7 +108,7 @@ double entropy_bits(const std::uint32_t* histogram, int symbols) {
     return bits;
 }
 
-void run_frame(const std::vector<SpatialReference>& refs, const ContextNeighbours& neighbours, std::size_t n,
+void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours, std::size_t n,
                const std::int32_t* target, std::int64_t m, bool use_spatial, FrameTrial& f) {
     const FloorDivider divide(m);
     for (int c = 0; c < 3; ++c)
@@ -128,7 +128,7 @@ void run_frame(const std::vector<SpatialReference>& refs, const ContextNeighbour
         const std::int64_t* q = &f.q[3 * v];
         const auto token = static_cast<std::size_t>(vertex_token(q[0], q[1], q[2]));
         f.token[v] = static_cast<std::uint8_t>(token);
-        f.bucket[v] = kTokens.bucket[weight(neighbours.far[v]) + weight(neighbours.opposite[v])];
+        f.bucket[v] = kTokens.bucket[weight(neighbours[v].far) + weight(neighbours[v].opposite)];
         ++tokens[f.bucket[v] * std::size_t(kRansAlphabet) + token];
         for (std::size_t j = 0; j < kTokens.escapes[token]; ++j) {
             const std::int64_t e = q[kTokens.escaped_coordinates[token][j]];
@@ -243,17 +243,17 @@ std::vector<SpatialReference> spatial_references(std::size_t n, const std::vecto
     return refs;
 }
 
-ContextNeighbours context_neighbours(const std::vector<SpatialReference>& refs) {
+std::vector<ContextNeighbours> context_neighbours(const std::vector<SpatialReference>& refs) {
     const std::size_t n = refs.size();
-    ContextNeighbours out{std::vector<std::uint32_t>(n, static_cast<std::uint32_t>(n)),
-                          std::vector<std::uint32_t>(n, static_cast<std::uint32_t>(n))};
+    const auto none = static_cast<std::uint32_t>(n);
+    std::vector<ContextNeighbours> out(n, ContextNeighbours{none, none});
     // A neighbour counts only if decoded at least kRansLanes tokens earlier.
     auto usable = [](std::int32_t u, std::size_t v) { return u >= 0 && std::size_t(u) + kRansLanes <= v; };
     for (std::size_t v = 0; v < n; ++v) {
         const SpatialReference& r = refs[v];
         const std::int32_t far = r.b < 0 ? r.a : std::min(r.a, r.b);
-        if (usable(far, v)) out.far[v] = static_cast<std::uint32_t>(far);
-        if (usable(r.c, v)) out.opposite[v] = static_cast<std::uint32_t>(r.c);
+        if (usable(far, v)) out[v].far = static_cast<std::uint32_t>(far);
+        if (usable(r.c, v)) out[v].opposite = static_cast<std::uint32_t>(r.c);
     }
     return out;
 }
@@ -301,7 +301,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
                                             int forced_mode) {
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
-    const ContextNeighbours neighbours = context_neighbours(refs);
+    const std::vector<ContextNeighbours> neighbours = context_neighbours(refs);
     // Decoded frames (what the decoder will hold) are the references of later frames.
     std::vector<std::int32_t> decoded(grid.size(), 0);
     std::vector<const std::int32_t*> decoded_frames(layout.frames);

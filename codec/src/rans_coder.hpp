@@ -82,11 +82,12 @@ public:
     static int decode(const std::uint32_t* slots, std::uint32_t& x, const std::uint8_t*& pos) {
         const std::uint32_t e = slots[x & (kRansTotal - 1)];
         x = ((e >> 6) & 0x1fffu) * (x >> kRansProbabilityBits) + (e >> 19);
-        // Branch-free: whether a word is needed is as unpredictable as the symbol.
+        // Branch-free (in arithmetic, so the compiler cannot make a branch of it): whether a
+        // word is needed is as unpredictable as the symbol.
         const std::uint32_t word = std::uint32_t(pos[0]) | (std::uint32_t(pos[1]) << 8);
-        const bool need = x < kLow;
-        x = need ? (x << 16) | word : x;
-        pos += need ? 2 : 0;
+        const std::uint32_t need = x < kLow;
+        x = (x << (16 * need)) | (word & (0u - need));
+        pos += 2 * need;
         return static_cast<int>(e & 63u);
     }
     const std::uint8_t* position() const { return pos_; }

@@ -37,6 +37,8 @@ struct TokenTraits {
     std::array<std::array<std::int32_t, 4>, kRansAlphabet> value{};
     std::array<std::array<std::uint8_t, 3>, kRansAlphabet> escaped_coordinates{};  // the first `escapes` entries
     std::array<std::uint8_t, 13> bucket{};                 // of two weights summed: 0, 1, 2-3, 4-7, 8-12
+    // The bucket of two neighbours' tokens a and b at [a << 6 | b]: the decoder's one lookup.
+    std::array<std::uint8_t, kRansAlphabet * kRansAlphabet> pair_bucket{};
     constexpr TokenTraits() {
         for (int t = 0; t < kRansAlphabet; ++t)
             for (int c = 0; c < 3; ++c) {
@@ -46,6 +48,8 @@ struct TokenTraits {
                 value[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)] = k == 1 ? 1 : k == 2 ? -1 : 0;
             }
         for (int a = 0; a < 13; ++a) bucket[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>(std::min(static_cast<int>(std::bit_width(unsigned(a))), kActivityBuckets - 1));
+        for (std::size_t a = 0; a < kRansAlphabet; ++a)
+            for (std::size_t b = 0; b < kRansAlphabet; ++b) pair_bucket[a << 6 | b] = bucket[weight[a] + weight[b]];
     }
 };
 inline constexpr TokenTraits kTokens{};
@@ -57,11 +61,11 @@ constexpr int level_table_base(int level_class) { return token_level(level_class
 constexpr int escape_length(std::int64_t q) { return std::bit_width(static_cast<std::uint64_t>(q < 0 ? -q : q)); }
 constexpr int escape_symbol(std::int64_t q) { return (escape_length(q) - 2) * 2 + (q < 0); }
 
-// Per vertex, the two context neighbours (index `vertices` when there is none): the farther
-// of the spatial prediction's two edge neighbours and the parallelogram's opposite corner.
+// A vertex's two context neighbours (index `vertices` when there is none): the farther of
+// the spatial prediction's two edge neighbours and the parallelogram's opposite corner.
 struct ContextNeighbours {
-    std::vector<std::uint32_t> far, opposite;
+    std::uint32_t far, opposite;
 };
-ContextNeighbours context_neighbours(const std::vector<SpatialReference>& refs);
+std::vector<ContextNeighbours> context_neighbours(const std::vector<SpatialReference>& refs);
 
 }  // namespace foldcast::codec
