@@ -57,12 +57,21 @@ std::size_t token_values(const std::uint8_t* token, std::size_t n, std::int32_t*
     return count;
 }
 
+// The encoder's grid coordinates lie in [0, G] with G the bounds' extent in grid steps (the
+// same double arithmetic as the encoder's rounding), decoded ones within m / 2 of them.
+std::int32_t grid_high(const Header& h) {
+    double extent = 0.0;
+    for (int c = 0; c < 3; ++c) extent = std::max(extent, std::round((double(h.bounds.max[c]) - double(h.bounds.min[c])) / h.step));
+    if (!(extent <= double(kMaxGridValue))) extent = double(kMaxGridValue);  // also NaN: the widest range
+    return static_cast<std::int32_t>(extent) + std::int32_t(kMaxResidualStep);
+}
+
 class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
         : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
           refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)), runs_(spatial_runs(refs_)),
-          residual_step_(static_cast<std::int64_t>(h.threshold)), positions_(h.frames), decoded_(h.frames, 0),
+          residual_step_(static_cast<std::int64_t>(h.threshold)), grid_high_(grid_high(h)), positions_(h.frames), decoded_(h.frames, 0),
           grids_(h.frames), frame_grid_(h.frames, nullptr), uniform_(uniform_table(true)), tables_(kTables) {
         slots_.fill(uniform_.slots.data());
     }
@@ -115,7 +124,8 @@ public:
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
             decode_residuals(rans, bits, layout_.level_class[t], r);
-            predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, temporal_.data());
+            predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, grid_high_,
+                          temporal_.data());
             // Integer frames outlive their packet only if a later packet predicts from them.
             const bool kept = layout_.referenced_later[t];
             if (kept) grids_[t].resize(row);
@@ -210,77 +220,31 @@ private:
     // valid file every true value lies in int32, so wrapping changes nothing, and corrupt
     // data can only produce an out-of-range coordinate, caught below, never overflow.
     bool reconstruct_grid(bool use_spatial, std::int32_t* grid, std::vector<Vec3f>& positions) {
-        const std::size_t n = header_.vertices, row = 3 * n;
         const auto m = static_cast<std::uint32_t>(residual_step_);
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
-        const auto* temporal = reinterpret_cast<const std::uint32_t*>(temporal_.data());
+        if (!use_spatial) return finish_frame([&](std::size_t k) { return q[k] * m; }, grid, positions.data()->data());
         std::uint32_t* r = residual_.data();
-        if (use_spatial) {
-            for (const SpatialRun& run : runs_) spatial_run(run, q, m, r);
-        } else {
-            for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
-        }
-        // Decoded coordinates stay within m / 2 of the encoder's grid [0, kMaxGridValue].
-        constexpr std::int32_t low = -static_cast<std::int32_t>(kMaxResidualStep), high = kMaxGridValue + kMaxResidualStep;
+        spatial_residuals(runs_, refs_, q, m, r);
+        return finish_frame([&](std::size_t k) { return r[k]; }, grid, positions.data()->data());
+    }
+
+    // grid = temporal + residual(k), then position = bounds.min + step * grid.  False if a
+    // coordinate leaves the grid's range.
+    template <typename Residual>
+    bool finish_frame(Residual residual, std::int32_t* grid, float* out) const {
+        const std::size_t row = 3 * std::size_t(header_.vertices);
+        const auto* temporal = reinterpret_cast<const std::uint32_t*>(temporal_.data());
         std::int32_t lowest = 0, highest = 0;
         for (std::size_t k = 0; k < row; ++k) {
-            const auto g = static_cast<std::int32_t>(temporal[k] + r[k]);
+            const auto g = static_cast<std::int32_t>(temporal[k] + residual(k));
             lowest = std::min(lowest, g);
             highest = std::max(highest, g);
             grid[k] = g;
         }
-        if (lowest < low || highest > high) return false;
-        to_positions(grid, positions.data()->data());
-        return true;
-    }
-
-    // Residuals of one run of vertices (see SpatialRun), in place in r.
-    void spatial_run(const SpatialRun& run, const std::uint32_t* q, std::uint32_t m, std::uint32_t* r) const {
-        const std::size_t begin = 3 * std::size_t(run.begin), end = 3 * std::size_t(run.end);
-        switch (run.kind) {
-        case SpatialRun::Kind::none:
-            for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m;
-            return;
-        case SpatialRun::Kind::gather:
-            for (std::size_t v = run.begin; v < run.end; ++v) {
-                const SpatialReference& s = refs_[v];
-                for (std::size_t c = 0; c < 3; ++c) {
-                    std::uint32_t p = s.a < 0 ? 0 : r[3 * std::size_t(s.a) + c];
-                    if (s.c >= 0) p += r[3 * std::size_t(s.b) + c] - r[3 * std::size_t(s.c) + c];
-                    r[3 * v + c] = q[3 * v + c] * m + p;
-                }
-            }
-            return;
-        case SpatialRun::Kind::row: {
-            // r_v = r_{v-1} + (q_v m + r_{v-up} - r_{v-corner}): the bracket reads only
-            // vertices before the run (vectorised), then a running sum along the run.
-            const std::size_t up = 3 * std::size_t(run.up), corner = 3 * std::size_t(run.corner);
-            for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m + r[k - up] - r[k - corner];
-            std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
-            for (std::size_t k = begin; k < end; k += 3) {
-                r[k] = x += r[k];
-                r[k + 1] = y += r[k + 1];
-                r[k + 2] = z += r[k + 2];
-            }
-            return;
-        }
-        case SpatialRun::Kind::chain: {
-            std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
-            for (std::size_t k = begin; k < end; k += 3) {
-                r[k] = x += q[k] * m;
-                r[k + 1] = y += q[k + 1] * m;
-                r[k + 2] = z += q[k + 2] * m;
-            }
-            return;
-        }
-        }
-    }
-
-    // position = bounds.min + step * grid, in double (grid values need up to 31 bits).
-    void to_positions(const std::int32_t* grid, float* out) const {
-        const std::size_t row = 3 * std::size_t(header_.vertices);
+        if (lowest < -std::int32_t(kMaxResidualStep) || highest > grid_high_) return false;
+        // In double (grid values need up to 31 bits), four vertices at a time with the origin
+        // repeated, so the loop vectorises.
         const double step = header_.step;
-        // Four vertices at a time with the origin repeated, so the loop vectorises.
         constexpr std::size_t kBlock = 12;
         double origin[kBlock];
         for (std::size_t j = 0; j < kBlock; ++j) origin[j] = header_.bounds.min[static_cast<Eigen::Index>(j % 3)];
@@ -288,6 +252,7 @@ private:
         for (; k + kBlock <= row; k += kBlock)
             for (std::size_t j = 0; j < kBlock; ++j) out[k + j] = static_cast<float>(origin[j] + step * double(grid[k + j]));
         for (std::size_t j = 0; k < row; ++k, ++j) out[k] = static_cast<float>(origin[j] + step * double(grid[k]));
+        return true;
     }
 
     Header header_;
@@ -297,6 +262,7 @@ private:
     std::vector<ContextNeighbours> neighbours_;
     std::vector<SpatialRun> runs_;
     std::int64_t residual_step_;
+    std::int32_t grid_high_;  // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
     std::vector<std::vector<std::int32_t>> grids_;  // integer frames kept for later packets

@@ -36,7 +36,7 @@ private:
 // One loop per kind, so the compiler vectorises it; encoder and decoder share it, so they
 // predict bit for bit alike.
 void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* const* frames, std::size_t row,
-                 std::int32_t* out) {
+                 std::int64_t largest, std::int32_t* out) {
     switch (ref.kind) {
     case TemporalReference::Kind::none: std::fill(out, out + row, 0); return;
     case TemporalReference::Kind::copy: {
@@ -56,6 +56,10 @@ void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t
     case TemporalReference::Kind::cubic: {
         const std::int32_t *a = frames[ref.frames[0]], *b = frames[ref.frames[1]], *c = frames[ref.frames[2]],
                            *d = frames[ref.frames[3]];
+        if (cubic_fits_int32(largest)) {
+            for (std::size_t k = 0; k < row; ++k) out[k] = (-a[k] + 9 * b[k] + 9 * c[k] - d[k] + 8) >> 4;
+            return;
+        }
         for (std::size_t k = 0; k < row; ++k)
             out[k] = static_cast<std::int32_t>((-std::int64_t(a[k]) + 9 * std::int64_t(b[k]) + 9 * std::int64_t(c[k]) - std::int64_t(d[k]) + 8) >> 4);
         return;
@@ -74,7 +78,7 @@ inline std::pair<std::size_t, std::size_t> bracket(const TemporalReference& ref)
 }  // namespace
 
 void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t t, const std::int32_t* const* frames,
-                   std::size_t row, std::int32_t* out) {
+                   std::size_t row, std::int64_t largest, std::int32_t* out) {
     const auto [left, right] = bracket(ref);
     TemporalReference r = ref;
     switch (mode) {
@@ -84,7 +88,7 @@ void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t 
     case TemporalMode::copy_right: r = {TemporalReference::Kind::copy, {right, 0, 0, 0}}; break;
     case TemporalMode::none: r = {}; break;
     }
-    predict_row(r, t, frames, row, out);
+    predict_row(r, t, frames, row, largest, out);
 }
 
 
@@ -302,6 +306,10 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
     const std::vector<ContextNeighbours> neighbours = context_neighbours(refs);
+    // Decoded coordinates lie within m / 2 of the grid's.
+    std::int64_t largest = 0;
+    for (std::int32_t g : grid) largest = std::max<std::int64_t>(largest, g < 0 ? -std::int64_t(g) : g);
+    largest += m;
     // Decoded frames (what the decoder will hold) are the references of later frames.
     std::vector<std::int32_t> decoded(grid.size(), 0);
     std::vector<const std::int32_t*> decoded_frames(layout.frames);
@@ -331,7 +339,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             for (int candidate = 0; candidate < kFrameModes; ++candidate) {
                 if (!frame_mode_allowed(ref, candidate) || (forced_mode >= 0 && candidate != forced_mode)) continue;
                 if (candidate / 2 == static_cast<int>(TemporalMode::linear) && ref.kind == TemporalReference::Kind::linear) continue;
-                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded_frames.data(), row, trial.temporal.data());
+                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded_frames.data(), row, largest, trial.temporal.data());
                 run_frame(refs, neighbours, n, target, m, candidate % 2 == 1, trial);
                 if (mode < 0 || trial.bits < best.bits) {
                     std::swap(trial, best);
@@ -340,7 +348,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             }
             if (mode < 0) {  // forced mode not allowed here: the layout's reference with spatial prediction
                 mode = 1;
-                predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, best.temporal.data());
+                predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, best.temporal.data());
                 run_frame(refs, neighbours, n, target, m, true, best);
             }
             modes.push_back(mode);

@@ -9,6 +9,7 @@
 // encoder and sent.  Static-model rANS of one token per vertex (residual_tokens.hpp).
 // Integers make encoder and decoder agree bit for bit on every machine.
 #include <array>
+#include <climits>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -69,10 +70,13 @@ constexpr int kModeBits = 4;  // per frame, in the packet's side information
 
 // Temporal prediction of every coordinate of frame t in `mode` (frame_mode_allowed) from
 // decoded frames (frames[f]: frame f's 3N grid coordinates; only the references are read);
-// encoder and decoder share it, so they agree bit for bit.  Predictions of in-range frames
+// encoder and decoder share it, so they agree bit for bit.  `largest` bounds the magnitude
+// of every coordinate read: small enough (cubic_fits_int32), the cubic is computed in int32,
+// which vectorises twice as wide, with the same result.  Predictions of in-range frames
 // stay within int32.
 void predict_frame(const TemporalReference& reference, TemporalMode mode, std::size_t t, const std::int32_t* const* frames,
-                   std::size_t row, std::int32_t* out);
+                   std::size_t row, std::int64_t largest, std::int32_t* out);
+constexpr bool cubic_fits_int32(std::int64_t largest) { return 20 * largest + 8 <= std::int64_t(INT32_MAX); }
 
 // Spatial prediction of coordinate c's temporal residual at a vertex: r_a + r_b - r_c.
 template <typename Residual>

@@ -35,4 +35,53 @@ std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs) 
     return runs;
 }
 
+namespace {
+void run_residuals(const SpatialRun& run, const std::vector<SpatialReference>& refs, const std::uint32_t* q, std::uint32_t m,
+                   std::uint32_t* r) {
+    const std::size_t begin = 3 * std::size_t(run.begin), end = 3 * std::size_t(run.end);
+    switch (run.kind) {
+    case SpatialRun::Kind::none:
+        for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m;
+        return;
+    case SpatialRun::Kind::gather:
+        for (std::size_t v = run.begin; v < run.end; ++v) {
+            const SpatialReference& s = refs[v];
+            for (std::size_t c = 0; c < 3; ++c) {
+                std::uint32_t p = s.a < 0 ? 0 : r[3 * std::size_t(s.a) + c];
+                if (s.c >= 0) p += r[3 * std::size_t(s.b) + c] - r[3 * std::size_t(s.c) + c];
+                r[3 * v + c] = q[3 * v + c] * m + p;
+            }
+        }
+        return;
+    case SpatialRun::Kind::row: {
+        // r_v = r_{v-1} + (q_v m + r_{v-up} - r_{v-corner}): the bracket reads only vertices
+        // before the run (vectorised), then a running sum along the run.
+        const std::size_t up = 3 * std::size_t(run.up), corner = 3 * std::size_t(run.corner);
+        for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m + r[k - up] - r[k - corner];
+        std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
+        for (std::size_t k = begin; k < end; k += 3) {
+            r[k] = x += r[k];
+            r[k + 1] = y += r[k + 1];
+            r[k + 2] = z += r[k + 2];
+        }
+        return;
+    }
+    case SpatialRun::Kind::chain: {
+        std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
+        for (std::size_t k = begin; k < end; k += 3) {
+            r[k] = x += q[k] * m;
+            r[k + 1] = y += q[k + 1] * m;
+            r[k + 2] = z += q[k + 2] * m;
+        }
+        return;
+    }
+    }
+}
+}  // namespace
+
+void spatial_residuals(const std::vector<SpatialRun>& runs, const std::vector<SpatialReference>& refs, const std::uint32_t* q,
+                       std::uint32_t m, std::uint32_t* r) {
+    for (const SpatialRun& run : runs) run_residuals(run, refs, q, m, r);
+}
+
 }  // namespace foldcast::codec

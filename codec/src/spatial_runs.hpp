@@ -26,4 +26,10 @@ struct SpatialRun {
 // Runs covering [0, refs.size()) in order.
 std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs);
 
+// A frame's residuals r (3 per vertex) from its quantised values q and step m, run by run.
+// Unsigned arithmetic wraps modulo 2^32: for a valid file every true value fits int32, so
+// the result is exact, and corrupt values cannot overflow (the caller range-checks).
+void spatial_residuals(const std::vector<SpatialRun>& runs, const std::vector<SpatialReference>& refs, const std::uint32_t* q,
+                       std::uint32_t m, std::uint32_t* r);
+
 }  // namespace foldcast::codec

@@ -51,13 +51,19 @@ struct Coded {
 
 // Encodes with `mode` (-1: the encoder's choice) and decodes through the profile decoder;
 // the grid step is 1 m so decoded positions are grid coordinates.
-Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode) {
+Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode, float bounds_scale = 1.0f) {
     const std::size_t n = kCols * kRows;
     Header h;
     h.vertices = static_cast<std::uint32_t>(n);
     h.frames = static_cast<std::uint32_t>(frames);
     h.topology.triangles = grid_triangles();
     h.step = 1.0;
+    // Bounds as the encoder writes them: the decoder bounds the grid's range by them.
+    for (std::size_t k = 0; k < grid.size(); ++k) {
+        const auto c = static_cast<Eigen::Index>(k % 3);
+        h.bounds.max[c] = std::max(h.bounds.max[c], static_cast<float>(grid[k]));
+    }
+    h.bounds.max *= bounds_scale;
     h.threshold = m;
     h.profile_param = static_cast<std::uint32_t>(default_stride_log2(frames));
     const PredictiveLayout layout(frames, static_cast<int>(h.profile_param));
@@ -128,6 +134,17 @@ TEST(PredictionModes, ClosedLoopQuantiserCostsLessThanCodingTheGridLosslessly) {
     }
     const std::size_t closed_loop = code(fine, frames, 15, -1).bytes, lossless = code(coarse, frames, 1, -1).bytes;
     EXPECT_LT(double(closed_loop), 0.7 * double(lossless)) << closed_loop << " vs " << lossless;
+}
+
+TEST(PredictionModes, CoordinatesBeyondTheHeaderBoundsAreCorruptData) {
+    const std::vector<std::int32_t> grid = sheet_grid(17, 17);
+    EXPECT_NO_THROW(code(grid, 17, 32, -1));
+    try {
+        code(grid, 17, 32, -1, 0.5f);
+        FAIL() << "a frame beyond the header's bounds decoded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("leaves the quantisation grid"), std::string::npos) << e.what();
+    }
 }
 
 TEST(PredictionModes, HeaderResidualStepOutsideItsRangeIsRejected) {
