@@ -76,6 +76,11 @@ public:
         slots_.fill(uniform_.slots.data());
     }
 
+    void reuse(std::vector<std::vector<Vec3f>>&& frames) override {
+        positions_ = std::move(frames);
+        positions_.resize(header_.frames);
+    }
+
     // Hands the decoded frames over instead of copying them when every frame is decoded.
     void release(std::vector<std::vector<Vec3f>>& frames) override {
         if (std::find(decoded_.begin(), decoded_.end(), 0) != decoded_.end()) {
@@ -120,20 +125,28 @@ public:
         q_.resize(row + 1);
         temporal_.resize(row);
         residual_.resize(row);
-        scratch_.resize(frames.size() * row);
+        // Integer frames: kept in grids_ if a later packet predicts from them, in scratch_
+        // for this packet if only its frames do, else in one row (scratch_'s first) reused.
+        std::size_t packet_references = 0;
+        for (std::size_t t : frames) packet_references += layout_.referenced[t] && !layout_.referenced_later[t];
+        scratch_.resize((1 + packet_references) * row);
+        std::size_t next_scratch = 1;
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
             decode_residuals(rans, bits, layout_.level_class[t], r);
             predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, grid_high_,
                           temporal_.data());
-            // Integer frames outlive their packet only if a later packet predicts from them.
-            const bool kept = layout_.referenced_later[t];
-            if (kept) grids_[t].resize(row);
-            std::int32_t* grid = kept ? grids_[t].data() : scratch_.data() + i * row;
+            std::int32_t* grid = scratch_.data();
+            if (layout_.referenced_later[t]) {
+                grids_[t].resize(row);
+                grid = grids_[t].data();
+            } else if (layout_.referenced[t]) {
+                grid = scratch_.data() + row * next_scratch++;
+            }
             positions_[t].resize(n);
             if (!reconstruct_grid(modes[i] % 2 == 1, grid, positions_[t]))
                 r.fail("frame " + std::to_string(t) + ": position leaves the quantisation grid (corrupt data)");
-            frame_grid_[t] = grid;
+            frame_grid_[t] = layout_.referenced[t] ? grid : nullptr;
             decoded_[t] = 1;
         }
         received_ = sequence + 1;

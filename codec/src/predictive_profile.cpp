@@ -202,10 +202,14 @@ PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), 
     std::vector<std::size_t> packet_of(t, 0);
     for (std::size_t k = 0; k < packets.size(); ++k)
         for (std::size_t f : packets[k]) packet_of[f] = k;
+    referenced.assign(t, 0);
     referenced_later.assign(t, 0);
     for (std::size_t f = 0; f < t; ++f)
-        for (std::size_t i = 0; i < references[f].count(); ++i)
-            if (const std::size_t r = references[f].frames[i]; packet_of[r] < packet_of[f]) referenced_later[r] = 1;
+        for (std::size_t i = 0; i < references[f].count(); ++i) {
+            const std::size_t r = references[f].frames[i];
+            referenced[r] = 1;
+            if (packet_of[r] < packet_of[f]) referenced_later[r] = 1;
+        }
 }
 
 std::vector<SpatialReference> spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {

@@ -35,6 +35,7 @@ struct PredictiveLayout {
     std::vector<TemporalReference> references;  // per frame
     std::vector<int> level_class;               // per frame: 0 keyframe, 1 + log2(h) for midpoints at spacing h
     std::vector<std::size_t> playable_after;    // frames final once packets [0, k) arrived
+    std::vector<char> referenced;               // per frame: some frame predicts from it
     std::vector<char> referenced_later;         // per frame: a later packet predicts from it (the keyframes)
 };
 

@@ -19,6 +19,9 @@ public:
     virtual std::size_t playable_frames() const = 0;
     // frames is resized to T frames of N vertices.
     virtual void reconstruct(std::vector<std::vector<Vec3f>>& frames) const = 0;
+    // Buffers of an earlier animation to decode into, given before the first data packet:
+    // profiles that can overwrite frames of the right size instead of allocating them.
+    virtual void reuse(std::vector<std::vector<Vec3f>>&& frames) { frames.clear(); }
     // reconstruct(), but a profile may hand over its own frames instead of copying them,
     // after which it is empty.
     virtual void release(std::vector<std::vector<Vec3f>>& frames) { reconstruct(frames); }

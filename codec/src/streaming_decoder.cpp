@@ -22,6 +22,7 @@ struct StreamingDecoder::Impl {
     std::size_t data_packets = 0;
     Header header;
     std::unique_ptr<ProfileDecoder> profile;
+    std::vector<std::vector<Vec3f>> recycled;  // frame buffers for the profile, until it exists
 
     void require() const {
         if (!profile) fail("no complete header yet (too short to be an .fca file)");
@@ -43,6 +44,7 @@ struct StreamingDecoder::Impl {
             header = parse_header(payload, what, known_total);
             profile = header.profile == Profile::paper ? make_paper_decoder(header, what)
                                                        : make_predictive_decoder(header, what);
+            profile->reuse(std::move(recycled));
             return;
         }
         ByteReader r(payload, what + ": " + where);
@@ -68,36 +70,37 @@ struct StreamingDecoder::Impl {
         r.fail("unknown packet type " + std::to_string(static_cast<int>(type)));
     }
 
-    void process() {
+    // Decodes every complete packet of `input`; `used` says how many bytes it consumed,
+    // also when it throws.
+    void process(std::string_view input, std::size_t& used) {
         if (!magic_ok) {
-            const std::size_t n = std::min(pending.size(), sizeof(kMagic));
-            if (std::memcmp(pending.data(), kMagic, n) != 0) fail("not an .fca file (bad magic bytes)");
-            if (pending.size() < sizeof(kMagic)) return;
+            const std::size_t n = std::min(input.size(), sizeof(kMagic));
+            if (std::memcmp(input.data(), kMagic, n) != 0) fail("not an .fca file (bad magic bytes)");
+            if (input.size() < sizeof(kMagic)) return;
             magic_ok = true;
-            pending.erase(0, sizeof(kMagic));
+            used = sizeof(kMagic);
             consumed += sizeof(kMagic);
         }
-        std::size_t pos = 0;
-        while (pending.size() - pos >= 5) {
+        while (input.size() - used >= 5) {
+            const char* at = input.data() + used;
             std::uint32_t length;
-            std::memcpy(&length, pending.data() + pos, 4);
-            const auto type = static_cast<PacketType>(static_cast<std::uint8_t>(pending[pos + 4]));
+            std::memcpy(&length, at, 4);
+            const auto type = static_cast<PacketType>(static_cast<std::uint8_t>(at[4]));
             if (length > kMaxPayloadBytes) fail("packet " + std::to_string(packets) + " claims " + std::to_string(length) + " bytes (limit 2^30)");
             if (profile && consumed + kPacketOverhead + length > header.total_bytes)
                 fail("packet " + std::to_string(packets) + " runs past the size the header declares");
-            if (pending.size() - pos < kPacketOverhead + length) break;  // wait for the rest
-            const std::string_view typed(pending.data() + pos + 4, 1 + length);
+            if (input.size() - used < kPacketOverhead + length) break;  // wait for the rest
+            const std::string_view typed(at + 4, 1 + length);
             std::uint32_t stored;
-            std::memcpy(&stored, pending.data() + pos + 5 + length, 4);
+            std::memcpy(&stored, at + 5 + length, 4);
             if (crc32(typed) != stored) fail("packet " + std::to_string(packets) + " at byte " + std::to_string(consumed) + " is corrupt (CRC mismatch)");
             if (type != PacketType::header && type != PacketType::data && type != PacketType::end)
                 fail("packet " + std::to_string(packets) + " has unknown type " + std::to_string(static_cast<int>(type)));
             handle(type, typed.substr(1));
             ++packets;
-            pos += kPacketOverhead + length;
+            used += kPacketOverhead + length;
             consumed += kPacketOverhead + length;
         }
-        pending.erase(0, pos);
     }
 };
 
@@ -111,8 +114,29 @@ StreamingDecoder::StreamingDecoder(StreamingDecoder&&) noexcept = default;
 StreamingDecoder& StreamingDecoder::operator=(StreamingDecoder&&) noexcept = default;
 
 void StreamingDecoder::feed(std::string_view bytes) {
-    impl_->pending.append(bytes);
-    impl_->process();
+    // Packets are read straight from the caller's bytes when nothing is pending (a whole
+    // file: no copy); only an incomplete packet, or one that failed, waits in `pending`.
+    std::string& pending = impl_->pending;
+    const bool from_pending = !pending.empty();
+    if (from_pending) pending.append(bytes);
+    const std::string_view input = from_pending ? std::string_view(pending) : bytes;
+    std::size_t used = 0;
+    auto keep_rest = [&] {
+        if (from_pending) pending.erase(0, used);
+        else pending.assign(input.substr(used));
+    };
+    try {
+        impl_->process(input, used);
+    } catch (...) {
+        keep_rest();
+        throw;
+    }
+    keep_rest();
+}
+
+void StreamingDecoder::reuse(std::vector<std::vector<Vec3f>>&& frames) {
+    if (!impl_->profile) impl_->recycled = std::move(frames);
+    else if (impl_->data_packets == 0) impl_->profile->reuse(std::move(frames));
 }
 
 StreamStatus StreamingDecoder::status() const {
@@ -156,9 +180,17 @@ std::vector<Vec3f> StreamingDecoder::frame(std::size_t t) const {
 }
 
 Animation decode(std::string_view bytes, const std::string& what) {
+    Animation anim;
+    decode(bytes, anim, what);
+    return anim;
+}
+
+void decode(std::string_view bytes, Animation& out, const std::string& what) {
     StreamingDecoder decoder(what, bytes.size());
+    decoder.reuse(std::move(out.frames));
+    out = Animation{};
     decoder.feed(bytes);
-    return decoder.take_animation();
+    out = decoder.take_animation();
 }
 
 }  // namespace foldcast::codec

@@ -77,6 +77,44 @@ TEST_P(Streaming, FrameAccessorMatchesAnimation) {
     EXPECT_EQ(d.profile(), GetParam());
 }
 
+// Decoding into an earlier animation's buffers gives the same frames, whatever that
+// animation held, and overwrites buffers of the right size instead of allocating.
+TEST_P(Streaming, DecodingIntoAnEarlierAnimationGivesTheSameFrames) {
+    const Animation a = test::wave_grid(6, 5, 30);
+    const std::string bytes = encode(a, profile_options(GetParam()));
+    const Animation fresh = decode(bytes);
+    for (Animation earlier : {test::basic_cloth(), test::wave_grid(6, 5, 12), fresh, Animation{}}) {
+        decode(bytes, earlier);
+        EXPECT_EQ(earlier.frames, fresh.frames);
+        EXPECT_EQ(earlier.topology.triangles, fresh.topology.triangles);
+        EXPECT_EQ(earlier.fps, fresh.fps);
+    }
+    if (GetParam() == Profile::predictive) {
+        Animation earlier = fresh;
+        const Vec3f* buffer = earlier.frames[7].data();
+        decode(bytes, earlier);
+        EXPECT_EQ(earlier.frames[7].data(), buffer);
+    }
+}
+
+// A corrupt packet fails the feed that completes it and stays failing; what was accepted
+// before it is kept, and a whole-buffer decode into an animation leaves it empty.
+TEST_P(Streaming, CorruptPacketIsReportedAgainAndEarlierPacketsKept) {
+    const Animation a = test::basic_cloth();
+    std::string bytes = encode(a, profile_options(GetParam()));
+    bytes[bytes.size() - 40] = static_cast<char>(bytes[bytes.size() - 40] ^ 0x5a);
+    StreamingDecoder d("s");
+    EXPECT_THROW(d.feed(bytes), InputError);
+    const std::size_t accepted = d.status().packets;
+    EXPECT_GT(accepted, 1u);
+    EXPECT_THROW(d.feed(""), InputError);
+    EXPECT_EQ(d.status().packets, accepted);
+    EXPECT_EQ(d.animation().frame_count(), a.frame_count());
+    Animation out = a;
+    EXPECT_THROW(decode(bytes, out), InputError);
+    EXPECT_EQ(out.frame_count(), 0u);
+}
+
 // Before a group's packet arrives, its frames are the linear blend of the keyframes around
 // them (the default profile's keyframes come first).
 TEST(StreamingDefault, FramesBetweenKeyframesBlendThem) {

@@ -49,6 +49,10 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
 // Whole-buffer decode.  A truncated buffer (a prefix of a valid file) decodes to the best
 // animation it allows; corrupted or hostile bytes throw InputError naming `what`.
 Animation decode(std::string_view bytes, const std::string& what = "fca data");
+// The same into `out`, overwriting its frame buffers where they have the size instead of
+// allocating new ones (a player or converter decoding clip after clip).  On InputError,
+// `out` is left empty.
+void decode(std::string_view bytes, Animation& out, const std::string& what = "fca data");
 
 struct StreamStatus {
     bool header_ready = false;
@@ -70,6 +74,10 @@ public:
     // Appends bytes and decodes every packet that is now complete.  Throws InputError on
     // corrupt data; after a throw the decoder keeps what it had accepted before.
     void feed(std::string_view bytes);
+    // Frame buffers to decode into (those of an earlier animation), given before the first
+    // data packet: frames of the right size are overwritten instead of allocated.  Ignored
+    // once data has been decoded.
+    void reuse(std::vector<std::vector<Vec3f>>&& frames);
     StreamStatus status() const;
 
     // Valid once status().header_ready.
