@@ -46,13 +46,20 @@ void decode_tokens(RansDecoder& rans, const std::uint32_t* const* level_slots, c
 }
 
 // The residuals the tokens stand for into q (3n + 1 values: each vertex writes 4), escaped
-// coordinates 0 for now; returns how many vertices have escapes, listed in `escaped`.
+// coordinates 0 for now; returns how many coordinates are escaped, their indices in q listed
+// in `escaped` (3n + 4 entries: each vertex writes 4, then moves on by its escape count).
 std::size_t token_values(const std::uint8_t* token, std::size_t n, std::int32_t* q, std::uint32_t* escaped) {
+    // Four lanes at once (a GNU vector: one add and one store on any target).
+    using Lanes = std::uint32_t __attribute__((vector_size(16)));
     std::size_t count = 0;
     for (std::size_t v = 0; v < n; ++v) {
-        std::memcpy(q + 3 * v, kTokens.value[token[v]].data(), 4 * sizeof(std::int32_t));
-        escaped[count] = static_cast<std::uint32_t>(v);
-        count += kTokens.escapes[token[v]] != 0;
+        const std::uint8_t t = token[v];
+        std::memcpy(q + 3 * v, kTokens.value[t].data(), 4 * sizeof(std::int32_t));
+        Lanes indices;
+        std::memcpy(&indices, kTokens.escaped_coordinates[t].data(), sizeof indices);
+        indices += static_cast<std::uint32_t>(3 * v);
+        std::memcpy(escaped + count, &indices, sizeof indices);
+        count += kTokens.escapes[t];
     }
     return count;
 }
@@ -118,10 +125,12 @@ public:
             slots_[static_cast<std::size_t>(id)] = tables_[static_cast<std::size_t>(id)].slots.data();
         }
         if (bits.overrun()) r.fail("side information is truncated");
+        // The rest of the side information: the escapes' raw bits, in decoding order.
+        PaddedBitReader raw(bits.bytes(), bits.bit_position(), raw_bits_);
 
         const std::size_t n = header_.vertices, row = 3 * n;
         token_.assign(n + 1, 0);
-        escaped_.resize(n + 1);
+        escaped_.resize(3 * n + 4);
         q_.resize(row + 1);
         temporal_.resize(row);
         residual_.resize(row);
@@ -133,7 +142,7 @@ public:
         std::size_t next_scratch = 1;
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
-            decode_residuals(rans, bits, layout_.level_class[t], r);
+            decode_residuals(rans, raw, layout_.level_class[t], r);
             predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, grid_high_,
                           temporal_.data());
             std::int32_t* grid = scratch_.data();
@@ -189,7 +198,7 @@ public:
 
 private:
     // One frame's quantised residuals into q_.
-    void decode_residuals(RansDecoder& rans, BitReader& bits, int level_class, const ByteReader& r) {
+    void decode_residuals(RansDecoder& rans, PaddedBitReader& bits, int level_class, const ByteReader& r) {
         const std::size_t n = header_.vertices;
         decode_tokens(rans, slots_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
@@ -202,25 +211,20 @@ private:
         std::uint32_t x = rans.state[first_lane], y = rans.state[(first_lane + 1) % kRansLanes],
                       z = rans.state[(first_lane + 2) % kRansLanes], w = rans.state[(first_lane + 3) % kRansLanes];
         const std::uint8_t* pos = rans.position();
-        std::size_t symbols = 0;
         bool in_range = true;
         for (std::size_t i = 0; i < escaped; ++i) {
-            const std::uint32_t v = escaped_[i];
-            const auto& coordinates = kTokens.escaped_coordinates[token_[v]];
-            for (std::size_t j = 0; j < kTokens.escapes[token_[v]]; ++j) {
-                const int symbol = RansDecoder::decode(escape_slots, x, pos);
-                std::swap(x, y);
-                std::swap(y, z);
-                std::swap(z, w);
-                ++symbols;
-                const int length = symbol / 2 + 2;
-                const std::int64_t magnitude =
-                    length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
-                in_range &= magnitude <= largest;
-                const auto bounded = static_cast<std::int32_t>(std::min(magnitude, largest));
-                q_[3 * v + coordinates[j]] = (symbol & 1) ? -bounded : bounded;
-            }
+            const int symbol = RansDecoder::decode(escape_slots, x, pos);
+            std::swap(x, y);
+            std::swap(y, z);
+            std::swap(z, w);
+            const int length = symbol / 2 + 2;
+            const std::int64_t magnitude =
+                length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
+            in_range &= magnitude <= largest;
+            const auto bounded = static_cast<std::int32_t>(std::min(magnitude, largest));
+            q_[escaped_[i]] = (symbol & 1) ? -bounded : bounded;
         }
+        const std::size_t symbols = escaped;
         const std::uint32_t rotated[kRansLanes] = {x, y, z, w};
         for (std::size_t k = 0; k < kRansLanes; ++k) rans.state[(first_lane + symbols + k) % kRansLanes] = rotated[k];
         rans.set_position(pos);
@@ -281,7 +285,8 @@ private:
     std::vector<std::vector<std::int32_t>> grids_;  // integer frames kept for later packets
     std::vector<const std::int32_t*> frame_grid_;   // each decoded frame's integers, while they are needed
     std::vector<std::int32_t> scratch_;
-    std::vector<std::uint8_t> stream_;  // the packet's rANS words, padded
+    std::vector<std::uint8_t> stream_;    // the packet's rANS words, padded
+    std::vector<std::uint8_t> raw_bits_;  // the packet's side information, padded
     SymbolTable uniform_;
     std::vector<SymbolTable> tables_;
     std::array<const std::uint32_t*, kTables> slots_{};

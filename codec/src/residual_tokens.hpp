@@ -35,7 +35,8 @@ struct TokenTraits {
     // q of the non-escaped coordinates (escaped ones 0), padded to 16 bytes so one copy
     // writes a vertex.
     std::array<std::array<std::int32_t, 4>, kRansAlphabet> value{};
-    std::array<std::array<std::uint8_t, 3>, kRansAlphabet> escaped_coordinates{};  // the first `escapes` entries
+    // The first `escapes` entries (padded to 16 bytes for the decoder's four-lane copy).
+    std::array<std::array<std::uint32_t, 4>, kRansAlphabet> escaped_coordinates{};
     std::array<std::uint8_t, 13> bucket{};                 // of two weights summed: 0, 1, 2-3, 4-7, 8-12
     // The bucket of two neighbours' tokens a and b at [a << 6 | b]: the decoder's one lookup.
     std::array<std::uint8_t, kRansAlphabet * kRansAlphabet> pair_bucket{};
@@ -44,7 +45,7 @@ struct TokenTraits {
             for (int c = 0; c < 3; ++c) {
                 const int k = token_class(t, c);
                 weight[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(weight[static_cast<std::size_t>(t)] + (k == 3 ? 2 : k != 0));
-                if (k == 3) escaped_coordinates[static_cast<std::size_t>(t)][escapes[static_cast<std::size_t>(t)]++] = static_cast<std::uint8_t>(c);
+                if (k == 3) escaped_coordinates[static_cast<std::size_t>(t)][escapes[static_cast<std::size_t>(t)]++] = static_cast<std::uint32_t>(c);
                 value[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)] = k == 1 ? 1 : k == 2 ? -1 : 0;
             }
         for (int a = 0; a < 13; ++a) bucket[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>(std::min(static_cast<int>(std::bit_width(unsigned(a))), kActivityBuckets - 1));
