@@ -20,17 +20,17 @@ namespace {
 // Tokens of vertices [0, n) into token[0, n), vertex v with state v mod 4; token[n] is 0,
 // the context of a missing neighbour.  Only what the next tokens need happens here; their
 // values come after (token_values).
-void decode_tokens(RansDecoder& rans, const std::uint32_t* const* level_slots, const ContextNeighbours* neighbours,
+void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, const ContextNeighbours* neighbours,
                    std::uint8_t* token, std::size_t n) {
     // Everything in locals: the byte stores below may alias any memory, so the compiler
     // would otherwise reload pointers and spill the states after every token.
-    const std::uint32_t* slots[kActivityBuckets];
-    std::copy(level_slots, level_slots + kActivityBuckets, slots);
+    const DecodeTable* tables[kActivityBuckets];
+    std::copy(level_tables, level_tables + kActivityBuckets, tables);
     const std::uint8_t* pos = rans.position();
     auto one = [&](std::size_t v, std::uint32_t& x) {
         const ContextNeighbours nb = neighbours[v];
         const std::size_t bucket = kTokens.pair_bucket[std::size_t(token[nb.far]) << 6 | token[nb.opposite]];
-        token[v] = static_cast<std::uint8_t>(RansDecoder::decode(slots[bucket], x, pos));
+        token[v] = static_cast<std::uint8_t>(RansDecoder::decode(*tables[bucket], x, pos));
     };
     std::uint32_t x0 = rans.state[0], x1 = rans.state[1], x2 = rans.state[2], x3 = rans.state[3];
     std::size_t v = 0;
@@ -73,14 +73,23 @@ std::int32_t grid_high(const Header& h) {
     return static_cast<std::int32_t>(extent) + std::int32_t(kMaxResidualStep);
 }
 
+const DecodeTable& uniform_decode_table() {
+    static const DecodeTable table = [] {
+        DecodeTable t;
+        fill_decode_table(uniform_table(), t);
+        return t;
+    }();
+    return table;
+}
+
 class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
         : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
           refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)), runs_(spatial_runs(refs_)),
           residual_step_(static_cast<std::int64_t>(h.threshold)), grid_high_(grid_high(h)), positions_(h.frames), decoded_(h.frames, 0),
-          grids_(h.frames), frame_grid_(h.frames, nullptr), uniform_(uniform_table(true)), tables_(kTables) {
-        slots_.fill(uniform_.slots.data());
+          grids_(h.frames), frame_grid_(h.frames, nullptr), table_of_() {
+        table_of_.fill(&uniform_decode_table());
     }
 
     void reuse(std::vector<std::vector<Vec3f>>&& frames) override {
@@ -121,8 +130,10 @@ public:
             const QuantisedTable table = read_table(bits);
             if (std::all_of(table.code.begin(), table.code.end(), [](std::uint8_t c) { return c == 0; }))
                 r.fail("frequency table " + std::to_string(id) + " has no symbols (corrupt data)");
-            tables_[static_cast<std::size_t>(id)] = make_table(table, true);
-            slots_[static_cast<std::size_t>(id)] = tables_[static_cast<std::size_t>(id)].slots.data();
+            auto& own = tables_[static_cast<std::size_t>(id)];
+            if (!own) own = std::make_unique<DecodeTable>();
+            fill_decode_table(make_table(table), *own);
+            table_of_[static_cast<std::size_t>(id)] = own.get();
         }
         if (bits.overrun()) r.fail("side information is truncated");
         // The rest of the side information: the escapes' raw bits, in decoding order.
@@ -200,9 +211,9 @@ private:
     // One frame's quantised residuals into q_.
     void decode_residuals(RansDecoder& rans, PaddedBitReader& bits, int level_class, const ByteReader& r) {
         const std::size_t n = header_.vertices;
-        decode_tokens(rans, slots_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
+        decode_tokens(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
-        const std::uint32_t* escape_slots = slots_[kEscapeTable];
+        const DecodeTable& escape_table = *table_of_[kEscapeTable];
         // Anything larger cannot land on the grid; bounding it keeps the sums in int32.
         const std::int64_t largest = (kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1;
         // Escape symbol k of the frame goes to state (n + k) mod 4: the four states rotate
@@ -213,7 +224,7 @@ private:
         const std::uint8_t* pos = rans.position();
         bool in_range = true;
         for (std::size_t i = 0; i < escaped; ++i) {
-            const int symbol = RansDecoder::decode(escape_slots, x, pos);
+            const int symbol = RansDecoder::decode(escape_table, x, pos);
             std::swap(x, y);
             std::swap(y, z);
             std::swap(z, w);
@@ -287,9 +298,8 @@ private:
     std::vector<std::int32_t> scratch_;
     std::vector<std::uint8_t> stream_;    // the packet's rANS words, padded
     std::vector<std::uint8_t> raw_bits_;  // the packet's side information, padded
-    SymbolTable uniform_;
-    std::vector<SymbolTable> tables_;
-    std::array<const std::uint32_t*, kTables> slots_{};
+    std::array<std::unique_ptr<DecodeTable>, kTables> tables_;  // each made when its first table arrives
+    std::array<const DecodeTable*, kTables> table_of_;           // what each context decodes with now
     std::size_t received_ = 0;
     // Per-frame scratch.
     std::vector<std::uint8_t> token_;

@@ -280,7 +280,7 @@ TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current)
     for (std::uint64_t c : counts) total += c;
     if (total == 0) return choice;
     choice.table = quantise_table(counts);
-    const double fresh = table_bits(choice.table) + coded_bits(counts, make_table(choice.table, false));
+    const double fresh = table_bits(choice.table) + coded_bits(counts, make_table(choice.table));
     const double kept = coded_bits(counts, current);
     choice.send = kept < 0.0 || fresh < kept;
     return choice;
@@ -325,7 +325,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
         f->token.assign(n, 0);
         f->bucket.assign(n, 0);
     }
-    std::vector<SymbolTable> tables(kTables, uniform_table(false));
+    std::vector<SymbolTable> tables(kTables, uniform_table());
     std::vector<std::string> out;
     struct Symbol {
         std::uint8_t table, symbol, lane;
@@ -385,7 +385,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             bits.put(choice.send, 1);
             if (!choice.send) continue;
             write_table(bits, choice.table);
-            tables[static_cast<std::size_t>(id)] = make_table(choice.table, false);
+            tables[static_cast<std::size_t>(id)] = make_table(choice.table);
         }
         for (const auto& [value, count] : raw) bits.put(value, count);
         RansEncoder rans;

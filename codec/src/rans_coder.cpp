@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 
 namespace foldcast::codec {
 namespace {
@@ -24,22 +25,12 @@ std::uint8_t value_code(std::uint32_t v) {
     return static_cast<std::uint8_t>(8 + (e - 1) * 4 + static_cast<int>((v >> e) - 4));
 }
 
-void build_slots(SymbolTable& t) {
-    t.slots.resize(kRansTotal);
-    for (int s = 0; s < kRansAlphabet; ++s) {
-        const std::uint32_t start = t.start[static_cast<std::size_t>(s)], freq = t.freq[static_cast<std::size_t>(s)];
-        for (std::uint32_t k = 0; k < freq; ++k)
-            t.slots[start + k] = static_cast<std::uint32_t>(s) | (freq << 6) | (k << 19);
-    }
-}
-
-void finish_table(SymbolTable& t, bool with_slots) {
+void finish_table(SymbolTable& t) {
     std::uint32_t start = 0;
     for (std::size_t s = 0; s < t.freq.size(); ++s) {
         t.start[s] = static_cast<std::uint16_t>(start);
         start += t.freq[s];
     }
-    if (with_slots) build_slots(t);
 }
 }  // namespace
 
@@ -70,18 +61,18 @@ QuantisedTable read_table(BitReader& in) {
     return q;
 }
 
-SymbolTable uniform_table(bool with_slots) {
+SymbolTable uniform_table() {
     SymbolTable t;
     t.freq.fill(static_cast<std::uint16_t>(kRansTotal / kRansAlphabet));
-    finish_table(t, with_slots);
+    finish_table(t);
     return t;
 }
 
-SymbolTable make_table(const QuantisedTable& table, bool with_slots) {
+SymbolTable make_table(const QuantisedTable& table) {
     std::array<std::uint64_t, kRansAlphabet> value{};
     std::uint64_t total = 0;
     for (std::size_t s = 0; s < value.size(); ++s) total += value[s] = code_value(table.code[s]);
-    if (total == 0) return uniform_table(with_slots);
+    if (total == 0) return uniform_table();
     SymbolTable t;
     std::int64_t left = kRansTotal;
     for (std::size_t s = 0; s < value.size(); ++s) {
@@ -98,8 +89,15 @@ SymbolTable make_table(const QuantisedTable& table, bool with_slots) {
         t.freq[big] = static_cast<std::uint16_t>(std::int64_t(t.freq[big]) + change);
         left -= change;
     }
-    finish_table(t, with_slots);
+    finish_table(t);
     return t;
+}
+
+void fill_decode_table(const SymbolTable& table, DecodeTable& out) {
+    for (std::size_t s = 0; s < kRansAlphabet; ++s) {
+        out.freq_start[s] = std::uint32_t(table.freq[s]) | std::uint32_t(table.start[s]) << 16;
+        std::memset(out.symbol.data() + table.start[s], static_cast<int>(s), table.freq[s]);
+    }
 }
 
 double coded_bits(const SymbolCounts& counts, const SymbolTable& table) {

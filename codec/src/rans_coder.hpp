@@ -2,7 +2,7 @@
 // Static-model rANS (Duda's asymmetric numeral systems, range variant) over a 64-symbol
 // alphabet: the entropy stage of the default profile (docs/codec.md).  Four states
 // interleaved in one stream of 16-bit words, so four independent decodes overlap in the
-// pipeline; a decode is one table load, a multiply and an add.  Frequencies are static per
+// pipeline; a decode is two table loads, a multiply and an add.  Frequencies are static per
 // packet (sent, or kept from the previous packet), so decoding never adapts a model.
 #include <array>
 #include <cstdint>
@@ -35,16 +35,23 @@ constexpr int table_bits(const QuantisedTable& table) {
     return bits;
 }
 
-// Frequencies summing to kRansTotal, and the decoder's slot table.
+// Frequencies summing to kRansTotal.
 struct SymbolTable {
     std::array<std::uint16_t, kRansAlphabet> freq{}, start{};
-    // One entry per slot x mod kRansTotal: symbol | freq << 6 | (slot - start) << 19.
-    std::vector<std::uint32_t> slots;
 };
 // Every symbol equally likely: what each context holds before its first table arrives.
-SymbolTable uniform_table(bool with_slots);
+SymbolTable uniform_table();
 // Deterministic normalisation of the quantised frequencies (at least one present symbol).
-SymbolTable make_table(const QuantisedTable& table, bool with_slots);
+SymbolTable make_table(const QuantisedTable& table);
+
+// What the decoder looks up: the symbol of each slot x mod kRansTotal (a byte, so a
+// context's tables stay in the first-level cache and building one writes 4 KB), then that
+// symbol's frequency and start.
+struct DecodeTable {
+    std::array<std::uint32_t, kRansAlphabet> freq_start;  // freq | start << 16
+    std::array<std::uint8_t, kRansTotal> symbol;
+};
+void fill_decode_table(const SymbolTable& table, DecodeTable& out);
 // Bits to code `counts` with `table`, or a negative value if a counted symbol is absent.
 double coded_bits(const SymbolCounts& counts, const SymbolTable& table);
 
@@ -75,20 +82,20 @@ public:
     bool overrun() const { return pos_ > end_; }
     std::array<std::uint32_t, kRansLanes> state{};
 
-    int decode(const std::uint32_t* slots, std::uint32_t& x) { return decode(slots, x, pos_); }
+    int decode(const DecodeTable& table, std::uint32_t& x) { return decode(table, x, pos_); }
 
     // The same on a caller's copy of the read position: hot loops keep it in a register
     // (their byte stores could otherwise alias it), then hand it back with set_position.
-    static int decode(const std::uint32_t* slots, std::uint32_t& x, const std::uint8_t*& pos) {
-        const std::uint32_t e = slots[x & (kRansTotal - 1)];
-        x = ((e >> 6) & 0x1fffu) * (x >> kRansProbabilityBits) + (e >> 19);
+    static int decode(const DecodeTable& table, std::uint32_t& x, const std::uint8_t*& pos) {
+        const std::uint32_t slot = x & (kRansTotal - 1), symbol = table.symbol[slot], e = table.freq_start[symbol];
+        x = (e & 0xffffu) * (x >> kRansProbabilityBits) + slot - (e >> 16);
         // Branch-free (in arithmetic, so the compiler cannot make a branch of it): whether a
         // word is needed is as unpredictable as the symbol.
         const std::uint32_t word = std::uint32_t(pos[0]) | (std::uint32_t(pos[1]) << 8);
         const std::uint32_t need = x < kLow;
         x = (x << (16 * need)) | (word & (0u - need));
         pos += 2 * need;
-        return static_cast<int>(e & 63u);
+        return static_cast<int>(symbol);
     }
     const std::uint8_t* position() const { return pos_; }
     void set_position(const std::uint8_t* pos) { pos_ = pos; }

@@ -31,7 +31,9 @@ TEST(Rans, TablesSumToTheTotalAndKeepEveryPresentSymbol) {
     std::mt19937 rng(7);
     for (int trial = 0; trial < 200; ++trial) {
         const SymbolCounts counts = skewed_counts(rng, 1 + trial % kRansAlphabet);
-        const SymbolTable t = make_table(quantise_table(counts), true);
+        const SymbolTable t = make_table(quantise_table(counts));
+        DecodeTable d;
+        fill_decode_table(t, d);
         std::uint32_t sum = 0;
         for (std::size_t s = 0; s < counts.size(); ++s) {
             EXPECT_EQ(counts[s] > 0, t.freq[s] > 0) << "symbol " << s;
@@ -39,12 +41,12 @@ TEST(Rans, TablesSumToTheTotalAndKeepEveryPresentSymbol) {
         }
         ASSERT_EQ(sum, kRansTotal);
         for (std::uint32_t slot = 0; slot < kRansTotal; ++slot) {  // every slot names the symbol whose range holds it
-            const std::uint32_t e = t.slots[slot], s = e & 63u;
+            const std::uint32_t s = d.symbol[slot];
+            ASSERT_LT(s, std::uint32_t(kRansAlphabet));
             ASSERT_GE(slot, t.start[s]);
             ASSERT_LT(slot, t.start[s] + t.freq[s]);
-            ASSERT_EQ((e >> 6) & 0x1fffu, t.freq[s]);
-            ASSERT_EQ(e >> 19, slot - t.start[s]);
         }
+        for (std::size_t s = 0; s < counts.size(); ++s) ASSERT_EQ(d.freq_start[s], t.freq[s] | std::uint32_t(t.start[s]) << 16);
     }
 }
 
@@ -70,7 +72,9 @@ TEST(Rans, InterleavedStatesRoundTripAndCostWhatTheModelSays) {
     std::vector<SymbolCounts> counts = {skewed_counts(rng, 40), skewed_counts(rng, 3), SymbolCounts{}};
     counts[2][17] = 1;
     std::vector<SymbolTable> tables;
-    for (const auto& c : counts) tables.push_back(make_table(quantise_table(c), true));
+    for (const auto& c : counts) tables.push_back(make_table(quantise_table(c)));
+    std::vector<DecodeTable> decode_tables(tables.size());
+    for (std::size_t k = 0; k < tables.size(); ++k) fill_decode_table(tables[k], decode_tables[k]);
     constexpr std::size_t n = 100003;
     std::vector<std::vector<int>> streams;
     for (const auto& c : counts) streams.push_back(draw(rng, c, n));
@@ -88,21 +92,23 @@ TEST(Rans, InterleavedStatesRoundTripAndCostWhatTheModelSays) {
     RansDecoder dec(bytes, 3 * n, storage);
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t k = 0; k < tables.size(); ++k)
-            ASSERT_EQ(dec.decode(tables[k].slots.data(), dec.state[(3 * i + k) % kRansLanes]), streams[k][i]) << i;
+            ASSERT_EQ(dec.decode(decode_tables[k], dec.state[(3 * i + k) % kRansLanes]), streams[k][i]) << i;
     EXPECT_FALSE(dec.overrun());
 }
 
 TEST(Rans, ACutStreamRunsIntoThePadding) {
     std::mt19937 rng(5);
     const SymbolCounts counts = skewed_counts(rng, 64);
-    const SymbolTable table = make_table(quantise_table(counts), true);
+    const SymbolTable table = make_table(quantise_table(counts));
+    DecodeTable decode_table;
+    fill_decode_table(table, decode_table);
     const std::vector<int> symbols = draw(rng, counts, 5000);
     RansEncoder enc;
     for (std::size_t i = 0; i < symbols.size(); ++i) enc.push(table, symbols[i], static_cast<int>(i % kRansLanes));
     const std::string bytes = enc.finish();
     std::vector<std::uint8_t> storage;
     RansDecoder dec(std::string_view(bytes).substr(0, bytes.size() / 2), symbols.size(), storage);
-    for (std::size_t i = 0; i < symbols.size(); ++i) dec.decode(table.slots.data(), dec.state[i % kRansLanes]);
+    for (std::size_t i = 0; i < symbols.size(); ++i) dec.decode(decode_table, dec.state[i % kRansLanes]);
     EXPECT_TRUE(dec.overrun());
 }
 
