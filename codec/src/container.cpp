@@ -3,12 +3,25 @@
 #include <zstd.h>
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "byte_io.hpp"
 #include "crc32.hpp"
 
 namespace foldcast::codec {
+namespace {
+// One zstd decompression context per thread, reused: ZSTD_decompress would allocate and
+// initialise one (over 100 KB) for every header, a large part of decoding a small file.
+ZSTD_DCtx& decompression_context() {
+    struct Free {
+        void operator()(ZSTD_DCtx* c) const { ZSTD_freeDCtx(c); }
+    };
+    thread_local const std::unique_ptr<ZSTD_DCtx, Free> context(ZSTD_createDCtx());
+    if (!context) throw std::bad_alloc();
+    return *context;
+}
+}  // namespace
 
 std::string header_payload(const Header& h) {
     ByteWriter w;
@@ -90,7 +103,7 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     const unsigned long long declared = ZSTD_getFrameContentSize(packed.data(), packed.size());
     if (declared != raw_size) r.fail("topology block is malformed or does not match the triangle and UV counts");
     std::string raw(static_cast<std::size_t>(raw_size), '\0');
-    const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
+    const std::size_t got = ZSTD_decompressDCtx(&decompression_context(), raw.data(), raw.size(), packed.data(), packed.size());
     if (ZSTD_isError(got) || got != raw.size()) r.fail("topology block is corrupt");
     ByteReader t(raw, r.what() + " topology");
     h.topology.triangles.resize(triangles);

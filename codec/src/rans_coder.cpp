@@ -69,22 +69,25 @@ SymbolTable uniform_table() {
 }
 
 SymbolTable make_table(const QuantisedTable& table) {
-    std::array<std::uint64_t, kRansAlphabet> value{};
-    std::uint64_t total = 0;
+    // Code values are below 2^17: their sum, and each times kRansTotal, fit 32 bits.
+    std::array<std::uint32_t, kRansAlphabet> value{};
+    std::uint32_t total = 0;
     for (std::size_t s = 0; s < value.size(); ++s) total += value[s] = code_value(table.code[s]);
     if (total == 0) return uniform_table();
     SymbolTable t;
     std::int64_t left = kRansTotal;
+    std::size_t big = 0;  // the first most frequent symbol
     for (std::size_t s = 0; s < value.size(); ++s) {
         if (value[s] == 0) continue;
-        t.freq[s] = static_cast<std::uint16_t>(std::max<std::uint64_t>(1, value[s] * kRansTotal / total));
+        t.freq[s] = static_cast<std::uint16_t>(std::max<std::uint32_t>(1, value[s] * kRansTotal / total));
         left -= t.freq[s];
+        if (t.freq[s] > t.freq[big]) big = s;
     }
     // Rounding leaves a remainder of either sign: the most frequent symbol absorbs it, where
     // it costs least.  While the sum is too large some frequency exceeds 1 (64 ones sum to
     // less than kRansTotal), so every round makes progress.
-    while (left != 0) {
-        const auto big = static_cast<std::size_t>(std::max_element(t.freq.begin(), t.freq.end()) - t.freq.begin());
+    for (bool first = true; left != 0; first = false) {
+        if (!first) big = static_cast<std::size_t>(std::max_element(t.freq.begin(), t.freq.end()) - t.freq.begin());
         const std::int64_t change = left > 0 ? left : std::max<std::int64_t>(left, 1 - std::int64_t(t.freq[big]));
         t.freq[big] = static_cast<std::uint16_t>(std::int64_t(t.freq[big]) + change);
         left -= change;
