@@ -27,21 +27,25 @@ void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, co
     const DecodeTable* tables[kActivityBuckets];
     std::copy(level_tables, level_tables + kActivityBuckets, tables);
     const std::uint8_t* pos = rans.position();
-    auto one = [&](std::size_t v, std::uint32_t& x) {
+    // States pass by value, so they stay in registers.
+    auto one = [&](std::size_t v, std::uint32_t x) {
         const ContextNeighbours nb = neighbours[v];
         const std::size_t bucket = kTokens.pair_bucket[std::size_t(token[nb.far]) << 6 | token[nb.opposite]];
         token[v] = static_cast<std::uint8_t>(RansDecoder::decode(*tables[bucket], x, pos));
+        return x;
     };
     std::uint32_t x0 = rans.state[0], x1 = rans.state[1], x2 = rans.state[2], x3 = rans.state[3];
-    std::size_t v = 0;
-    for (; v + kRansLanes <= n; v += kRansLanes) {
-        one(v, x0);
-        one(v + 1, x1);
-        one(v + 2, x2);
-        one(v + 3, x3);
+    const std::size_t whole = n - n % kRansLanes;
+    for (std::size_t v = 0; v < whole; v += kRansLanes) {
+        x0 = one(v, x0);
+        x1 = one(v + 1, x1);
+        x2 = one(v + 2, x2);
+        x3 = one(v + 3, x3);
     }
+    if (whole + 0 < n) x0 = one(whole + 0, x0);
+    if (whole + 1 < n) x1 = one(whole + 1, x1);
+    if (whole + 2 < n) x2 = one(whole + 2, x2);
     rans.state = {x0, x1, x2, x3};
-    for (std::size_t lane = 0; v < n; ++v, ++lane) one(v, rans.state[lane]);
     rans.set_position(pos);
 }
 
@@ -131,7 +135,7 @@ public:
             if (std::all_of(table.code.begin(), table.code.end(), [](std::uint8_t c) { return c == 0; }))
                 r.fail("frequency table " + std::to_string(id) + " has no symbols (corrupt data)");
             auto& own = tables_[static_cast<std::size_t>(id)];
-            if (!own) own = std::make_unique<DecodeTable>();
+            if (!own) own = std::make_unique_for_overwrite<DecodeTable>();
             fill_decode_table(make_table(table), *own);
             table_of_[static_cast<std::size_t>(id)] = own.get();
         }
