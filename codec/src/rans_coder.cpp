@@ -97,9 +97,14 @@ SymbolTable make_table(const QuantisedTable& table) {
 }
 
 void fill_decode_table(const SymbolTable& table, DecodeTable& out) {
+    // Each symbol's slots in whole 16-byte blocks: a block running past them is overwritten
+    // by the next symbol's (ranges ascend with the symbol), the last one's by nothing.
     for (std::size_t s = 0; s < kRansAlphabet; ++s) {
-        out.freq_start[s] = std::uint32_t(table.freq[s]) | std::uint32_t(table.start[s]) << 16;
-        std::memset(out.symbol.data() + table.start[s], static_cast<int>(s), table.freq[s]);
+        const std::uint32_t start = table.start[s], freq = table.freq[s];
+        out.freq_start[s] = freq | start << 16;
+        std::uint8_t block[16];
+        std::memset(block, static_cast<int>(s), sizeof block);
+        for (std::uint32_t k = start; k < start + freq; k += 16) std::memcpy(out.symbol.data() + k, block, sizeof block);
     }
 }
 
