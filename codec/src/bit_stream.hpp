@@ -44,26 +44,30 @@ public:
     explicit BitReader(std::string_view bytes) : bytes_(bytes) {}
     // count <= 32.
     std::uint32_t get(int count) {
-        while (fill_ < count) {  // a byte is fetched only when its bits are needed
-            std::uint64_t byte = 0;
-            if (pos_ < bytes_.size()) byte = static_cast<std::uint8_t>(bytes_[pos_++]);
-            else overrun_ = true;
-            acc_ = (acc_ << 8) | byte;
-            fill_ += 8;
-        }
-        fill_ -= count;
-        return static_cast<std::uint32_t>((acc_ >> fill_) & ((std::uint64_t(1) << count) - 1));
+        const std::uint32_t bits = peek(count);
+        skip(count);
+        return bits;
     }
-    bool overrun() const { return overrun_; }
+    // The next `count` bits (count <= 32) without consuming them: looking past the end is
+    // no overrun, only consuming past it is.
+    std::uint32_t peek(int count) {
+        if (fill_ < count) [[unlikely]] {  // whole bytes up to 56 bits, so this is rare
+            for (; fill_ <= 56; fill_ += 8, ++pos_)
+                acc_ = (acc_ << 8) | (pos_ < bytes_.size() ? static_cast<std::uint8_t>(bytes_[pos_]) : 0u);
+        }
+        return static_cast<std::uint32_t>((acc_ >> (fill_ - count)) & ((std::uint64_t(1) << count) - 1));
+    }
+    // Consumes `count` bits, at most as many as the last peek looked at.
+    void skip(int count) { fill_ -= count; }
+    bool overrun() const { return bit_position() > 8 * bytes_.size(); }
     std::size_t bit_position() const { return 8 * pos_ - static_cast<std::size_t>(fill_); }
     std::string_view bytes() const { return bytes_; }
 
 private:
     std::string_view bytes_;
-    std::size_t pos_ = 0;
+    std::size_t pos_ = 0;  // bytes fetched, zeros past the end included
     std::uint64_t acc_ = 0;
     int fill_ = 0;
-    bool overrun_ = false;
 };
 
 // The same bits read from a bit position of a copy padded with eight zero bytes: one

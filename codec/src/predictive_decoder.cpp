@@ -90,7 +90,7 @@ class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
         : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
-          refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)), runs_(spatial_runs(refs_)),
+          refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)), plan_(spatial_plan(refs_)),
           residual_step_(static_cast<std::int64_t>(h.threshold)), grid_high_(grid_high(h)), positions_(h.frames), decoded_(h.frames, 0),
           grids_(h.frames), frame_grid_(h.frames, nullptr), table_of_() {
         table_of_.fill(&uniform_decode_table());
@@ -148,7 +148,7 @@ public:
         escaped_.resize(3 * n + 4);
         q_.resize(row + 1);
         temporal_.resize(row);
-        residual_.resize(row);
+        residual_.resize(row + 3);  // then the zeros that stand for a missing spatial reference
         // Integer frames: kept in grids_ if a later packet predicts from them, in scratch_
         // for this packet if only its frames do, else in one row (scratch_'s first) reused.
         std::size_t packet_references = 0;
@@ -256,7 +256,7 @@ private:
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
         if (!use_spatial) return finish_frame([&](std::size_t k) { return q[k] * m; }, grid, positions.data()->data());
         std::uint32_t* r = residual_.data();
-        spatial_residuals(runs_, refs_, q, m, r);
+        spatial_residuals(plan_, q, m, r);
         return finish_frame([&](std::size_t k) { return r[k]; }, grid, positions.data()->data());
     }
 
@@ -292,7 +292,7 @@ private:
     PredictiveLayout layout_;
     std::vector<SpatialReference> refs_;
     std::vector<ContextNeighbours> neighbours_;
-    std::vector<SpatialRun> runs_;
+    SpatialPlan plan_;
     std::int64_t residual_step_;
     std::int32_t grid_high_;  // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame

@@ -12,12 +12,17 @@ constexpr std::uint32_t kLow = std::uint32_t(1) << 16;
 
 // Code c: 1..7 are the values themselves; from 8 on, a leading-two-bits float
 // (4..7) << e, e >= 1, decoded to the middle of its interval.
-std::uint32_t code_value(std::uint8_t c) {
-    if (c < 8) return c;
+constexpr std::uint32_t code_value(int c) {
+    if (c < 8) return static_cast<std::uint32_t>(c);
     const int e = 1 + (c - 8) / 4;
     const std::uint32_t m = 4u + static_cast<std::uint32_t>((c - 8) % 4);
     return (m << e) + (std::uint32_t(1) << (e - 1));
 }
+constexpr auto kCodeValues = [] {
+    std::array<std::uint32_t, std::size_t(1) << kCodeBits> values{};
+    for (std::size_t c = 0; c < values.size(); ++c) values[c] = code_value(static_cast<int>(c));
+    return values;
+}();
 
 std::uint8_t value_code(std::uint32_t v) {
     if (v < 8) return static_cast<std::uint8_t>(v);
@@ -55,10 +60,18 @@ void write_table(BitWriter& out, const QuantisedTable& table) {
 }
 
 QuantisedTable read_table(BitReader& in) {
-    QuantisedTable q;
-    for (auto& c : q.code)
-        if (in.get(1)) c = static_cast<std::uint8_t>(std::max<std::uint32_t>(1, in.get(kCodeBits)));
-    return q;
+    // One look at the next seven bits decides both cases, with no branch on presence (which
+    // is as unpredictable as the data).  A present symbol's code 0 reads as 1.  The reader
+    // and codes are locals while reading, so the byte stores cannot alias the reader's state.
+    BitReader bits = in;
+    std::array<std::uint8_t, kRansAlphabet> code;
+    for (auto& c : code) {
+        const std::uint32_t field = bits.peek(1 + kCodeBits), present = field >> kCodeBits;
+        c = static_cast<std::uint8_t>(present * std::max<std::uint32_t>(1, field & ((1u << kCodeBits) - 1)));
+        bits.skip(1 + static_cast<int>(present) * kCodeBits);
+    }
+    in = bits;
+    return {code};
 }
 
 SymbolTable uniform_table() {
@@ -70,16 +83,21 @@ SymbolTable uniform_table() {
 
 SymbolTable make_table(const QuantisedTable& table) {
     // Code values are below 2^17: their sum, and each times kRansTotal, fit 32 bits.
-    std::array<std::uint32_t, kRansAlphabet> value{};
+    std::array<std::uint8_t, kRansAlphabet> present;  // the present symbols, ascending
+    std::size_t count = 0;
     std::uint32_t total = 0;
-    for (std::size_t s = 0; s < value.size(); ++s) total += value[s] = code_value(table.code[s]);
+    for (std::size_t s = 0; s < kRansAlphabet; ++s) {
+        present[count] = static_cast<std::uint8_t>(s);
+        count += table.code[s] != 0;
+        total += kCodeValues[table.code[s]];
+    }
     if (total == 0) return uniform_table();
     SymbolTable t;
     std::int64_t left = kRansTotal;
-    std::size_t big = 0;  // the first most frequent symbol
-    for (std::size_t s = 0; s < value.size(); ++s) {
-        if (value[s] == 0) continue;
-        t.freq[s] = static_cast<std::uint16_t>(std::max<std::uint32_t>(1, value[s] * kRansTotal / total));
+    std::size_t big = present[0];  // the first most frequent symbol
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::size_t s = present[i];
+        t.freq[s] = static_cast<std::uint16_t>(std::max<std::uint32_t>(1, kCodeValues[table.code[s]] * kRansTotal / total));
         left -= t.freq[s];
         if (t.freq[s] > t.freq[big]) big = s;
     }
@@ -97,14 +115,17 @@ SymbolTable make_table(const QuantisedTable& table) {
 }
 
 void fill_decode_table(const SymbolTable& table, DecodeTable& out) {
-    // Each symbol's slots in whole 16-byte blocks: a block running past them is overwritten
-    // by the next symbol's (ranges ascend with the symbol), the last one's by nothing.
+    for (std::size_t s = 0; s < kRansAlphabet; ++s) out.freq_start[s] = table.freq[s] | std::uint32_t(table.start[s]) << 16;
+    // Each present symbol's slots in whole 16-byte blocks: a block running past them is
+    // overwritten by the next symbol's (ranges ascend with the symbol), the last one's by
+    // nothing.  Most symbols need one block, written without a loop.
     for (std::size_t s = 0; s < kRansAlphabet; ++s) {
-        const std::uint32_t start = table.start[s], freq = table.freq[s];
-        out.freq_start[s] = freq | start << 16;
+        const std::uint32_t start = table.start[s], end = start + table.freq[s];
+        if (start == end) continue;
         std::uint8_t block[16];
         std::memset(block, static_cast<int>(s), sizeof block);
-        for (std::uint32_t k = start; k < start + freq; k += 16) std::memcpy(out.symbol.data() + k, block, sizeof block);
+        std::memcpy(out.symbol.data() + start, block, sizeof block);
+        for (std::uint32_t k = start + 16; k < end; k += 16) std::memcpy(out.symbol.data() + k, block, sizeof block);
     }
 }
 

@@ -35,9 +35,23 @@ std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs) 
     return runs;
 }
 
+SpatialPlan spatial_plan(const std::vector<SpatialReference>& refs) {
+    SpatialPlan plan{spatial_runs(refs), std::vector<std::array<std::uint32_t, 3>>(refs.size())};
+    const auto offset = [zero = static_cast<std::uint32_t>(3 * refs.size())](std::int32_t u) {
+        return u < 0 ? zero : 3 * static_cast<std::uint32_t>(u);
+    };
+    for (std::size_t v = 0; v < refs.size(); ++v) {
+        const SpatialReference& s = refs[v];
+        // spatial_prediction(): nothing without a; only r_a without c.
+        const bool parallelogram = s.a >= 0 && s.c >= 0;
+        plan.gather[v] = {offset(s.a), offset(parallelogram ? s.b : -1), offset(parallelogram ? s.c : -1)};
+    }
+    return plan;
+}
+
 namespace {
-void run_residuals(const SpatialRun& run, const std::vector<SpatialReference>& refs, const std::uint32_t* q, std::uint32_t m,
-                   std::uint32_t* r) {
+void run_residuals(const SpatialRun& run, const std::vector<std::array<std::uint32_t, 3>>& gather, const std::uint32_t* q,
+                   std::uint32_t m, std::uint32_t* r) {
     const std::size_t begin = 3 * std::size_t(run.begin), end = 3 * std::size_t(run.end);
     switch (run.kind) {
     case SpatialRun::Kind::none:
@@ -45,12 +59,8 @@ void run_residuals(const SpatialRun& run, const std::vector<SpatialReference>& r
         return;
     case SpatialRun::Kind::gather:
         for (std::size_t v = run.begin; v < run.end; ++v) {
-            const SpatialReference& s = refs[v];
-            for (std::size_t c = 0; c < 3; ++c) {
-                std::uint32_t p = s.a < 0 ? 0 : r[3 * std::size_t(s.a) + c];
-                if (s.c >= 0) p += r[3 * std::size_t(s.b) + c] - r[3 * std::size_t(s.c) + c];
-                r[3 * v + c] = q[3 * v + c] * m + p;
-            }
+            const auto [a, b, c] = gather[v];
+            for (std::size_t k = 0; k < 3; ++k) r[3 * v + k] = q[3 * v + k] * m + r[a + k] + r[b + k] - r[c + k];
         }
         return;
     case SpatialRun::Kind::row: {
@@ -79,9 +89,8 @@ void run_residuals(const SpatialRun& run, const std::vector<SpatialReference>& r
 }
 }  // namespace
 
-void spatial_residuals(const std::vector<SpatialRun>& runs, const std::vector<SpatialReference>& refs, const std::uint32_t* q,
-                       std::uint32_t m, std::uint32_t* r) {
-    for (const SpatialRun& run : runs) run_residuals(run, refs, q, m, r);
+void spatial_residuals(const SpatialPlan& plan, const std::uint32_t* q, std::uint32_t m, std::uint32_t* r) {
+    for (const SpatialRun& run : plan.runs) run_residuals(run, plan.gather, q, m, r);
 }
 
 }  // namespace foldcast::codec

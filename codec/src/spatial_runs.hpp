@@ -5,6 +5,7 @@
 // the one before it, the one a row up and a corner, so a run's brackets depend only on
 // earlier rows (a vectorised pass) and the rest is a running sum along the row.  Other
 // meshes fall back to per-vertex gathers.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -26,10 +27,18 @@ struct SpatialRun {
 // Runs covering [0, refs.size()) in order.
 std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs);
 
-// A frame's residuals r (3 per vertex) from its quantised values q and step m, run by run.
-// Unsigned arithmetic wraps modulo 2^32: for a valid file every true value fits int32, so
-// the result is exact, and corrupt values cannot overflow (the caller range-checks).
-void spatial_residuals(const std::vector<SpatialRun>& runs, const std::vector<SpatialReference>& refs, const std::uint32_t* q,
-                       std::uint32_t m, std::uint32_t* r);
+struct SpatialPlan {
+    std::vector<SpatialRun> runs;
+    // Per vertex, the offsets of r_a, r_b and r_c for a gather: 3 a, 3 b, 3 c, a missing
+    // reference 3 n, three zeros after the frame's residuals, so gathers need no branch.
+    std::vector<std::array<std::uint32_t, 3>> gather;
+};
+SpatialPlan spatial_plan(const std::vector<SpatialReference>& refs);
+
+// A frame's residuals r (3 n values, then three zeros the caller keeps) from its quantised
+// values q and step m, run by run.  Unsigned arithmetic wraps modulo 2^32: for a valid file
+// every true value fits int32, so the result is exact, and corrupt values cannot overflow
+// (the caller range-checks).
+void spatial_residuals(const SpatialPlan& plan, const std::uint32_t* q, std::uint32_t m, std::uint32_t* r);
 
 }  // namespace foldcast::codec

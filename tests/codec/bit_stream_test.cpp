@@ -32,6 +32,19 @@ TEST(BitStream, PaddedReaderReadsWhatWasWrittenFromAnyPosition) {
     }
 }
 
+TEST(BitStream, PeekingPastTheEndIsNoOverrunButConsumingIs) {
+    BitReader r(std::string_view("\xa5", 1));
+    EXPECT_EQ(r.peek(12), 0xa50u);
+    EXPECT_FALSE(r.overrun());
+    r.skip(8);
+    EXPECT_FALSE(r.overrun());
+    EXPECT_EQ(r.bit_position(), 8u);
+    EXPECT_EQ(r.peek(7), 0u);
+    EXPECT_FALSE(r.overrun());
+    EXPECT_EQ(r.get(1), 0u);
+    EXPECT_TRUE(r.overrun());
+}
+
 TEST(BitStream, PaddedReaderPastTheEndGivesZerosAndSaysSo) {
     const std::string bytes = "\xff\xff";
     std::vector<std::uint8_t> storage;

@@ -66,6 +66,21 @@ TEST(Rans, TablesSurviveTheirBitPacking) {
     EXPECT_TRUE(r.overrun());
 }
 
+TEST(Rans, TableEndingAtTheLastBitReadsWithoutOverrun) {
+    // Absent symbols last: their one-bit flags end the bytes exactly (8 of 64 present, each
+    // 7 bits, and 56 flags: 112 bits), though reading looks seven bits ahead.
+    QuantisedTable table;
+    for (std::size_t s = 0; s < 8; ++s) table.code[s] = static_cast<std::uint8_t>(7 * s + 1);
+    BitWriter w;
+    write_table(w, table);
+    const std::string bytes = w.finish();
+    ASSERT_EQ(bytes.size(), 14u);
+    BitReader r(bytes);
+    EXPECT_EQ(read_table(r).code, table.code);
+    EXPECT_FALSE(r.overrun());
+    EXPECT_EQ(r.bit_position(), 112u);
+}
+
 TEST(Rans, InterleavedStatesRoundTripAndCostWhatTheModelSays) {
     std::mt19937 rng(3);
     // Several tables used in turn, one with a single symbol (frequency = the whole total).
