@@ -162,8 +162,8 @@ public:
                           temporal_.data());
             std::int32_t* grid = scratch_.data();
             if (layout_.referenced_later[t]) {
-                grids_[t].resize(row);
-                grid = grids_[t].data();
+                if (!grids_[t]) grids_[t] = std::make_unique_for_overwrite<std::int32_t[]>(row);  // written in full below
+                grid = grids_[t].get();
             } else if (layout_.referenced[t]) {
                 grid = scratch_.data() + row * next_scratch++;
             }
@@ -297,7 +297,7 @@ private:
     std::int32_t grid_high_;  // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
-    std::vector<std::vector<std::int32_t>> grids_;  // integer frames kept for later packets
+    std::vector<std::unique_ptr<std::int32_t[]>> grids_;  // integer frames kept for later packets
     std::vector<const std::int32_t*> frame_grid_;   // each decoded frame's integers, while they are needed
     std::vector<std::int32_t> scratch_;
     std::vector<std::uint8_t> stream_;    // the packet's rANS words, padded
