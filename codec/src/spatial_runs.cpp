@@ -37,6 +37,7 @@ std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs) 
 
 SpatialPlan spatial_plan(const std::vector<SpatialReference>& refs) {
     SpatialPlan plan{spatial_runs(refs), std::vector<std::array<std::uint32_t, 3>>(refs.size())};
+    // N <= 2^28 (a reader's limit, docs/fca-format.md): offsets up to 3 N fit 32 bits.
     const auto offset = [zero = static_cast<std::uint32_t>(3 * refs.size())](std::int32_t u) {
         return u < 0 ? zero : 3 * static_cast<std::uint32_t>(u);
     };
