@@ -104,7 +104,7 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
         const std::uint32_t m = kDefaultResidualStep;
         header.threshold = m;
         header.step = std::max(2.0 * max_error / std::sqrt(3.0) / double(m + 1), double(extent) / double(kMaxGridValue / 2));
-        header.profile_param = static_cast<std::uint32_t>(default_stride_log2(anim.frame_count()));
+        header.profile_param = static_cast<std::uint32_t>(default_stride_log2(anim.frame_count(), anim.vertex_count()));
         const std::size_t n = anim.vertex_count();
         std::vector<std::int32_t> grid(anim.frame_count() * 3 * n);
         for (std::size_t t = 0; t < anim.frame_count(); ++t)

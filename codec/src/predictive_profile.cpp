@@ -158,9 +158,11 @@ bool frame_mode_allowed(const TemporalReference& reference, int mode) {
     return false;
 }
 
-int default_stride_log2(std::size_t frames) {
+int default_stride_log2(std::size_t frames, std::size_t vertices) {
     int l = 0;
     while (l < 4 && (std::size_t(2) << l) < frames) ++l;
+    // Stride 2^l + 1 >= T: keyframes 0 and T - 1 only, one group; longer changes nothing.
+    while ((std::size_t(1) << l) * vertices < kGroupVertexFrames && (std::size_t(1) << l) + 1 < frames) ++l;
     return l;
 }
 

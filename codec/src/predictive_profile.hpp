@@ -46,7 +46,13 @@ struct SpatialReference {
 };
 std::vector<SpatialReference> spatial_references(std::size_t vertices, const std::vector<Triangle>& triangles);
 
-int default_stride_log2(std::size_t frames);
+// Log2 of the keyframe stride the encoder uses for T frames of N vertices.  Each group (the
+// frames between two keyframes) is one packet with frequency tables of its own (about
+// 1-2 kbit): the stride grows from 16 until a group holds kGroupVertexFrames, so small
+// meshes do not pay for tables every 16 frames, while large ones keep a packet per 16
+// frames; at most one group for the whole animation.  docs/codec.md has the measurements.
+constexpr std::size_t kGroupVertexFrames = std::size_t(1) << 17;
+int default_stride_log2(std::size_t frames, std::size_t vertices);
 
 // Closed-loop residual quantiser step m, in fine-grid units (header field `threshold`):
 // the grid step is d = Delta / (m + 1) for a per-coordinate bound Delta / 2.  m = 1 with

@@ -65,7 +65,7 @@ Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint3
     }
     h.bounds.max *= bounds_scale;
     h.threshold = m;
-    h.profile_param = static_cast<std::uint32_t>(default_stride_log2(frames));
+    h.profile_param = static_cast<std::uint32_t>(default_stride_log2(frames, n));
     const PredictiveLayout layout(frames, static_cast<int>(h.profile_param));
     Coded out;
     out.packets = predictive_packets(layout, spatial_references(n, h.topology.triangles), n, grid, m, mode);

@@ -2,6 +2,7 @@
 
 #include "foldcast/codec.hpp"
 #include "foldcast/core/error.hpp"
+#include "predictive_profile.hpp"
 #include "test_animations.hpp"
 
 namespace foldcast::codec {
@@ -18,7 +19,9 @@ class Streaming : public ::testing::TestWithParam<Profile> {};
 // Every prefix decodes (never throws) to an animation of the right shape; the error never
 // grows as bytes arrive; frames reported playable are exactly the final ones.
 TEST_P(Streaming, PrefixesDecodeCoarserAndErrorFallsAsBytesArrive) {
-    const Animation a = test::basic_cloth();
+    // The default profile sends basicCloth (81 vertices) as one group: a 64x64 grid over
+    // 160 frames makes five, so the error falls in several steps.
+    const Animation a = GetParam() == Profile::paper ? test::basic_cloth() : test::wave_grid(64, 64, 160);
     const std::string bytes = encode(a, profile_options(GetParam()));
     const Animation full = decode(bytes);
     StreamingDecoder decoder("stream");
@@ -118,11 +121,15 @@ TEST_P(Streaming, CorruptPacketIsReportedAgainAndEarlierPacketsKept) {
 // Before a group's packet arrives, its frames are the linear blend of the keyframes around
 // them (the default profile's keyframes come first).
 TEST(StreamingDefault, FramesBetweenKeyframesBlendThem) {
-    const Animation a = test::wave_grid(6, 5, 40);  // keyframes 0, 16, 32, 39
+    // A grid large enough for keyframes every 16 frames (0, 16, 32, 39), however small
+    // meshes are grouped.
+    const std::size_t frames = 40;
+    const Animation a = test::wave_grid(91, 91, static_cast<int>(frames));
+    ASSERT_EQ(default_stride_log2(frames, a.vertex_count()), 4);
     const std::string bytes = encode(a, profile_options(Profile::predictive));
     StreamingDecoder d("s");
-    for (std::size_t at = 0; at < bytes.size() && d.status().playable_frames == 0; ++at)
-        d.feed(std::string_view(bytes).substr(at, 1));
+    for (std::size_t at = 0; at < bytes.size() && d.status().playable_frames == 0; at += 64)
+        d.feed(std::string_view(bytes).substr(at, 64));
     ASSERT_EQ(d.status().playable_frames, 1u);  // the keyframe packet: only frame 0 is final
     ASSERT_FALSE(d.status().complete);
     const std::vector<Vec3f> k0 = d.frame(0), k16 = d.frame(16), k32 = d.frame(32);
@@ -133,8 +140,20 @@ TEST(StreamingDefault, FramesBetweenKeyframesBlendThem) {
         const float w = float(t % 16) / 16.0f;
         const std::vector<Vec3f> frame = d.frame(t);
         ASSERT_EQ(frame.size(), left.size());
-        for (std::size_t v = 0; v < frame.size(); ++v) EXPECT_EQ(frame[v], (1.0f - w) * left[v] + w * right[v]) << "frame " << t;
+        for (std::size_t v = 0; v < frame.size(); ++v) ASSERT_EQ(frame[v], (1.0f - w) * left[v] + w * right[v]) << "frame " << t << ", vertex " << v;
     }
+}
+
+TEST(StreamingDefault, SmallMeshesGroupMoreFramesPerPacket) {
+    // A group (one packet, with its own frequency tables) holds about 2^17 vertex-frames:
+    // 16 frames of a large mesh, more of a small one, the whole animation of a tiny one.
+    EXPECT_EQ(default_stride_log2(240, 128 * 128), 4);
+    EXPECT_EQ(default_stride_log2(240, 64 * 64), 5);
+    EXPECT_EQ(default_stride_log2(240, 32 * 32), 7);
+    EXPECT_EQ(default_stride_log2(150, 81), 8);  // basicCloth: keyframes 0 and 149 only
+    EXPECT_EQ(default_stride_log2(10, 100000), 3);  // short animations as before: stride < T / 2
+    EXPECT_EQ(default_stride_log2(1, 1), 0);
+    EXPECT_EQ(default_stride_log2(std::size_t(1) << 28, 1), 17);  // within the header's limit of 20
 }
 
 INSTANTIATE_TEST_SUITE_P(Profiles, Streaming, ::testing::Values(Profile::paper, Profile::predictive),
