@@ -52,6 +52,7 @@ void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, co
 // The residuals the tokens stand for into q (3n + 1 values: each vertex writes 4), escaped
 // coordinates 0 for now; returns how many coordinates are escaped, their indices in q listed
 // in `escaped` (3n + 4 entries: each vertex writes 4, then moves on by its escape count).
+__attribute__((target_clones("avx2", "default")))
 std::size_t token_values(const std::uint8_t* token, std::size_t n, std::int32_t* q, std::uint32_t* escaped) {
     // Four lanes at once (a GNU vector: one add and one store on any target).
     using Lanes = std::uint32_t __attribute__((vector_size(16)));
@@ -75,6 +76,30 @@ std::int32_t grid_high(const Header& h) {
     for (int c = 0; c < 3; ++c) extent = std::max(extent, std::round((double(h.bounds.max[c]) - double(h.bounds.min[c])) / h.step));
     if (!(extent <= double(kMaxGridValue))) extent = double(kMaxGridValue);  // also NaN: the widest range
     return static_cast<std::int32_t>(extent) + std::int32_t(kMaxResidualStep);
+}
+
+// grid = temporal + residual, then position = origin + step * grid.  False if a coordinate
+// leaves [low, high].
+__attribute__((target_clones("avx2", "default")))
+bool finish_row(const std::uint32_t* temporal, const std::uint32_t* residual, std::size_t row, std::int32_t low, std::int32_t high,
+                const double* origin3, double step, std::int32_t* grid, float* out) {
+    std::uint32_t outside = 0;
+    for (std::size_t k = 0; k < row; ++k) {
+        const auto g = static_cast<std::int32_t>(temporal[k] + residual[k]);
+        outside |= std::uint32_t(g < low) | std::uint32_t(g > high);
+        grid[k] = g;
+    }
+    if (outside) return false;
+    // In double (grid values need up to 31 bits), four vertices at a time with the origin
+    // repeated, so the loop vectorises.
+    constexpr std::size_t kBlock = 12;
+    double origin[kBlock];
+    for (std::size_t j = 0; j < kBlock; ++j) origin[j] = origin3[j % 3];
+    std::size_t k = 0;
+    for (; k + kBlock <= row; k += kBlock)
+        for (std::size_t j = 0; j < kBlock; ++j) out[k + j] = static_cast<float>(origin[j] + step * double(grid[k + j]));
+    for (std::size_t j = 0; k < row; ++k, ++j) out[k] = static_cast<float>(origin[j] + step * double(grid[k]));
+    return true;
 }
 
 const DecodeTable& uniform_decode_table() {
@@ -252,39 +277,15 @@ private:
     // valid file every true value lies in int32, so wrapping changes nothing, and corrupt
     // data can only produce an out-of-range coordinate, caught below, never overflow.
     bool reconstruct_grid(bool use_spatial, std::int32_t* grid, std::vector<Vec3f>& positions) {
+        const std::size_t row = 3 * std::size_t(header_.vertices);
         const auto m = static_cast<std::uint32_t>(residual_step_);
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
-        if (!use_spatial) return finish_frame([&](std::size_t k) { return q[k] * m; }, grid, positions.data()->data());
         std::uint32_t* r = residual_.data();
-        spatial_residuals(plan_, q, m, r);
-        return finish_frame([&](std::size_t k) { return r[k]; }, grid, positions.data()->data());
-    }
-
-    // grid = temporal + residual(k), then position = bounds.min + step * grid.  False if a
-    // coordinate leaves the grid's range.
-    template <typename Residual>
-    bool finish_frame(Residual residual, std::int32_t* grid, float* out) const {
-        const std::size_t row = 3 * std::size_t(header_.vertices);
-        const auto* temporal = reinterpret_cast<const std::uint32_t*>(temporal_.data());
-        std::int32_t lowest = 0, highest = 0;
-        for (std::size_t k = 0; k < row; ++k) {
-            const auto g = static_cast<std::int32_t>(temporal[k] + residual(k));
-            lowest = std::min(lowest, g);
-            highest = std::max(highest, g);
-            grid[k] = g;
-        }
-        if (lowest < -std::int32_t(kMaxResidualStep) || highest > grid_high_) return false;
-        // In double (grid values need up to 31 bits), four vertices at a time with the origin
-        // repeated, so the loop vectorises.
-        const double step = header_.step;
-        constexpr std::size_t kBlock = 12;
-        double origin[kBlock];
-        for (std::size_t j = 0; j < kBlock; ++j) origin[j] = header_.bounds.min[static_cast<Eigen::Index>(j % 3)];
-        std::size_t k = 0;
-        for (; k + kBlock <= row; k += kBlock)
-            for (std::size_t j = 0; j < kBlock; ++j) out[k + j] = static_cast<float>(origin[j] + step * double(grid[k + j]));
-        for (std::size_t j = 0; k < row; ++k, ++j) out[k] = static_cast<float>(origin[j] + step * double(grid[k]));
-        return true;
+        if (use_spatial) spatial_residuals(plan_, q, m, r);
+        else for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
+        const double origin[3] = {header_.bounds.min.x(), header_.bounds.min.y(), header_.bounds.min.z()};
+        return finish_row(reinterpret_cast<const std::uint32_t*>(temporal_.data()), r, row, -std::int32_t(kMaxResidualStep), grid_high_,
+                          origin, header_.step, grid, positions.data()->data());
     }
 
     Header header_;

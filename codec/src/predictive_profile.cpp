@@ -35,6 +35,7 @@ private:
 // Temporal prediction of frame t (all 3N coordinates) by `ref` from decoded frames, into `out`.
 // One loop per kind, so the compiler vectorises it; encoder and decoder share it, so they
 // predict bit for bit alike.
+__attribute__((target_clones("avx2", "default")))
 void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* const* frames, std::size_t row,
                  std::int64_t largest, std::int32_t* out) {
     switch (ref.kind) {

@@ -90,6 +90,7 @@ void run_residuals(const SpatialRun& run, const std::vector<std::array<std::uint
 }
 }  // namespace
 
+__attribute__((target_clones("avx2", "default")))
 void spatial_residuals(const SpatialPlan& plan, const std::uint32_t* q, std::uint32_t m, std::uint32_t* r) {
     for (const SpatialRun& run : plan.runs) run_residuals(run, plan.gather, q, m, r);
 }
