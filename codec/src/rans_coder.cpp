@@ -60,18 +60,26 @@ void write_table(BitWriter& out, const QuantisedTable& table) {
 }
 
 QuantisedTable read_table(BitReader& in) {
-    // One look at the next seven bits decides both cases, with no branch on presence (which
-    // is as unpredictable as the data).  A present symbol's code 0 reads as 1.  The reader
-    // and codes are locals while reading, so the byte stores cannot alias the reader's state.
+    // An absent symbol is a single zero bit, so a run of them is skipped at once by counting
+    // leading zeros; each present symbol is then a one and its 6-bit code (0 reads as 1).
+    // The reader and codes are locals while reading, so the byte stores cannot alias the
+    // reader's state.
     BitReader bits = in;
-    std::array<std::uint8_t, kRansAlphabet> code;
-    for (auto& c : code) {
-        const std::uint32_t field = bits.peek(1 + kCodeBits), present = field >> kCodeBits;
-        c = static_cast<std::uint8_t>(present * std::max<std::uint32_t>(1, field & ((1u << kCodeBits) - 1)));
-        bits.skip(1 + static_cast<int>(present) * kCodeBits);
+    QuantisedTable q;
+    std::size_t s = 0;
+    while (true) {
+        const std::uint32_t ahead = bits.peek(32);
+        const auto absent = std::min<std::size_t>(static_cast<std::size_t>(std::countl_zero(ahead)), kRansAlphabet - s);
+        bits.skip(static_cast<int>(absent));
+        s += absent;
+        if (s == kRansAlphabet) break;
+        if (absent == 32) continue;  // 32 absent symbols and more to come
+        const std::uint32_t code = bits.get(1 + kCodeBits) & ((1u << kCodeBits) - 1);
+        q.code[s++] = static_cast<std::uint8_t>(std::max<std::uint32_t>(1, code));
+        if (s == kRansAlphabet) break;
     }
     in = bits;
-    return {code};
+    return q;
 }
 
 SymbolTable uniform_table() {
