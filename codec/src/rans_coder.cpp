@@ -126,10 +126,15 @@ void fill_decode_table(const SymbolTable& table, DecodeTable& out) {
     for (std::size_t s = 0; s < kRansAlphabet; ++s) out.freq_start[s] = table.freq[s] | std::uint32_t(table.start[s]) << 16;
     // Each present symbol's slots in whole 16-byte blocks: a block running past them is
     // overwritten by the next symbol's (ranges ascend with the symbol), the last one's by
-    // nothing.  Most symbols need one block, written without a loop.
+    // nothing.  Most symbols need one block, written without a loop; long runs (the few
+    // frequent symbols) go to memset, whose stores are wider.
     for (std::size_t s = 0; s < kRansAlphabet; ++s) {
         const std::uint32_t start = table.start[s], end = start + table.freq[s];
         if (start == end) continue;
+        if (end - start > 256) {
+            std::memset(out.symbol.data() + start, static_cast<int>(s), end - start);
+            continue;
+        }
         std::uint8_t block[16];
         std::memset(block, static_cast<int>(s), sizeof block);
         std::memcpy(out.symbol.data() + start, block, sizeof block);
