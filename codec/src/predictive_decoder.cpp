@@ -49,6 +49,45 @@ void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, co
     rans.set_position(pos);
 }
 
+// The values of the frame's escaped coordinates (indices into q in `escaped`, `count` of
+// them): escape k is a symbol of `table` from state (first_lane + k) mod 4, then its raw
+// bits.  False if a magnitude exceeds `largest` (it cannot land on the grid; q gets the
+// clamped value).  Like decode_tokens: states by value in locals, four at a time.
+bool decode_escapes(RansDecoder& rans, std::size_t first_lane, const DecodeTable& table, PaddedBitReader& raw,
+                    const std::uint32_t* escaped, std::size_t count, std::int64_t largest, std::int32_t* q) {
+    PaddedBitReader bits = raw;
+    const std::uint8_t* pos = rans.position();
+    bool in_range = true;
+    auto one = [&](std::size_t i, std::uint32_t x) {
+        const int symbol = RansDecoder::decode(table, x, pos);
+        const int length = symbol / 2 + 2;
+        const std::int64_t magnitude =
+            length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
+        in_range &= magnitude <= largest;
+        const auto bounded = static_cast<std::int32_t>(std::min(magnitude, largest));
+        q[escaped[i]] = (symbol & 1) ? -bounded : bounded;
+        return x;
+    };
+    std::uint32_t x[kRansLanes];
+    for (std::size_t j = 0; j < kRansLanes; ++j) x[j] = rans.state[(first_lane + j) % kRansLanes];
+    std::uint32_t x0 = x[0], x1 = x[1], x2 = x[2], x3 = x[3];
+    const std::size_t whole = count - count % kRansLanes;
+    for (std::size_t i = 0; i < whole; i += kRansLanes) {
+        x0 = one(i, x0);
+        x1 = one(i + 1, x1);
+        x2 = one(i + 2, x2);
+        x3 = one(i + 3, x3);
+    }
+    if (whole + 0 < count) x0 = one(whole + 0, x0);
+    if (whole + 1 < count) x1 = one(whole + 1, x1);
+    if (whole + 2 < count) x2 = one(whole + 2, x2);
+    const std::uint32_t after[kRansLanes] = {x0, x1, x2, x3};
+    for (std::size_t j = 0; j < kRansLanes; ++j) rans.state[(first_lane + j) % kRansLanes] = after[j];
+    rans.set_position(pos);
+    raw = bits;
+    return in_range;
+}
+
 // The residuals the tokens stand for into q (3n + 1 values: each vertex writes 4), escaped
 // coordinates 0 for now; returns how many coordinates are escaped, their indices in q listed
 // in `escaped` (3n + 4 entries: each vertex writes 4, then moves on by its escape count).
@@ -242,32 +281,10 @@ private:
         const std::size_t n = header_.vertices;
         decode_tokens(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
-        const DecodeTable& escape_table = *table_of_[kEscapeTable];
         // Anything larger cannot land on the grid; bounding it keeps the sums in int32.
         const std::int64_t largest = (kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1;
-        // Escape symbol k of the frame goes to state (n + k) mod 4: the four states rotate
-        // through locals, `x` always the next one.
-        const std::size_t first_lane = n % kRansLanes;
-        std::uint32_t x = rans.state[first_lane], y = rans.state[(first_lane + 1) % kRansLanes],
-                      z = rans.state[(first_lane + 2) % kRansLanes], w = rans.state[(first_lane + 3) % kRansLanes];
-        const std::uint8_t* pos = rans.position();
-        bool in_range = true;
-        for (std::size_t i = 0; i < escaped; ++i) {
-            const int symbol = RansDecoder::decode(escape_table, x, pos);
-            std::swap(x, y);
-            std::swap(y, z);
-            std::swap(z, w);
-            const int length = symbol / 2 + 2;
-            const std::int64_t magnitude =
-                length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
-            in_range &= magnitude <= largest;
-            const auto bounded = static_cast<std::int32_t>(std::min(magnitude, largest));
-            q_[escaped_[i]] = (symbol & 1) ? -bounded : bounded;
-        }
-        const std::size_t symbols = escaped;
-        const std::uint32_t rotated[kRansLanes] = {x, y, z, w};
-        for (std::size_t k = 0; k < kRansLanes; ++k) rans.state[(first_lane + symbols + k) % kRansLanes] = rotated[k];
-        rans.set_position(pos);
+        // Escape k of the frame goes to state (n + k) mod 4.
+        const bool in_range = decode_escapes(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped, largest, q_.data());
         if (!in_range) r.fail("residual out of range (corrupt data)");
         if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
     }
