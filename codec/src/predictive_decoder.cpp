@@ -217,19 +217,22 @@ public:
         // for this packet if only its frames do, else in one row (scratch_'s first) reused.
         std::size_t packet_references = 0;
         for (std::size_t t : frames) packet_references += layout_.referenced[t] && !layout_.referenced_later[t];
-        scratch_.resize((1 + packet_references) * row);
+        if (const std::size_t needed = (1 + packet_references) * row; needed > scratch_size_) {
+            scratch_ = std::make_unique_for_overwrite<std::int32_t[]>(needed);  // each row is written in full before it is read
+            scratch_size_ = needed;
+        }
         std::size_t next_scratch = 1;
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
             decode_residuals(rans, raw, layout_.level_class[t], r);
             predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, grid_high_,
                           temporal_.data());
-            std::int32_t* grid = scratch_.data();
+            std::int32_t* grid = scratch_.get();
             if (layout_.referenced_later[t]) {
                 if (!grids_[t]) grids_[t] = std::make_unique_for_overwrite<std::int32_t[]>(row);  // written in full below
                 grid = grids_[t].get();
             } else if (layout_.referenced[t]) {
-                grid = scratch_.data() + row * next_scratch++;
+                grid = scratch_.get() + row * next_scratch++;
             }
             positions_[t].resize(n);
             if (!reconstruct_grid(modes[i] % 2 == 1, grid, positions_[t]))
@@ -317,7 +320,8 @@ private:
     std::vector<char> decoded_;
     std::vector<std::unique_ptr<std::int32_t[]>> grids_;  // integer frames kept for later packets
     std::vector<const std::int32_t*> frame_grid_;   // each decoded frame's integers, while they are needed
-    std::vector<std::int32_t> scratch_;
+    std::unique_ptr<std::int32_t[]> scratch_;
+    std::size_t scratch_size_ = 0;
     std::vector<std::uint8_t> stream_;    // the packet's rANS words, padded
     std::vector<std::uint8_t> raw_bits_;  // the packet's side information, padded
     std::array<std::unique_ptr<DecodeTable>, kTables> tables_;  // each made when its first table arrives
