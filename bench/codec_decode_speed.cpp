@@ -1,7 +1,8 @@
 // Decode speed of the `default` profile in CPU time (CLOCK_THREAD_CPUTIME_ID: the figure
 // that counts on a shared machine), plus its rate at Karni-Gotsman error 0.05 % (docs/benchmarks.md).
-//   build/bench/codec_decode_speed [--cache DIR] [--runs K] [--no-rate]
+//   build/bench/codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids]
 // Inputs: basicCloth (tests/data) and the 128x128-vertex, 240-frame drape animation
+// (--grids: also 16x16, 32x32 and 64x64, speed only)
 // (drape::animate, default cloth; written to DIR/drape128x128x240.{pc2,obj} once and read
 // back later, since simulating it takes a while).  Speed: decode of the file encoded at
 // max-error 2e-4 x diagonal, best of K runs (default 7), vertex-frames per CPU second.
@@ -30,13 +31,15 @@ double cpu_seconds() {
     return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-Animation drape_animation(const std::filesystem::path& cache) {
-    const auto pc2 = cache / "drape128x128x240.pc2", obj = cache / "drape128x128x240.obj";
+std::string drape_name(int grid) { return "drape" + std::to_string(grid) + "x" + std::to_string(grid) + "x240"; }
+
+Animation drape_animation(const std::filesystem::path& cache, int grid = 128) {
+    const auto pc2 = cache / (drape_name(grid) + ".pc2"), obj = cache / (drape_name(grid) + ".obj");
     if (std::filesystem::exists(pc2) && std::filesystem::exists(obj)) return read_pc2_animation(pc2, obj);
     drape::AnimationOptions options;
     options.frames = 240;
     options.fps = 30.0;
-    Animation a = drape::animate(drape::ClothParams{}, drape::GridSize{128, 128}, options);
+    Animation a = drape::animate(drape::ClothParams{}, drape::GridSize{grid, grid}, options);
     std::filesystem::create_directories(cache);
     write_pc2_animation(pc2, a);  // and the .obj beside it
     return read_pc2_animation(pc2, obj);  // what later runs see (float round trip through the files)
@@ -118,13 +121,14 @@ void rate(const char* name, const Animation& a) {
 int main(int argc, char** argv) {
     std::filesystem::path cache = std::filesystem::temp_directory_path() / "foldcast-bench";
     int runs = 7;
-    bool do_rate = true;
+    bool do_rate = true, grids = false;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--cache") == 0 && i + 1 < argc) cache = argv[++i];
         else if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
         else if (std::strcmp(argv[i], "--no-rate") == 0) do_rate = false;
+        else if (std::strcmp(argv[i], "--grids") == 0) grids = true;
         else {
-            std::fprintf(stderr, "usage: codec_decode_speed [--cache DIR] [--runs K] [--no-rate]\n");
+            std::fprintf(stderr, "usage: codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids]\n");
             return 2;
         }
     }
@@ -133,6 +137,8 @@ int main(int argc, char** argv) {
     const Animation drape = drape_animation(cache);
     speed("drape128x128x240", drape, runs);
     speed("basicCloth", cloth, runs * 20);
+    if (grids)
+        for (int grid : {16, 32, 64}) speed(drape_name(grid).c_str(), drape_animation(cache, grid), runs * 128 * 128 / (grid * grid));
     if (do_rate) {
         rate("drape128x128x240", drape);
         rate("basicCloth", cloth);
