@@ -155,7 +155,8 @@ public:
     PredictiveDecoder(const Header& h, std::string what)
         : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
           refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)), plan_(spatial_plan(refs_)),
-          residual_step_(static_cast<std::int64_t>(h.threshold)), grid_high_(grid_high(h)), positions_(h.frames), decoded_(h.frames, 0),
+          residual_step_(static_cast<std::int64_t>(h.threshold)),
+          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1), grid_high_(grid_high(h)), positions_(h.frames), decoded_(h.frames, 0),
           grids_(h.frames), frame_grid_(h.frames, nullptr), table_of_() {
         table_of_.fill(&uniform_decode_table());
     }
@@ -284,10 +285,8 @@ private:
         const std::size_t n = header_.vertices;
         decode_tokens(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
-        // Anything larger cannot land on the grid; bounding it keeps the sums in int32.
-        const std::int64_t largest = (kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1;
         // Escape k of the frame goes to state (n + k) mod 4.
-        const bool in_range = decode_escapes(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped, largest, q_.data());
+        const bool in_range = decode_escapes(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped, largest_residual_, q_.data());
         if (!in_range) r.fail("residual out of range (corrupt data)");
         if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
     }
@@ -315,6 +314,7 @@ private:
     std::vector<ContextNeighbours> neighbours_;
     SpatialPlan plan_;
     std::int64_t residual_step_;
+    std::int64_t largest_residual_;  // |q| above it cannot land on the grid; bounding it keeps the sums in int32
     std::int32_t grid_high_;  // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
