@@ -20,7 +20,8 @@ namespace {
 // Tokens of vertices [0, n) into token[0, n), vertex v with state v mod 4; token[n] is 0,
 // the context of a missing neighbour.  Only what the next tokens need happens here; their
 // values come after (token_values).
-void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, const ContextNeighbours* neighbours,
+template <RansDecoder::Renormalise R>
+[[gnu::noinline]] void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, const ContextNeighbours* neighbours,
                    std::uint8_t* token, std::size_t n) {
     // Everything in locals: the byte stores below may alias any memory, so the compiler
     // would otherwise reload pointers and spill the states after every token.
@@ -31,7 +32,7 @@ void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, co
     auto one = [&](std::size_t v, std::uint32_t x) {
         const ContextNeighbours nb = neighbours[v];
         const std::size_t bucket = kTokens.pair_bucket[std::size_t(token[nb.far]) << 6 | token[nb.opposite]];
-        token[v] = static_cast<std::uint8_t>(RansDecoder::decode(*tables[bucket], x, pos));
+        token[v] = static_cast<std::uint8_t>(RansDecoder::decode<R>(*tables[bucket], x, pos));
         return x;
     };
     std::uint32_t x0 = rans.state[0], x1 = rans.state[1], x2 = rans.state[2], x3 = rans.state[3];
@@ -53,13 +54,14 @@ void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, co
 // them): escape k is a symbol of `table` from state (first_lane + k) mod 4, then its raw
 // bits.  False if a magnitude exceeds `largest` (it cannot land on the grid; q gets the
 // clamped value).  Like decode_tokens: states by value in locals, four at a time.
-bool decode_escapes(RansDecoder& rans, std::size_t first_lane, const DecodeTable& table, PaddedBitReader& raw,
+template <RansDecoder::Renormalise R>
+[[gnu::noinline]] bool decode_escapes(RansDecoder& rans, std::size_t first_lane, const DecodeTable& table, PaddedBitReader& raw,
                     const std::uint32_t* escaped, std::size_t count, std::int64_t largest, std::int32_t* q) {
     PaddedBitReader bits = raw;
     const std::uint8_t* pos = rans.position();
     bool in_range = true;
     auto one = [&](std::size_t i, std::uint32_t x) {
-        const int symbol = RansDecoder::decode(table, x, pos);
+        const int symbol = RansDecoder::decode<R>(table, x, pos);
         const int length = symbol / 2 + 2;
         const std::int64_t magnitude =
             length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
@@ -283,10 +285,19 @@ private:
     // One frame's quantised residuals into q_.
     void decode_residuals(RansDecoder& rans, PaddedBitReader& bits, int level_class, const ByteReader& r) {
         const std::size_t n = header_.vertices;
-        decode_tokens(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
+        // Measured (docs/codec.md): up to 16x16 grids gain from the branch, 32x32 lose.
+        constexpr std::size_t kShortFrame = 512;
+        const DecodeTable* const* level_tables = table_of_.data() + level_table_base(level_class);
+        using enum RansDecoder::Renormalise;
+        if (n <= kShortFrame) decode_tokens<branch>(rans, level_tables, neighbours_.data(), token_.data(), n);
+        else decode_tokens<branch_free>(rans, level_tables, neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
         // Escape k of the frame goes to state (n + k) mod 4.
-        const bool in_range = decode_escapes(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped, largest_residual_, q_.data());
+        const DecodeTable& escape_table = *table_of_[kEscapeTable];
+        const bool in_range =
+            n <= kShortFrame
+                ? decode_escapes<branch>(rans, n % kRansLanes, escape_table, bits, escaped_.data(), escaped, largest_residual_, q_.data())
+                : decode_escapes<branch_free>(rans, n % kRansLanes, escape_table, bits, escaped_.data(), escaped, largest_residual_, q_.data());
         if (!in_range) r.fail("residual out of range (corrupt data)");
         if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
     }

@@ -86,15 +86,25 @@ public:
 
     // The same on a caller's copy of the read position: hot loops keep it in a register
     // (their byte stores could otherwise alias it), then hand it back with set_position.
+    // Renormalisation `branch_free` (in arithmetic, so the compiler cannot make a branch of
+    // it: whether a word is needed is as unpredictable as the symbol) costs no misprediction
+    // but lengthens each state's dependency chain; `branch` leaves the chain short while
+    // predicted.  Long runs of symbols are bound by throughput and want the first, short
+    // ones (the states restart at every small frame) by latency and want the second.
+    enum class Renormalise { branch_free, branch };
+    template <Renormalise R = Renormalise::branch_free>
     static int decode(const DecodeTable& table, std::uint32_t& x, const std::uint8_t*& pos) {
         const std::uint32_t slot = x & (kRansTotal - 1), symbol = table.symbol[slot], e = table.freq_start[symbol];
         x = (e & 0xffffu) * (x >> kRansProbabilityBits) + slot - (e >> 16);
-        // Branch-free (in arithmetic, so the compiler cannot make a branch of it): whether a
-        // word is needed is as unpredictable as the symbol.
-        const std::uint32_t word = std::uint32_t(pos[0]) | (std::uint32_t(pos[1]) << 8);
-        const std::uint32_t need = x < kLow;
-        x = (x << (16 * need)) | (word & (0u - need));
-        pos += 2 * need;
+        if constexpr (R == Renormalise::branch_free) {
+            const std::uint32_t word = std::uint32_t(pos[0]) | (std::uint32_t(pos[1]) << 8);
+            const std::uint32_t need = x < kLow;
+            x = (x << (16 * need)) | (word & (0u - need));
+            pos += 2 * need;
+        } else if (x < kLow) {
+            x = (x << 16) | std::uint32_t(pos[0]) | (std::uint32_t(pos[1]) << 8);
+            pos += 2;
+        }
         return static_cast<int>(symbol);
     }
     const std::uint8_t* position() const { return pos_; }

@@ -109,6 +109,21 @@ TEST(Rans, InterleavedStatesRoundTripAndCostWhatTheModelSays) {
         for (std::size_t k = 0; k < tables.size(); ++k)
             ASSERT_EQ(dec.decode(decode_tables[k], dec.state[(3 * i + k) % kRansLanes]), streams[k][i]) << i;
     EXPECT_FALSE(dec.overrun());
+
+    // Both renormalisations read the same words: the same symbols, states and position.
+    std::vector<std::uint8_t> storage_a, storage_b;
+    RansDecoder free_of_branches(bytes, 3 * n, storage_a), branching(bytes, 3 * n, storage_b);
+    const std::uint8_t *p = free_of_branches.position(), *q = branching.position();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t k = 0; k < tables.size(); ++k) {
+            const std::size_t lane = (3 * i + k) % kRansLanes;
+            const int a = RansDecoder::decode<RansDecoder::Renormalise::branch_free>(decode_tables[k], free_of_branches.state[lane], p);
+            const int b = RansDecoder::decode<RansDecoder::Renormalise::branch>(decode_tables[k], branching.state[lane], q);
+            ASSERT_EQ(a, streams[k][i]) << i;
+            ASSERT_EQ(b, streams[k][i]) << i;
+            ASSERT_EQ(free_of_branches.state[lane], branching.state[lane]) << i;
+            ASSERT_EQ(p - storage_a.data(), q - storage_b.data()) << i;
+        }
 }
 
 TEST(Rans, ACutStreamRunsIntoThePadding) {
