@@ -278,22 +278,25 @@ public:
 private:
     // One frame's quantised residuals into q_.
     void decode_residuals(RansDecoder& rans, PaddedBitReader& bits, int level_class, const ByteReader& r) {
-        const std::size_t n = header_.vertices;
-        // Measured (docs/codec.md): up to 16x16 grids gain from the branch, 32x32 lose.
+        // Frames of up to 512 vertices renormalise by a branch, longer ones branch-free
+        // (RansDecoder::decode; measured in docs/codec.md: 16x16 grids gain, 32x32 lose).
         constexpr std::size_t kShortFrame = 512;
-        const DecodeTable* const* level_tables = table_of_.data() + level_table_base(level_class);
         using enum RansDecoder::Renormalise;
-        if (n <= kShortFrame) decode_tokens<branch>(rans, level_tables, neighbours_.data(), token_.data(), n);
-        else decode_tokens<branch_free>(rans, level_tables, neighbours_.data(), token_.data(), n);
-        const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
-        // Escape k of the frame goes to state (n + k) mod 4.
-        const DecodeTable& escape_table = *table_of_[kEscapeTable];
-        const bool in_range =
-            n <= kShortFrame
-                ? decode_escapes<branch>(rans, n % kRansLanes, escape_table, bits, escaped_.data(), escaped, largest_residual_, q_.data())
-                : decode_escapes<branch_free>(rans, n % kRansLanes, escape_table, bits, escaped_.data(), escaped, largest_residual_, q_.data());
+        const bool in_range = header_.vertices <= kShortFrame ? decode_symbols<branch>(rans, bits, level_class)
+                                                              : decode_symbols<branch_free>(rans, bits, level_class);
         if (!in_range) r.fail("residual out of range (corrupt data)");
         if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
+    }
+
+    // The frame's tokens, their values and its escapes into q_; false if an escape is out of
+    // range.  Escape k of the frame goes to state (n + k) mod 4.
+    template <RansDecoder::Renormalise R>
+    bool decode_symbols(RansDecoder& rans, PaddedBitReader& bits, int level_class) {
+        const std::size_t n = header_.vertices;
+        decode_tokens<R>(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
+        const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
+        return decode_escapes<R>(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped, largest_residual_,
+                                 q_.data());
     }
 
     // grid = temporal prediction + (spatial prediction) + q m, checked against the grid's

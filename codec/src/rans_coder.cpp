@@ -66,17 +66,13 @@ QuantisedTable read_table(BitReader& in) {
     // reader's state.
     BitReader bits = in;
     QuantisedTable q;
-    std::size_t s = 0;
-    while (true) {
-        const std::uint32_t ahead = bits.peek(32);
-        const auto absent = std::min<std::size_t>(static_cast<std::size_t>(std::countl_zero(ahead)), kRansAlphabet - s);
+    for (std::size_t s = 0; s < kRansAlphabet;) {
+        const auto absent = std::min<std::size_t>(static_cast<std::size_t>(std::countl_zero(bits.peek(32))), kRansAlphabet - s);
         bits.skip(static_cast<int>(absent));
         s += absent;
-        if (s == kRansAlphabet) break;
-        if (absent == 32) continue;  // 32 absent symbols and more to come
+        if (s == kRansAlphabet || absent == 32) continue;  // done, or 32 absent and more to look at
         const std::uint32_t code = bits.get(1 + kCodeBits) & ((1u << kCodeBits) - 1);
         q.code[s++] = static_cast<std::uint8_t>(std::max<std::uint32_t>(1, code));
-        if (s == kRansAlphabet) break;
     }
     in = bits;
     return q;
@@ -112,11 +108,11 @@ SymbolTable make_table(const QuantisedTable& table) {
     // Rounding leaves a remainder of either sign: the most frequent symbol absorbs it, where
     // it costs least.  While the sum is too large some frequency exceeds 1 (64 ones sum to
     // less than kRansTotal), so every round makes progress.
-    for (bool first = true; left != 0; first = false) {
-        if (!first) big = static_cast<std::size_t>(std::max_element(t.freq.begin(), t.freq.end()) - t.freq.begin());
+    while (left != 0) {
         const std::int64_t change = left > 0 ? left : std::max<std::int64_t>(left, 1 - std::int64_t(t.freq[big]));
         t.freq[big] = static_cast<std::uint16_t>(std::int64_t(t.freq[big]) + change);
         left -= change;
+        if (left != 0) big = static_cast<std::size_t>(std::max_element(t.freq.begin(), t.freq.end()) - t.freq.begin());
     }
     finish_table(t);
     return t;
@@ -126,15 +122,10 @@ void fill_decode_table(const SymbolTable& table, DecodeTable& out) {
     for (std::size_t s = 0; s < kRansAlphabet; ++s) out.freq_start[s] = table.freq[s] | std::uint32_t(table.start[s]) << 16;
     // Each present symbol's slots in whole 16-byte blocks: a block running past them is
     // overwritten by the next symbol's (ranges ascend with the symbol), the last one's by
-    // nothing.  Most symbols need one block, written without a loop; long runs (the few
-    // frequent symbols) go to memset, whose stores are wider.
+    // nothing.  Most symbols need one block, written without a loop.
     for (std::size_t s = 0; s < kRansAlphabet; ++s) {
         const std::uint32_t start = table.start[s], end = start + table.freq[s];
         if (start == end) continue;
-        if (end - start > 256) {
-            std::memset(out.symbol.data() + start, static_cast<int>(s), end - start);
-            continue;
-        }
         std::uint8_t block[16];
         std::memset(block, static_cast<int>(s), sizeof block);
         std::memcpy(out.symbol.data() + start, block, sizeof block);

@@ -14,7 +14,6 @@ SpatialRun classify(const SpatialReference& s, std::uint32_t v) {
     const std::int32_t other = s.a == previous ? s.b : s.a;
     return {Kind::row, v, v + 1, v - static_cast<std::uint32_t>(other), v - static_cast<std::uint32_t>(s.c)};
 }
-}  // namespace
 
 std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs) {
     std::vector<SpatialRun> runs;
@@ -34,6 +33,7 @@ std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs) 
     }
     return runs;
 }
+}  // namespace
 
 SpatialPlan spatial_plan(const std::vector<SpatialReference>& refs) {
     SpatialPlan plan{spatial_runs(refs), std::vector<std::array<std::uint32_t, 3>>(refs.size())};

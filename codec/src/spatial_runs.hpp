@@ -24,11 +24,8 @@ struct SpatialRun {
     std::uint32_t up = 0, corner = 0;  // row runs only
 };
 
-// Runs covering [0, refs.size()) in order.
-std::vector<SpatialRun> spatial_runs(const std::vector<SpatialReference>& refs);
-
 struct SpatialPlan {
-    std::vector<SpatialRun> runs;
+    std::vector<SpatialRun> runs;  // covering [0, refs.size()) in order
     // Per vertex, the offsets of r_a, r_b and r_c for a gather: 3 a, 3 b, 3 c, a missing
     // reference 3 n, three zeros after the frame's residuals, so gathers need no branch.
     std::vector<std::array<std::uint32_t, 3>> gather;

@@ -28,7 +28,8 @@ std::vector<std::int64_t> reference_residuals(const std::vector<SpatialReference
 
 void expect_runs_match_reference(const std::vector<Triangle>& triangles, std::size_t n) {
     const std::vector<SpatialReference> refs = spatial_references(n, triangles);
-    const std::vector<SpatialRun> runs = spatial_runs(refs);
+    const SpatialPlan plan = spatial_plan(refs);
+    const std::vector<SpatialRun>& runs = plan.runs;
     // The runs cover every vertex once, in order, and a row run reads only earlier vertices.
     std::uint32_t next = 0;
     for (const SpatialRun& run : runs) {
@@ -50,7 +51,7 @@ void expect_runs_match_reference(const std::vector<Triangle>& triangles, std::si
         const std::vector<std::int64_t> expected = reference_residuals(refs, q, m);
         std::vector<std::uint32_t> r(3 * n + 3, 0xdeadbeef);
         std::fill(r.end() - 3, r.end(), 0u);
-        spatial_residuals(spatial_plan(refs), reinterpret_cast<const std::uint32_t*>(q.data()), m, r.data());
+        spatial_residuals(plan, reinterpret_cast<const std::uint32_t*>(q.data()), m, r.data());
         EXPECT_EQ(r[3 * n] | r[3 * n + 1] | r[3 * n + 2], 0u) << "the zeros after the frame stay zero";
         for (std::size_t k = 0; k < 3 * n; ++k)
             ASSERT_EQ(static_cast<std::int32_t>(r[k]), expected[k]) << "coordinate " << k << ", m " << m;
@@ -59,7 +60,7 @@ void expect_runs_match_reference(const std::vector<Triangle>& triangles, std::si
 
 TEST(SpatialRuns, RegularGridIsMostlyRowRunsAndMatchesTheEncoder) {
     const Animation grid = test::wave_grid(17, 9, 1);
-    const std::vector<SpatialRun> runs = spatial_runs(spatial_references(grid.vertex_count(), grid.topology.triangles));
+    const std::vector<SpatialRun> runs = spatial_plan(spatial_references(grid.vertex_count(), grid.topology.triangles)).runs;
     std::size_t in_rows = 0;
     for (const SpatialRun& run : runs)
         if (run.kind == SpatialRun::Kind::row) in_rows += run.end - run.begin;
