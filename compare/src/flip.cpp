@@ -14,6 +14,8 @@
 
 #include "foldcast/compare/diff.hpp"
 #include "mat_convert.hpp"
+#include "foldcast/core/colour.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::compare {
 namespace {
@@ -27,10 +29,6 @@ const cv::Matx33f kXyzToRgb(3.24096994f, -1.53738318f, -0.49861076f,  //
                             0.05563008f, -0.20397696f, 1.05697151f);
 // Reference white: XYZ of linear RGB (1,1,1).
 const cv::Vec3f kWhite(0.95042854f, 1.0f, 1.08890037f);
-
-float srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 cv::Vec3f xyz_to_ycxcz(const cv::Vec3f& xyz) {
     const float x = xyz[0] / kWhite[0], y = xyz[1] / kWhite[1], z = xyz[2] / kWhite[2];
@@ -63,7 +61,7 @@ float hyab(const cv::Vec3f& a, const cv::Vec3f& b) {
 // a2 sqrt(pi/b2) exp(-pi^2 r^2/b2), r in degrees, normalised to sum 1.  All three share the
 // radius set by the widest Gaussian.
 cv::Mat csf_kernel(double ppd, double a1, double b1, double a2, double b2) {
-    constexpr double pi = std::numbers::pi;
+    constexpr double pi = kPi;
     const double b_max = 0.04;  // largest b over the three channels (Table 1)
     const int radius = static_cast<int>(std::ceil(3.0 * std::sqrt(b_max / (2.0 * pi * pi)) * ppd));
     cv::Mat k(2 * radius + 1, 2 * radius + 1, CV_64F);

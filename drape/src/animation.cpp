@@ -6,12 +6,12 @@
 
 #include <atomic>
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape.hpp"
 #include "fold_surface.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::drape {
 
@@ -59,7 +59,7 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
             const double h = params.height_m;
             for (Vec3f& p : positions) {
                 const double depth = std::max(0.0, -double(p.y())) / h;
-                const double phase = 2.0 * std::numbers::pi * time_s / options.sway_period_s - 0.5 * depth;
+                const double phase = 2.0 * kPi * time_s / options.sway_period_s - 0.5 * depth;
                 p.z() += float(options.sway_amplitude_m * depth * depth * std::sin(phase));
             }
         }

@@ -1,10 +1,10 @@
 // Fold lines y_i(x) = a_i cos(pi x / l), z_i(x) = s_i zmax cos(pi x / l), s_i = (-1)^i:
 // the lowest (i = 0) bulges towards the viewer and the signs alternate upwards.
 #include <cmath>
-#include <numbers>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::drape {
 
@@ -22,7 +22,7 @@ std::vector<FoldLine> fold_lines(const ClothParams& params, const FoldSolution& 
         line.points.reserve(std::size_t(samples));
         for (int k = 0; k < samples; ++k) {
             const double x = -0.5 * l + l * k / (samples - 1);
-            const double c = (k == 0 || k == samples - 1) ? 0.0 : std::cos(std::numbers::pi * x / l);
+            const double c = (k == 0 || k == samples - 1) ? 0.0 : std::cos(kPi * x / l);
             line.points.emplace_back(x, -a * c, line.sign * solution.zmax_m * c);
         }
         lines.push_back(std::move(line));

@@ -4,15 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include "foldcast/core/error.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::drape::detail {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 }
 
 FoldSurface::FoldSurface(const ClothParams& params, const FoldSolution& solution)
@@ -96,7 +95,7 @@ void grid_positions(const FoldSurface& surface, const ClothParams& params, GridS
     positions.resize(nu * nv);
     if (fold_sign) fold_sign->resize(nu * nv);
     const double half = 0.5 * surface.span_m();
-    const double pi_over_l = std::numbers::pi / surface.span_m();
+    const double pi_over_l = kPi / surface.span_m();
     // Fine x samples shared by all rows; the supports get c = 0 exactly.
     const std::size_t samples = std::max<std::size_t>(2 * nu, 256);
     std::vector<double> xs(samples + 1), cs(samples + 1);

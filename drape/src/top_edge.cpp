@@ -4,15 +4,14 @@
 //          = (2 l / pi) sqrt(1 + k^2) E(m),   m = k^2 / (1 + k^2),
 // E the complete elliptic integral of the second kind (std::comp_ellint_2 takes sqrt(m)).
 #include <cmath>
-#include <numbers>
 
 #include "foldcast/drape.hpp"
 #include "root_finding.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::drape {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 
 // Length and its derivative with respect to A.
 void length_and_slope(double span_m, double amplitude_m, double& length, double& slope) {

@@ -3,18 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include "foldcast/core/colour.hpp"
 
 namespace foldcast::looks {
-
-float srgb_to_linear(float encoded) {
-    return encoded <= 0.04045f ? encoded / 12.92f
-                               : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
-}
-
-float linear_to_srgb(float linear) {
-    return linear <= 0.0031308f ? linear * 12.92f
-                                : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
-}
 
 namespace {
 int hex_digit(char c) {

@@ -1,15 +1,14 @@
 #pragma once
-// sRGB <-> linear conversions for look colours (IEC 61966-2-1 transfer curve).
+// Look colours as sRGB hex text (the transfer curve itself is in foldcast/core/colour.hpp).
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include <Eigen/Core>
 
-namespace foldcast::looks {
+#include "foldcast/core/colour.hpp"
 
-float srgb_to_linear(float encoded);
-float linear_to_srgb(float linear);
+namespace foldcast::looks {
 
 // "#RRGGBB" (case-insensitive) -> linear RGB; nullopt if the text is not of that form.
 std::optional<Eigen::Vector3f> parse_srgb_hex(std::string_view text);

@@ -1,10 +1,10 @@
-#include <numbers>
 
 #include "foldcast/looks.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::looks {
 
-double default_load_constant() { return 23.9 * std::numbers::pi * std::numbers::pi / 12.0; }
+double default_load_constant() { return 23.9 * kPi * kPi / 12.0; }
 
 double Mechanics::weight_n_per_m2() const {
     constexpr double kStandardGravity = 9.80665;  // m/s^2

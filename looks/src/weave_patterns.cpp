@@ -5,12 +5,11 @@
 #include "weave_patterns.hpp"
 
 #include <cmath>
-#include <numbers>
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::looks::detail {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // Height of a yarn's crown above the gaps, in yarn pitches.  With the cos profile the steepest
 // flank slope is kYarnHeight * pi = 0.63 (32 degrees), typical of woven yarn cross-sections.
 constexpr double kYarnHeight = 0.2;

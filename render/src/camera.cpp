@@ -5,11 +5,12 @@
 #include <limits>
 
 #include "foldcast/render.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+constexpr double kDegToRad = kPi / 180.0;
 
 struct ProjectedBox {
     double min_x = 1e30, max_x = -1e30, min_y = 1e30, max_y = -1e30;  // in [-1,1] NDC

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "foldcast/render.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
 
@@ -16,7 +17,7 @@ public:
         forward_ = (camera.target - camera.position).normalized();
         right_ = forward_.cross(camera.up).normalized();
         up_ = right_.cross(forward_);
-        tan_y_ = static_cast<float>(std::tan(camera.fov_deg * 0.5 * 3.14159265358979323846 / 180.0));
+        tan_y_ = static_cast<float>(std::tan(camera.fov_deg * 0.5 * kPi / 180.0));
         tan_x_ = tan_y_ * static_cast<float>(width) / static_cast<float>(height);
     }
 

@@ -4,14 +4,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 
 #include "random_stream.hpp"
+#include "foldcast/core/colour.hpp"
+#include "foldcast/core/math.hpp"
+#include "foldcast/core/sampling.hpp"
 
 namespace foldcast::render {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kMinAlpha = 2e-3f;       // GGX: below this the highlight is a near-delta
 constexpr float kMinSheenRough = 0.07f;  // Charlie: exponent 1/alpha stays <= ~200
 
@@ -20,7 +21,7 @@ float sqr(float x) { return x * x; }
 // --- GGX (anisotropic, height-correlated Smith) -------------------------------------------
 float ggx_d(const V3& h, float ax, float ay) {
     const float e = sqr(h.x() / ax) + sqr(h.y() / ay) + sqr(h.z());
-    return 1.0f / (kPi * ax * ay * e * e);
+    return 1.0f / (kPiF * ax * ay * e * e);
 }
 float ggx_lambda(const V3& w, float ax, float ay) {
     const float z2 = sqr(w.z());
@@ -40,7 +41,7 @@ V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
     const V3 t1 = lensq > 0.0f ? V3(-vh.y(), vh.x(), 0.0f) / std::sqrt(lensq) : V3(1.0f, 0.0f, 0.0f);
     const V3 t2 = vh.cross(t1);
     const float r = std::sqrt(u1);
-    const float phi = 2.0f * kPi * u2;
+    const float phi = 2.0f * kPiF * u2;
     const float p1 = r * std::cos(phi);
     float p2 = r * std::sin(phi);
     const float s = 0.5f * (1.0f + vh.z());
@@ -54,7 +55,7 @@ V3 reflect(const V3& w, const V3& h) { return 2.0f * w.dot(h) * h - w; }
 float charlie_d(float cos_h, float alpha) {
     const float inv = 1.0f / alpha;
     const float sin2 = std::max(0.0f, 1.0f - cos_h * cos_h);
-    return (2.0f + inv) * std::pow(sin2, 0.5f * inv) / (2.0f * kPi);
+    return (2.0f + inv) * std::pow(sin2, 0.5f * inv) / (2.0f * kPiF);
 }
 float neubelt_v(float no, float ni) { return 1.0f / (4.0f * (ni + no - ni * no)); }
 
@@ -96,10 +97,9 @@ struct Tables {
                         }
                         // Sheen: uniform hemisphere, weight f cos 2 pi.
                         const float z = u1;
-                        const float rr = std::sqrt(std::max(0.0f, 1.0f - z * z));
-                        const V3 ws(rr * std::cos(2.0f * kPi * u2), rr * std::sin(2.0f * kPi * u2), z);
+                        const V3 ws = sample_uniform_hemisphere(z, u2);
                         const V3 hs = (wo + ws).normalized();
-                        sh += charlie_d(hs.z(), sheen_alpha) * neubelt_v(mu, z) * z * 2.0f * kPi;
+                        sh += charlie_d(hs.z(), sheen_alpha) * neubelt_v(mu, z) * z * 2.0f * kPiF;
                     }
                 const double n = static_cast<double>(kStrata) * kStrata;
                 spec_a[i * kN + j] = static_cast<float>(a / n);
@@ -126,7 +126,6 @@ const Tables& tables() {
     return t;
 }
 
-float luminance(const V3& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
 
 }  // namespace
 
@@ -201,10 +200,10 @@ V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
     }
     if (sheen_scale_ > 0.0f) {
         f += base_weight_ * sheen_d_v(wi) * p_.sheen;
-        pd += p_sheen_ / (2.0f * kPi);
+        pd += p_sheen_ / (2.0f * kPiF);
     }
-    f += diffuse_weight_ / kPi * p_.diffuse;
-    pd += p_diffuse_ * wi.z() / kPi;
+    f += diffuse_weight_ / kPiF * p_.diffuse;
+    pd += p_diffuse_ * wi.z() / kPiF;
     *pdf = pd;
     return f * wi.z();
 }
@@ -215,13 +214,9 @@ bool ClothBsdf::sample(float u_lobe, float u1, float u2, BsdfSample* out) const 
     if (u_lobe < p_spec_) {
         wi = reflect(wo_, sample_vndf(wo_, ax_, ay_, u1, u2));
     } else if (u_lobe < p_spec_ + p_sheen_) {
-        const float z = u1;
-        const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-        wi = V3(r * std::cos(2.0f * kPi * u2), r * std::sin(2.0f * kPi * u2), z);
+        wi = sample_uniform_hemisphere(u1, u2);
     } else {
-        const float r = std::sqrt(u1);
-        wi = V3(r * std::cos(2.0f * kPi * u2), r * std::sin(2.0f * kPi * u2),
-                std::sqrt(std::max(0.0f, 1.0f - u1)));
+        wi = sample_cosine_hemisphere(u1, u2);
     }
     if (wi.z() <= 1e-6f) return false;
     float pdf = 0.0f;

@@ -9,13 +9,10 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/looks/weave.hpp"
+#include "foldcast/core/colour.hpp"
 
 namespace foldcast::render {
 namespace {
-
-float srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 // Tiled bilinear lookup of a float image at texture coordinates st (1 = one tile).
 V3 sample_tiled(const cv::Mat& img, float s, float t) {

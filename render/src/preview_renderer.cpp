@@ -7,12 +7,12 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <string>
 
 #include "egl_context.hpp"
 #include "foldcast/render/preview.hpp"
 #include "preview_shaders.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
 
@@ -279,7 +279,7 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     const float to_centre = (centre - camera.position).norm();
     const float near_m = std::max(to_centre - 1.05f * radius, 1e-3f * radius);
     const float far_m = to_centre + 1.05f * radius;
-    const float fov = camera.vertical_fov_deg * std::numbers::pi_v<float> / 180.0f;
+    const float fov = camera.vertical_fov_deg * kPiF / 180.0f;
     const Eigen::Matrix4f view_proj =
         perspective(fov, static_cast<float>(s.width) / static_cast<float>(s.height), near_m, far_m) *
         look_at(camera.position, camera.target, camera.up);

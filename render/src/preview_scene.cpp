@@ -8,6 +8,7 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/looks/weave.hpp"
 #include "studio_setup.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
 
@@ -80,7 +81,7 @@ PreviewScene make_preview_scene(const SceneSpec& lit_scene, const FrameGeometry&
     }
     const Vec3f bounce = lit_scene.backdrop == SceneSpec::Backdrop::none
                              ? Vec3f::Zero()
-                             : Vec3f(0.2f * lit_scene.backdrop_colour.cwiseProduct(irradiance) / 3.14159265f);
+                             : Vec3f(0.2f * lit_scene.backdrop_colour.cwiseProduct(irradiance) / kPiF);
     p.camera.position = camera.position;
     p.camera.target = camera.target;
     p.camera.up = camera.up;

@@ -2,12 +2,11 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <numbers>
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
 
 void add_quad(StudioMesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
     m.triangles.push_back({a, b, c});
@@ -22,7 +21,7 @@ void add_cylinder(StudioMesh& m, const Vec3f& a, const Vec3f& b, float radius, i
     const Vec3f v = axis.cross(u);
     const auto base = static_cast<std::uint32_t>(m.positions.size());
     for (int i = 0; i < segments; ++i) {
-        const float phi = 2.0f * kPi * static_cast<float>(i) / static_cast<float>(segments);
+        const float phi = 2.0f * kPiF * static_cast<float>(i) / static_cast<float>(segments);
         const Vec3f n = std::cos(phi) * u + std::sin(phi) * v;
         m.positions.push_back(a + radius * n);
         m.normals.push_back(n);
@@ -42,7 +41,7 @@ void add_cylinder(StudioMesh& m, const Vec3f& a, const Vec3f& b, float radius, i
         m.positions.push_back(c);
         m.normals.push_back(n);
         for (int i = 0; i < segments; ++i) {
-            const float phi = 2.0f * kPi * static_cast<float>(i) / static_cast<float>(segments);
+            const float phi = 2.0f * kPiF * static_cast<float>(i) / static_cast<float>(segments);
             m.positions.push_back(c + radius * (std::cos(phi) * u + std::sin(phi) * v));
             m.normals.push_back(n);
         }
@@ -86,7 +85,7 @@ StudioMesh build_cyclorama(const Vec3f& centre, float radius_m, float bottom_y) 
     profile.push_back({{centre.z() + 6.0f, floor_y}, {0.0f, 1.0f}});
     constexpr int kArc = 24;
     for (int i = 0; i <= kArc; ++i) {
-        const float a = 0.5f * kPi * static_cast<float>(i) / kArc;  // 0: floor, pi/2: wall
+        const float a = 0.5f * kPiF * static_cast<float>(i) / kArc;  // 0: floor, pi/2: wall
         const Eigen::Vector2f c(wall_z + cove, floor_y + cove);
         const Eigen::Vector2f n(std::sin(a), std::cos(a));
         profile.push_back({c - cove * n, n});

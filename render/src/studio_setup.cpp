@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "foldcast/core/error.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
 
@@ -27,7 +28,7 @@ StudioSetup::StudioSetup(const SceneSpec& scene, GarmentData garment)
 
 Vec3f StudioSetup::turn(const Vec3f& p, double turn_deg) const {
     if (turn_deg == 0.0) return p;
-    const double a = turn_deg * 3.14159265358979323846 / 180.0;
+    const double a = turn_deg * kPi / 180.0;
     const float c = static_cast<float>(std::cos(a)), s = static_cast<float>(std::sin(a));
     const Vec3f d = p - centre_;
     return centre_ + Vec3f(c * d.x() + s * d.z(), d.y(), -s * d.x() + c * d.z());

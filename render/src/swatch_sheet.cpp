@@ -9,12 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <string_view>
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -31,9 +31,9 @@ CameraSpec swatch_camera(const SwatchOptions& o, double aspect) {
     const double top_m = 0.16, bottom_m = -o.height_m - 0.03;  // rod and clips above y = 0
     const double half_height_m = 0.5 * (top_m - bottom_m) * 1.08;
     const double half_width_m = 0.5 * o.width_m * 1.15;
-    const double tan_half = std::tan(0.5 * camera.fov_deg * std::numbers::pi / 180.0);
+    const double tan_half = std::tan(0.5 * camera.fov_deg * kPi / 180.0);
     const double distance_m = std::max(half_height_m, half_width_m / aspect) / tan_half;
-    const double azimuth = -18.0 * std::numbers::pi / 180.0, elevation = 6.0 * std::numbers::pi / 180.0;
+    const double azimuth = -18.0 * kPi / 180.0, elevation = 6.0 * kPi / 180.0;
     const Eigen::Vector3d target(0.0, 0.5 * (top_m + bottom_m), 0.0);
     const Eigen::Vector3d offset(std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
                                  std::cos(azimuth) * std::cos(elevation));

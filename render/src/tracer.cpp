@@ -21,6 +21,9 @@
 #include "cloth_bsdf.hpp"
 #include "garment_surface.hpp"
 #include "random_stream.hpp"
+#include "foldcast/core/colour.hpp"
+#include "foldcast/core/math.hpp"
+#include "foldcast/core/sampling.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -31,7 +34,6 @@ constexpr int kMaxLights = 16;
 constexpr float kIndirectClamp = 20.0f;  // caps rare caustic fireflies off the metal rod
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-float luminance(const V3& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
 float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
 
 struct GeometryData {
@@ -198,7 +200,7 @@ struct Tracer::Impl {
             prob[i] = facing > 0.0f ? luminance(l.radiance) * l.area * facing * receive / dist2 : 0.0f;
             sum += prob[i];
         }
-        prob[count] = luminance(environment) * 3.14159265f;
+        prob[count] = luminance(environment) * kPiF;
         sum += prob[count];
         if (sum > 0.0f)
             for (int i = 0; i <= count; ++i) prob[i] /= sum;
@@ -276,7 +278,7 @@ struct Tracer::Impl {
                     out.radiance = environment;
                 } else {
                     const float pdf_env =
-                        prev_choice[lights.size()] * std::max(0.0f, d.dot(prev_n)) / 3.14159265f;
+                        prev_choice[lights.size()] * std::max(0.0f, d.dot(prev_n)) / kPiF;
                     const float w = power_heuristic(prev_bsdf_pdf, pdf_env);
                     add(out.radiance, beta.cwiseProduct(environment) * w, depth);
                 }
@@ -324,11 +326,10 @@ struct Tracer::Impl {
                             le = l.radiance;
                         }
                     } else {
-                        const float r = std::sqrt(u_a), phi = 6.2831853f * u_b;
-                        const V3 local(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u_a)));
+                        const V3 local = sample_cosine_hemisphere(u_a, u_b);
                         const Frame nf(hit.ns, hit.tangent);
                         wi = nf.to_world(local);
-                        pdf_light = choice[pick] * local.z() / 3.14159265f;
+                        pdf_light = choice[pick] * local.z() / kPiF;
                         le = environment;
                     }
                     if (pdf_light > 0.0f && wi.dot(hit.ng) > 0.0f) {
