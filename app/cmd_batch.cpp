@@ -4,9 +4,10 @@
 #include <string>
 
 #include "commands.hpp"
+#include "library_validator.hpp"
 #include "foldcast/looks.hpp"
 #include "foldcast/render.hpp"
-#include "foldcast/render/batch.hpp"
+#include "foldcast/batch/catalogue.hpp"
 #include "progress_bar.hpp"
 
 namespace foldcast::app {
@@ -23,6 +24,7 @@ Command batch_command(CLI::App& app) {
     sub->add_option("manifest", args->manifest, "Catalogue manifest (TOML), e.g. gallery/catalogue.toml")->required();
     sub->add_option("--shard", args->shard,
                     "Render only shard I of N (0-based, e.g. 2/8): jobs whose index is I modulo N")
+        ->check(library_validator([](const std::string& v) { batch::parse_shard(v); }, "I/N"))
         ->capture_default_str();
     sub->add_option("--threads", args->threads, "Render threads per image (default: all cores)")
         ->check(CLI::Range(1, 1024));
@@ -30,17 +32,17 @@ Command batch_command(CLI::App& app) {
     sub->add_flag("--json", args->json, "Print the shard's outputs (paths, SHA-256, skipped) as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args] {
-                const render::Shard shard = render::parse_shard(args->shard);
-                const render::BatchManifest manifest = render::load_manifest(args->manifest);
+                const batch::Shard shard = batch::parse_shard(args->shard);
+                const batch::BatchManifest manifest = batch::load_manifest(args->manifest);
                 const looks::Library library = looks::Library::load_default();
                 for (const std::string& look : manifest.looks) library.get(look);  // fail before any work
                 if (args->dry_run) {
-                    for (const render::BatchJob& job : render::shard_jobs(manifest, shard))
-                        std::printf("%4zu %s %s\n", job.index, render::is_finished(job.output) ? "done" : "todo",
+                    for (const batch::BatchJob& job : batch::shard_jobs(manifest, shard))
+                        std::printf("%4zu %s %s\n", job.index, batch::is_finished(job.output) ? "done" : "todo",
                                     job.output.c_str());
                     return 0;
                 }
-                auto render_job = [&](const render::BatchJob& job, const render::BatchManifest& m) {
+                auto render_job = [&](const batch::BatchJob& job, const batch::BatchManifest& m) {
                     render::SceneSpec scene = render::load_scene(job.garment.scene);
                     scene.look = library.get(job.look);
                     scene.camera.azimuth_deg = job.view.azimuth_deg;
@@ -53,13 +55,13 @@ Command batch_command(CLI::App& app) {
                     options.threads = args->threads;
                     render::write_render(job.output, render::render_still(scene, options), scene);
                 };
-                std::vector<render::BatchOutput> outputs;
+                std::vector<batch::BatchOutput> outputs;
                 {
                     ProgressBar bar(args->quiet || args->json);
-                    outputs = render::run_batch(manifest, shard, render_job, bar.callback());
+                    outputs = batch::run_batch(manifest, shard, render_job, bar.callback());
                 }
                 if (args->json) {
-                    std::printf("%s", render::outputs_json(manifest, outputs).c_str());
+                    std::printf("%s", batch::outputs_json(manifest, outputs).c_str());
                 } else if (!args->quiet) {
                     std::size_t skipped = 0;
                     for (const auto& o : outputs) skipped += o.skipped;

@@ -37,7 +37,7 @@ struct DrapeOptions {
 };
 
 struct Flags {  // which options the user gave (they override a look)
-    CLI::Option *thickness, *young, *gsm, *weight, *poisson, *load, *frames;
+    CLI::Option *thickness, *young, *gsm, *weight, *poisson, *load;
 };
 
 std::string number(double v) {
@@ -90,7 +90,7 @@ drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
     m.poisson = o.poisson;
     m.load_constant = o.load_constant;
     if (!o.look.empty()) {
-        const looks::Mechanics base = looks::Library::load_default().get(o.look).mechanics;
+        const looks::Mechanics base = looks::Library::load_default().find(o.look).mechanics;
         if (!flags.thickness->count()) m.thickness_mm = base.thickness_mm;
         if (!flags.young->count()) m.young_mpa = base.young_mpa;
         if (!flags.gsm->count()) m.gsm = base.gsm;
@@ -257,8 +257,8 @@ Command drape_command(CLI::App& app) {
     sub->add_option("--inset-m", o->inset_m,
                     "Support inset d on each side; supports are L - 2d apart (m), 0 <= d < L/2")
         ->capture_default_str();
-    sub->add_option("--look", o->look, "Fabric look for the mechanics (see `foldcast looks`); "
-                                       "the flags below override its values");
+    sub->add_option("--look", o->look, "Fabric look for the mechanics: a name (see `foldcast looks`) or a look "
+                                       ".toml file; the flags below override its values");
     flags->thickness = sub->add_option("--thickness-mm", o->thickness_mm, "Thickness t (mm)")->capture_default_str();
     flags->young = sub->add_option("--young-mpa", o->young_mpa, "Young's modulus E (MPa)")->capture_default_str();
     flags->gsm = sub->add_option("--gsm", o->gsm, "Fabric weight (g/m^2)")->capture_default_str();
@@ -270,7 +270,7 @@ Command drape_command(CLI::App& app) {
                                   "Load constant c (default 23.9 pi^2 / 12)")
                       ->capture_default_str();
     sub->add_option("--grid", o->grid, "Material grid NUxNV (vertices across x down)")->capture_default_str();
-    flags->frames = sub->add_option("--frames", o->frames,
+    sub->add_option("--frames", o->frames,
                                     "Animation frames, supports moving in from d = 0 (for -o x.pc2 or --sway-m)")
                         ->capture_default_str();
     sub->add_option("--fps", o->fps, "Animation frame rate")->capture_default_str();

@@ -1,5 +1,6 @@
 // foldcast encode IN -o OUT.fca: compress a PC2 cache (+ OBJ topology) or re-encode an .fca.
 #include <chrono>
+#include <limits>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -24,9 +25,13 @@ Command encode_command(CLI::App& app) {
     sub->add_option("input", o->input, "a .pc2 cache (topology from the .obj beside it) or an .fca file")->required();
     sub->add_option("-o,--output", o->output, "output .fca file")->required();
     sub->add_option("--topology", o->topology, "OBJ with the triangles and UVs (default: IN with .obj)");
-    sub->add_option("--profile", o->profile, "paper (reference method) or default")->capture_default_str();
-    auto* err = sub->add_option("--max-error-m", o->max_error_m, "largest vertex error in metres (default: 2e-4 x bbox diagonal)");
-    auto* keep = sub->add_option("--keep", o->keep, "paper: fraction (0,1] of wavelet coefficients kept");
+    sub->add_option("--profile", o->profile, "paper (reference method) or default")
+        ->check(CLI::IsMember({"paper", "default"}))
+        ->capture_default_str();
+    auto* err = sub->add_option("--max-error-m", o->max_error_m, "largest vertex error in metres (default: 2e-4 x bbox diagonal)")
+                    ->check(CLI::PositiveNumber);
+    auto* keep = sub->add_option("--keep", o->keep, "paper: fraction (0,1] of wavelet coefficients kept")
+                     ->check(CLI::Range(std::numeric_limits<double>::min(), 1.0));
     err->excludes(keep);
     sub->add_option("--fps", o->fps, "frames per second of a PC2 input")->capture_default_str();
     sub->add_flag("--json", o->json, "print a JSON report on stdout");
@@ -49,6 +54,8 @@ Command encode_command(CLI::App& app) {
         if (std::filesystem::path(o->output).extension() != ".fca")
             throw InputError("-o '" + o->output + "' must end in .fca");
         check_writable(o->output);
+        if (o->keep && o->profile != "paper")
+            throw InputError("--keep applies to --profile paper only (the default profile is error-bounded: use --max-error-m)");
         codec::EncodeOptions options;
         options.profile = codec::parse_profile(o->profile);
         options.max_error_m = o->max_error_m;

@@ -13,7 +13,8 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/looks.hpp"
 #include "foldcast/looks/look_json.hpp"
-#include "foldcast/render/swatches.hpp"
+#include "foldcast/batch/swatches.hpp"
+#include "foldcast/looks/look_keys.hpp"
 #include "progress_bar.hpp"
 
 namespace foldcast::app {
@@ -26,7 +27,7 @@ struct LooksOptions {
     std::string swatches;  // OUT.png
     std::vector<std::string> only;
     std::string tile = "240x300";
-    render::SwatchOptions swatch;
+    batch::SwatchOptions swatch;
     bool quiet = false;
 };
 
@@ -45,8 +46,8 @@ int draw_swatches(LooksOptions& options) {
     options.swatch.looks = options.only;
     std::tie(options.swatch.tile_width, options.swatch.tile_height) = parse_tile(options.tile);
     ProgressBar bar(options.quiet);
-    const auto sheet = render::render_swatch_sheet(library, options.swatch, bar.callback());
-    render::write_swatch_sheet(options.swatches, sheet);
+    const auto sheet = batch::render_swatch_sheet(library, options.swatch, bar.callback());
+    batch::write_swatch_sheet(options.swatches, sheet);
     if (options.json) {
         nlohmann::json report = {{"file", options.swatches},
                                  {"width", sheet.width},
@@ -90,7 +91,7 @@ int list_looks(const LooksOptions& options) {
 
 int show_look(const LooksOptions& options) {
     const auto library = looks::Library::load_default();
-    const auto& look = library.get(options.show_name);
+    const looks::Look look = library.find(options.show_name);
     if (options.show_json || options.json) {
         const nlohmann::json report = look;
         std::cout << report.dump(2) << "\n";
@@ -132,11 +133,16 @@ Command looks_command(CLI::App& app) {
         ->capture_default_str();
     sub->add_flag("-q,--quiet", options->quiet, "With --swatches: no progress bar");
     CLI::App* show = sub->add_subcommand("show", "Print one look's values (TOML, or JSON with --json)");
-    show->add_option("name", options->show_name, "Look name (see `foldcast looks`)")->required();
+    show->add_option("name", options->show_name, "Look name (see `foldcast looks`) or a look .toml file")->required();
     show->add_flag("--json", options->show_json, "Print the look as JSON");
+    CLI::App* keys = sub->add_subcommand("keys", "Print every key a look file may hold (the tables of docs/looks.md)");
 
-    return Command{sub, [options, show] {
+    return Command{sub, [options, show, keys] {
                        if (show->parsed()) return show_look(*options);
+                       if (keys->parsed()) {
+                           std::cout << looks::look_keys_markdown();
+                           return 0;
+                       }
                        if (!options->swatches.empty()) return draw_swatches(*options);
                        return list_looks(*options);
                    }};

@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "foldcast/core/atomic_file.hpp"
-#include "foldcast/render/preview.hpp"
+#include "foldcast/preview.hpp"
 
 namespace foldcast::app {
 
@@ -24,7 +24,8 @@ Command preview_command(CLI::App& app) {
     sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
     sub->add_option("--msaa", args->msaa, "Multisample anti-aliasing samples per pixel")->check(CLI::Range(1, 16));
-    sub->add_option("--aov", args->aovs, "Extra image beside OUT: depth (OUT.depth.png|exr)");
+    sub->add_option("--aov", args->aovs, "Extra image beside OUT: depth (OUT.depth.png|exr)")
+        ->check(CLI::IsMember({"depth"}));
     sub->add_flag("--json", args->json, "Print width, height, seconds and the OpenGL device as JSON");
     sub->add_flag("--quiet", args->quiet, "Print nothing on success");
     return {sub, [args] {
@@ -34,7 +35,7 @@ Command preview_command(CLI::App& app) {
                 if (!args->aovs.empty()) options.aovs = render::parse_aovs(args->aovs);
                 const render::SceneSpec scene = render::load_scene(args->scene);
                 check_writable(args->out);
-                const render::RenderResult result = render::preview_still(scene, options, args->msaa);
+                const render::RenderResult result = preview::preview_still(scene, options, args->msaa);
                 const auto written = render::write_render(args->out, result, scene);
                 const render::RenderStats& s = result.stats;
                 if (args->json) {

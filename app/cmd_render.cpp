@@ -4,6 +4,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "library_validator.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/render.hpp"
 #include "progress_bar.hpp"
@@ -27,7 +28,8 @@ Command render_command(CLI::App& app) {
     CLI::Option* seed = sub->add_option("--seed", args->seed, "Random seed (default: the scene's)");
     sub->add_option("--threads", args->threads, "Render threads (default: all cores); the image is the same for any count")
         ->check(CLI::Range(1, 1024));
-    sub->add_option("--aov", args->aovs, "Extra images beside OUT: albedo,normal,depth,fold (OUT.<aov>.png|exr)");
+    sub->add_option("--aov", args->aovs, "Extra images beside OUT: albedo,normal,depth,fold (OUT.<aov>.png|exr)")
+        ->check(library_validator([](const std::string& v) { render::parse_aovs(v); }, "AOV,..."));
     sub->add_flag("--json", args->json, "Print width, height, spp, seconds, rays, rays_per_second as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args, seed] {

@@ -5,13 +5,14 @@
 #include "commands.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/render.hpp"
+#include "foldcast/batch/turntable.hpp"
 #include "progress_bar.hpp"
 
 namespace foldcast::app {
 namespace {
 
 // "N" = N frames; "A:B" = frames A..B-1 of the scene's count; "A:B/N" = of N frames.
-void parse_frames(const std::string& text, render::TurntableOptions& options) {
+void parse_frames(const std::string& text, batch::TurntableOptions& options) {
     auto number = [&](const std::string& s) {
         std::size_t used = 0;
         int v = -1;
@@ -66,11 +67,11 @@ Command turntable_command(CLI::App& app) {
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args] {
                 const render::SceneSpec scene = render::load_scene(args->scene);
-                render::TurntableOptions options;
+                batch::TurntableOptions options;
                 if (!args->frames.empty()) parse_frames(args->frames, options);
                 if (!args->join.empty()) {
                     const int total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
-                    render::encode_mp4(args->join, total, scene.turntable_fps, args->out);
+                    batch::encode_mp4(args->join, total, scene.turntable_fps, args->out);
                     if (!args->quiet) std::fprintf(stderr, "wrote %s (%d frames)\n", args->out.c_str(), total);
                     return 0;
                 }
@@ -79,10 +80,10 @@ Command turntable_command(CLI::App& app) {
                 options.render.spp = args->spp;
                 options.render.threads = args->threads;
                 options.preview = args->preview;
-                render::TurntableResult result;
+                batch::TurntableResult result;
                 {
                     ProgressBar bar(args->quiet || args->json);
-                    result = render::render_turntable(scene, args->out, options, bar.callback());
+                    result = batch::render_turntable(scene, args->out, options, bar.callback());
                 }
                 const render::RenderStats& s = result.stats;
                 if (args->json) {

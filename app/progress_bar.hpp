@@ -6,16 +6,18 @@
 
 namespace foldcast::app {
 
-// A one-line progress bar on stderr, redrawn at most every whole percent; silent when quiet.
+// A one-line progress bar on stderr, redrawn at most every whole percent, when stderr is a
+// terminal; otherwise (a log file, CI) one line per stage at each 10 %; silent when quiet.
 class ProgressBar {
 public:
-    explicit ProgressBar(bool quiet) : quiet_(quiet) {}
+    explicit ProgressBar(bool quiet);
     ~ProgressBar();
     ProgressFn callback();
 
 private:
     void draw(std::string_view stage, double fraction);
     bool quiet_;
+    bool terminal_;
     std::mutex mutex_;
     std::string stage_;
     int last_percent_ = -1;

@@ -19,8 +19,8 @@
 
 #include "camera_model.hpp"
 #include "foldcast/render.hpp"
-#include "studio_setup.hpp"
-#include "tracer.hpp"
+#include "foldcast/render/studio_setup.hpp"
+#include "foldcast/render/tracer.hpp"
 
 using namespace foldcast;
 using namespace foldcast::render;

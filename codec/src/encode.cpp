@@ -16,7 +16,7 @@ std::string profile_name(Profile p) { return p == Profile::paper ? "paper" : "de
 Profile parse_profile(const std::string& name) {
     if (name == "paper") return Profile::paper;
     if (name == "default") return Profile::predictive;
-    throw InputError("--profile '" + name + "' is unknown (allowed: paper, default)");
+    throw InputError("codec profile '" + name + "' is unknown (allowed: paper, default)");
 }
 
 namespace {
@@ -66,13 +66,13 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
     if (!(std::isfinite(anim.fps) && anim.fps > 0.0 && anim.fps <= 1e6))
         throw InputError("animation to encode has fps " + std::to_string(anim.fps) + " (allowed (0, 1e6])");
     if (options.max_error_m && options.keep_fraction)
-        throw InputError("--max-error-m and --keep are mutually exclusive: give one");
+        throw InputError("encode options: max_error_m and keep_fraction are mutually exclusive: give one");
     if (options.max_error_m && !(std::isfinite(*options.max_error_m) && *options.max_error_m > 0.0))
-        throw InputError("--max-error-m " + std::to_string(*options.max_error_m) + " (allowed: > 0 metres)");
+        throw InputError("encode options: max_error_m = " + std::to_string(*options.max_error_m) + " (allowed: > 0 metres)");
     if (options.keep_fraction && !(*options.keep_fraction > 0.0 && *options.keep_fraction <= 1.0))
-        throw InputError("--keep " + std::to_string(*options.keep_fraction) + " (allowed: (0, 1])");
+        throw InputError("encode options: keep_fraction = " + std::to_string(*options.keep_fraction) + " (allowed: (0, 1])");
     if (options.keep_fraction && options.profile != Profile::paper)
-        throw InputError("--keep applies to --profile paper only (the default profile is error-bounded: use --max-error-m)");
+        throw InputError("encode options: keep_fraction applies to the paper profile only (the default profile is error-bounded: use max_error_m)");
 
     Header header;
     header.profile = options.profile;

@@ -62,6 +62,19 @@ std::vector<std::string> Library::names() const {
 
 bool Library::contains(const std::string& name) const { return looks_.count(name) != 0; }
 
+Look Library::find(const std::string& name_or_file, const fs::path& base_dir) const {
+    const bool is_file = name_or_file.find('/') != std::string::npos ||
+                         fs::path(name_or_file).extension() == ".toml";
+    if (!is_file) return get(name_or_file);
+    fs::path file(name_or_file);
+    if (file.is_relative() && !base_dir.empty()) file = base_dir / file;
+    std::error_code error;
+    if (!fs::is_regular_file(file, error))
+        throw InputError("look file '" + file.string() + "' does not exist (a look is a name from `foldcast looks` "
+                         "or the path of a look .toml file)");
+    return load_look_file(file);
+}
+
 const Look& Library::get(const std::string& name) const {
     if (auto it = looks_.find(name); it != looks_.end()) return it->second;
     std::string available;

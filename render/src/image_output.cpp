@@ -117,7 +117,7 @@ std::vector<fs::path> write_render(const fs::path& out, const RenderResult& resu
     std::string ext = out.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".png" && ext != ".exr")
-        throw InputError("-o " + out.string() + ": the output must end in .png or .exr");
+        throw InputError("render output '" + out.string() + "': the file name must end in .png or .exr");
     check_writable(out);
     std::vector<fs::path> written;
     const Image& img = result.beauty;

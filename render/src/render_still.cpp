@@ -4,8 +4,8 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/render.hpp"
-#include "studio_setup.hpp"
-#include "tracer.hpp"
+#include "foldcast/render/studio_setup.hpp"
+#include "foldcast/render/tracer.hpp"
 
 namespace foldcast::render {
 
@@ -19,7 +19,7 @@ std::vector<Aov> parse_aovs(const std::string& list) {
         const std::string name = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         const auto it = names.find(name);
         if (it == names.end())
-            throw InputError("--aov " + list + ": unknown AOV '" + name + "' (allowed: albedo, normal, depth, fold)");
+            throw InputError("AOV list '" + list + "': unknown AOV '" + name + "' (allowed: albedo, normal, depth, fold)");
         if (std::find(out.begin(), out.end(), it->second) == out.end()) out.push_back(it->second);
         if (comma == std::string::npos) break;
         start = comma + 1;

@@ -1,4 +1,4 @@
-#include "studio.hpp"
+#include "foldcast/render/studio.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>

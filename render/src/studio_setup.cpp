@@ -1,5 +1,5 @@
 #include <Eigen/Geometry>
-#include "studio_setup.hpp"
+#include "foldcast/render/studio_setup.hpp"
 
 #include <cmath>
 

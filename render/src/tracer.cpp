@@ -1,5 +1,5 @@
 #include <Eigen/Geometry>
-#include "tracer.hpp"
+#include "foldcast/render/tracer.hpp"
 
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>

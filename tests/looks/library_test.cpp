@@ -55,7 +55,7 @@ TEST(LooksLibrary, EveryShippedLookIsCompleteAndInRange) {
 
 TEST(LooksLibrary, MechanicsOrderFabricsAsTextileDataDo) {
     const Library library = Library::load_directory(kShippedLooks);
-    // Bending stiffness per weight decides how many folds form (DESIGN.md, equation 1):
+    // Bending stiffness per weight decides how many folds form (docs/drape.md, equation 1):
     // S ~ E t^3 / w.  Denim and canvas must be far stiffer for their weight than chiffon/silk.
     auto stiffness_per_weight = [&](const char* name) {
         const auto& m = library.get(name).mechanics;

@@ -77,6 +77,9 @@ public:
     bool contains(const std::string& name) const;
     // Throws InputError naming `name` and listing the available looks.
     const Look& get(const std::string& name) const;
+    // A look's name, or the path of a look file (anything ending in .toml or holding a '/'),
+    // relative paths taken from `base_dir`: what `--look` and a scene's `look = "..."` accept.
+    Look find(const std::string& name_or_file, const std::filesystem::path& base_dir = {}) const;
     const std::filesystem::path& directory() const { return directory_; }
 
 private:

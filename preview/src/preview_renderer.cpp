@@ -10,11 +10,11 @@
 #include <string>
 
 #include "egl_context.hpp"
-#include "foldcast/render/preview.hpp"
+#include "foldcast/preview.hpp"
 #include "preview_shaders.hpp"
 #include "foldcast/core/math.hpp"
 
-namespace foldcast::render {
+namespace foldcast::preview {
 
 namespace {
 
@@ -424,4 +424,4 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     return image;
 }
 
-}  // namespace foldcast::render
+}  // namespace foldcast::preview

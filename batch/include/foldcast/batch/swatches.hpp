@@ -11,7 +11,7 @@
 #include "foldcast/looks.hpp"
 #include "foldcast/render.hpp"
 
-namespace foldcast::render {
+namespace foldcast::batch {
 
 struct SwatchOptions {
     std::vector<std::string> looks;  // empty = every look of the library, sorted by name
@@ -37,7 +37,7 @@ struct SwatchSheet {
     int height = 0;
     std::vector<std::uint8_t> rgb;  // 8-bit sRGB, row-major from the top, 3 bytes per pixel
     std::vector<SwatchTile> tiles;  // in sheet order: left to right, top to bottom
-    RenderStats stats;              // summed over tiles
+    render::RenderStats stats;              // summed over tiles
 };
 
 // Throws InputError for unknown look names or impossible sizes.  Deterministic: the same
@@ -47,4 +47,4 @@ SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptio
 // Writes the sheet as a PNG, atomically.
 void write_swatch_sheet(const std::filesystem::path& png, const SwatchSheet& sheet);
 
-}  // namespace foldcast::render
+}  // namespace foldcast::batch

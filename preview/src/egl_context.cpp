@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/render/preview.hpp"
+#include "foldcast/preview.hpp"
 
-namespace foldcast::render {
+namespace foldcast::preview {
 
 namespace {
 
@@ -99,4 +99,4 @@ void EglContext::make_current() {
         throw EglUnavailable("EGL preview: eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")");
 }
 
-}  // namespace foldcast::render
+}  // namespace foldcast::preview

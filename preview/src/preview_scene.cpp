@@ -7,10 +7,19 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/looks/weave.hpp"
-#include "studio_setup.hpp"
+#include "foldcast/render/studio_setup.hpp"
 #include "foldcast/core/math.hpp"
 
-namespace foldcast::render {
+namespace foldcast::preview {
+
+using render::aov_name;
+using render::AreaLight;
+using render::frame_camera;
+using render::Image;
+using render::load_garment;
+using render::MaterialId;
+using render::StudioMesh;
+using render::StudioSetup;
 
 namespace {
 
@@ -105,7 +114,7 @@ RenderResult preview_frame(PreviewRenderer& renderer, const SceneSpec& lit_scene
     result.beauty.pixels = image.rgba;
     for (Aov aov : aovs) {
         if (aov != Aov::depth)
-            throw InputError(std::string("--aov ") + aov_name(aov) + ": previews give only the depth AOV");
+            throw InputError(std::string("AOV '") + aov_name(aov) + "': previews give only the depth AOV");
         Image depth;
         depth.width = image.width;
         depth.height = image.height;
@@ -136,4 +145,4 @@ RenderResult preview_still(const SceneSpec& scene, const RenderOptions& options,
     return result;
 }
 
-}  // namespace foldcast::render
+}  // namespace foldcast::preview

@@ -1,7 +1,7 @@
 #pragma once
 // GLSL 3.30 core sources of the preview rasteriser.
 
-namespace foldcast::render::shaders {
+namespace foldcast::preview::shaders {
 
 inline constexpr const char* kVertex = R"(#version 330 core
 layout(location = 0) in vec3 a_position;
@@ -125,4 +125,4 @@ inline constexpr const char* kEmpty = R"(#version 330 core
 void main() {}
 )";
 
-}  // namespace foldcast::render::shaders
+}  // namespace foldcast::preview::shaders

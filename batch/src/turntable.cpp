@@ -12,13 +12,24 @@
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/render.hpp"
-#include "preview_scene.hpp"
-#include "studio_setup.hpp"
-#include "tracer.hpp"
+#include "foldcast/batch/turntable.hpp"
+#include "foldcast/preview.hpp"
+#include "foldcast/render/studio_setup.hpp"
+#include "foldcast/render/tracer.hpp"
 
-namespace foldcast::render {
+namespace foldcast::batch {
 namespace fs = std::filesystem;
+
+using preview::PreviewRenderer;
+using preview::preview_frame;
+using render::Camera;
+using render::FrameGeometry;
+using render::load_garment;
+using render::RenderResult;
+using render::StudioSetup;
+using render::TraceSettings;
+using render::Tracer;
+using render::write_render;
 
 fs::path turntable_frame_path(const fs::path& dir, int frame) {
     char name[32];
@@ -64,17 +75,17 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const int first = options.first_frame;
     const int last = options.last_frame < 0 ? total : options.last_frame;
     if (first < 0 || first >= last || last > total)
-        throw InputError("--frames " + std::to_string(first) + ":" + std::to_string(last) + ": need 0 <= A < B <= " +
+        throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) + ": need 0 <= first < last <= " +
                          std::to_string(total) + " (the turntable's frame count)");
     const std::string ext = out.extension().string();
     const bool to_mp4 = ext == ".mp4";
     const std::string out_s = out.string();
     const bool to_dir = !to_mp4 && (out_s.empty() || out_s.back() == '/' || fs::is_directory(out) || ext.empty());
-    if (!to_mp4 && !to_dir) throw InputError("-o " + out_s + ": a turntable goes to OUT.mp4 or a directory DIR/");
+    if (!to_mp4 && !to_dir) throw InputError("turntable output '" + out_s + "': a turntable goes to OUT.mp4 or a directory DIR/");
     fs::path dir = to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out;
     std::error_code ec;
     fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir)) throw InputError("-o " + out_s + ": cannot create the frame directory " + dir.string());
+    if (!fs::is_directory(dir)) throw InputError("turntable output '" + out_s + "': cannot create the frame directory " + dir.string());
     if (to_mp4) check_writable(out);
 
     const StudioSetup setup(scene, load_garment(scene));
@@ -135,4 +146,4 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     return result;
 }
 
-}  // namespace foldcast::render
+}  // namespace foldcast::batch

@@ -1,7 +1,7 @@
 // Swatch sheet: one path-traced tile per look, all with the same drape geometry inputs,
 // camera and lights, tiled with OpenCV and labelled with the look's name, its fold count and
 // weight.
-#include "foldcast/render/swatches.hpp"
+#include "foldcast/batch/swatches.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,7 +16,13 @@
 #include "foldcast/drape.hpp"
 #include "foldcast/core/math.hpp"
 
-namespace foldcast::render {
+namespace foldcast::batch {
+
+using render::CameraSpec;
+using render::GarmentSpec;
+using render::RenderOptions;
+using render::RenderResult;
+using render::SceneSpec;
 namespace {
 
 constexpr int kLabelHeight = 40;  // pixels under each tile for its two label lines
@@ -96,7 +102,7 @@ SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptio
             progress("swatches", (k + f) / count);
         })
                                                   : ProgressFn{};
-        const RenderResult result = render_still(scene, render_options, tile_progress);
+        const RenderResult result = render::render_still(scene, render_options, tile_progress);
 
         const auto solution = drape::solve_folds(drape::cloth_from_look(
             look.mechanics, options.width_m, options.height_m, options.inset_m));
@@ -104,7 +110,7 @@ SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptio
         sheet.stats.rays += result.stats.rays;
         sheet.stats.seconds += result.stats.seconds;
 
-        std::vector<std::uint8_t> rgb = to_srgb8(result.beauty, scene.exposure_ev, false);
+        std::vector<std::uint8_t> rgb = render::to_srgb8(result.beauty, scene.exposure_ev, false);
         const cv::Mat tile_rgb(options.tile_height, options.tile_width, CV_8UC3, rgb.data());
         const int x = (k % columns) * options.tile_width;
         const int y = (k / columns) * (options.tile_height + kLabelHeight);
@@ -129,7 +135,7 @@ void write_swatch_sheet(const std::filesystem::path& png, const SwatchSheet& she
     std::string ext = png.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (ext != ".png") throw InputError("--swatches " + png.string() + ": the sheet must be a .png");
+    if (ext != ".png") throw InputError("swatch sheet '" + png.string() + "': the file name must end in .png");
     check_writable(png);
     const cv::Mat rgb(sheet.height, sheet.width, CV_8UC3, const_cast<std::uint8_t*>(sheet.rgb.data()));
     cv::Mat bgr;
@@ -139,4 +145,4 @@ void write_swatch_sheet(const std::filesystem::path& png, const SwatchSheet& she
     write_file_atomically(png, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
-}  // namespace foldcast::render
+}  // namespace foldcast::batch

@@ -3,7 +3,7 @@
 
 #include <string>
 
-namespace foldcast::render {
+namespace foldcast::preview {
 
 // A current OpenGL 3.3 core context with no surface: rendering goes into FBOs.  Tries
 // Mesa's surfaceless platform first, then every EGL device (EGL_EXT_platform_device),
@@ -24,4 +24,4 @@ private:
     std::string description_;
 };
 
-}  // namespace foldcast::render
+}  // namespace foldcast::preview

@@ -3,7 +3,7 @@
 // vertical axis, which is the same as the camera rig orbiting them), the cyclorama sized to
 // clear the garment at every turn, the support hardware and the resolved lights.
 #include "foldcast/render.hpp"
-#include "tracer.hpp"
+#include "foldcast/render/tracer.hpp"
 
 namespace foldcast::render {
 

@@ -5,9 +5,11 @@
 #include <cmath>
 
 #include "foldcast/render.hpp"
-#include "foldcast/render/preview.hpp"
+#include "foldcast/preview.hpp"
 
-namespace foldcast::render {
+namespace foldcast::preview {
+using render::Image;
+using render::load_scene;
 namespace {
 
 struct Renders {
@@ -72,4 +74,4 @@ TEST(PreviewAgreement, DepthMatchesTheRayTracer) {
 }
 
 }  // namespace
-}  // namespace foldcast::render
+}  // namespace foldcast::preview

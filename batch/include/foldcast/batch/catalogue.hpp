@@ -10,7 +10,7 @@
 
 #include "foldcast/core/progress.hpp"
 
-namespace foldcast::render {
+namespace foldcast::batch {
 
 struct BatchView {
     std::string name;
@@ -82,4 +82,4 @@ std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard,
 // The JSON list of outputs of a run (what run_batch writes), for reports.
 std::string outputs_json(const BatchManifest& manifest, const std::vector<BatchOutput>& outputs);
 
-}  // namespace foldcast::render
+}  // namespace foldcast::batch

@@ -7,9 +7,9 @@
 #include <memory>
 
 #include "foldcast/core/atomic_file.hpp"
-#include "foldcast/render/batch.hpp"
+#include "foldcast/batch/catalogue.hpp"
 
-namespace foldcast::render {
+namespace foldcast::batch {
 namespace fs = std::filesystem;
 
 std::string sha256_file(const fs::path& path) {
@@ -91,4 +91,4 @@ std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, c
     return outputs;
 }
 
-}  // namespace foldcast::render
+}  // namespace foldcast::batch

@@ -5,9 +5,10 @@
 #include <opencv2/videoio.hpp>
 
 #include "foldcast/core/error.hpp"
+#include "foldcast/batch/turntable.hpp"
 #include "render_fixtures.hpp"
 
-namespace foldcast::render {
+namespace foldcast::batch {
 namespace {
 
 int png_count(const std::filesystem::path& dir) {
@@ -74,4 +75,4 @@ TEST(Turntable, PartialRangeFramesEqualFullRunFrames) {
 }
 
 }  // namespace
-}  // namespace foldcast::render
+}  // namespace foldcast::batch

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "foldcast/render/preview.hpp"
+#include "foldcast/preview.hpp"
 
-namespace foldcast::render {
+namespace foldcast::preview {
 namespace {
 
 // A unit square in the z = 0 plane facing +z, at (cx, cy) with side `side`.
@@ -100,4 +100,4 @@ TEST(Preview, RepeatedRendersAreIdentical) {
 }
 
 }  // namespace
-}  // namespace foldcast::render
+}  // namespace foldcast::preview

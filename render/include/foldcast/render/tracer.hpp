@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "foldcast/render.hpp"
-#include "studio.hpp"
+#include "foldcast/render/studio.hpp"
 
 namespace foldcast::render {
 

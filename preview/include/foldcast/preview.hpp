@@ -7,8 +7,17 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh.hpp"
 #include "foldcast/render.hpp"
+#include "foldcast/render/tracer.hpp"
 
-namespace foldcast::render {
+namespace foldcast::preview {
+
+// A preview draws the path tracer's scenes: its vocabulary is render's.
+using render::Aov;
+using render::Camera;
+using render::FrameGeometry;
+using render::RenderOptions;
+using render::RenderResult;
+using render::SceneSpec;
 
 // No EGL display or OpenGL 3.3 core context could be made here.  The message says why.
 // An InputError: the command line answers it like a request it cannot serve (exit 2).
@@ -90,4 +99,10 @@ private:
 // replaced by their average colour.  Throws EglUnavailable where EGL cannot run.
 RenderResult preview_still(const SceneSpec& scene, const RenderOptions& options, int msaa_samples = 4);
 
-}  // namespace foldcast::render
+// One frame of a placed studio (render::StudioSetup::geometry) through the rasteriser, as a
+// RenderResult (beauty, and the depth AOV if asked): what turntables use frame by frame.
+RenderResult preview_frame(PreviewRenderer& renderer, const SceneSpec& lit_scene,
+                           const FrameGeometry& geometry, const Camera& camera,
+                           const std::vector<Aov>& aovs);
+
+}  // namespace foldcast::preview

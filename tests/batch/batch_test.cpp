@@ -4,10 +4,10 @@
 #include <set>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/render/batch.hpp"
+#include "foldcast/batch/catalogue.hpp"
 #include "test_paths.hpp"
 
-namespace foldcast::render {
+namespace foldcast::batch {
 namespace {
 namespace fs = std::filesystem;
 
@@ -133,4 +133,4 @@ TEST(BatchRun, Sha256OfKnownBytes) {
 }
 
 }  // namespace
-}  // namespace foldcast::render
+}  // namespace foldcast::batch

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/render/swatches.hpp"
+#include "foldcast/batch/swatches.hpp"
 #include "run_command.hpp"
 #include "shipped_looks.hpp"
 
@@ -15,8 +15,8 @@ using namespace foldcast;
 
 namespace {
 
-render::SwatchOptions tiny(std::vector<std::string> looks) {
-    render::SwatchOptions o;
+batch::SwatchOptions tiny(std::vector<std::string> looks) {
+    batch::SwatchOptions o;
     o.looks = std::move(looks);
     o.tile_width = 40;
     o.tile_height = 48;
@@ -26,7 +26,7 @@ render::SwatchOptions tiny(std::vector<std::string> looks) {
 }
 
 // Mean absolute difference of two tiles of the sheet (tile pixels only, not labels).
-double tile_difference(const render::SwatchSheet& sheet, const render::SwatchOptions& o, int a, int b) {
+double tile_difference(const batch::SwatchSheet& sheet, const batch::SwatchOptions& o, int a, int b) {
     const int label = sheet.height / ((static_cast<int>(sheet.tiles.size()) + o.columns - 1) / o.columns) -
                       o.tile_height;
     auto origin = [&](int k) {
@@ -50,7 +50,7 @@ int run_status(const std::string& arguments) {
 
 TEST(SwatchSheet, TilesEveryChosenLookInOrderWithItsFolds) {
     const auto options = tiny({"denim", "chiffon", "satin"});
-    const auto sheet = render::render_swatch_sheet(test::shipped_looks(), options);
+    const auto sheet = batch::render_swatch_sheet(test::shipped_looks(), options);
     ASSERT_EQ(sheet.tiles.size(), 3u);
     EXPECT_EQ(sheet.tiles[0].look, "denim");
     EXPECT_EQ(sheet.tiles[2].look, "satin");
@@ -67,16 +67,16 @@ TEST(SwatchSheet, SameBytesWhateverTheThreadCount) {
     one.threads = 1;
     auto two = one;
     two.threads = 2;
-    EXPECT_EQ(render::render_swatch_sheet(test::shipped_looks(), one).rgb,
-              render::render_swatch_sheet(test::shipped_looks(), two).rgb);
+    EXPECT_EQ(batch::render_swatch_sheet(test::shipped_looks(), one).rgb,
+              batch::render_swatch_sheet(test::shipped_looks(), two).rgb);
 }
 
 TEST(SwatchSheet, BadInputsAreInputErrors) {
-    EXPECT_THROW(render::render_swatch_sheet(test::shipped_looks(), tiny({"denim", "velour"})), InputError);
+    EXPECT_THROW(batch::render_swatch_sheet(test::shipped_looks(), tiny({"denim", "velour"})), InputError);
     auto small = tiny({"denim"});
     small.tile_width = 4;
-    EXPECT_THROW(render::render_swatch_sheet(test::shipped_looks(), small), InputError);
-    EXPECT_THROW(render::write_swatch_sheet("/tmp/sheet.jpg", render::SwatchSheet{}), InputError);
+    EXPECT_THROW(batch::render_swatch_sheet(test::shipped_looks(), small), InputError);
+    EXPECT_THROW(batch::write_swatch_sheet("/tmp/sheet.jpg", batch::SwatchSheet{}), InputError);
 }
 
 TEST(SwatchSheet, CommandWritesThePng) {
