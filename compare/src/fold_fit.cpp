@@ -29,11 +29,10 @@ double step_value(double lo, double hi, int i, int steps, bool log_spaced) {
 
 }  // namespace
 
-FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds,
+FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, const GeometryFn& geometry_for,
                     const std::function<ClothToImage(const drape::ClothParams&)>& map_for, const Image& mask,
-                    const FoldDetection& detection, const CentreLine& centre, double tolerance_px, bool keep_span) {
+                    const FoldDetection& detection, const CentreLine& centre, double tolerance_px) {
     check_bounds(bounds);
-    const double span = start.support_span_m();
     struct Tried {
         double inset_m, young_pa, agreement;
     };
@@ -44,11 +43,11 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds,
         for (int j = 0; j < bounds.young_steps; ++j) {
             drape::ClothParams p = start;
             p.inset_m = step_value(bounds.inset_min_m, bounds.inset_max_m, i, bounds.inset_steps, false);
-            if (keep_span) p.width_m = span + 2.0 * p.inset_m;
             p.young_pa = step_value(bounds.young_min_pa, bounds.young_max_pa, j, bounds.young_steps, true);
             drape::FoldSolution solution;
             ClothToImage map;
             try {
+                if (geometry_for) p = geometry_for(p);
                 drape::validate(p);
                 solution = drape::solve_folds(p);
                 map = map_for(p);
@@ -60,7 +59,7 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds,
             // Sets the model solves without folds draw nothing; their n is still compared.
             score.predicted_folds = solution.folds;
             score.count_error = solution.folds - centre.folds;
-            score.agreement = score.f1 / (1.0 + std::abs(score.count_error));
+            score.agreement = agreement(score.f1, score.count_error);
             tried.push_back({p.inset_m, p.young_pa, score.agreement});
             ++best.evaluated;
             const bool better = !have || score.agreement > best.score.agreement + 1e-12 ||
@@ -78,7 +77,7 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds,
                          std::to_string(bounds.inset_max_m) + " m) could be solved");
     // Uncertainty: every set within 5 % of the best agreement.
     const double near = 0.95 * best.score.agreement;
-    best.nothing_matched = best.score.agreement <= 0.0;
+    best.nothing_matched = best.score.f1 <= 0.0;
     auto range = [&](double Tried::*field, double best_value, double lo, double hi) {
         FittedValue v;
         v.best = best_value;

@@ -41,6 +41,8 @@ cv::Mat distance_to(const std::vector<Eigen::Vector2d>& points, cv::Size size) {
 
 }  // namespace
 
+double agreement(double f1, int count_error) { return 0.5 * (f1 + 1.0 / (1.0 + std::abs(count_error))); }
+
 FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDetection& detection,
                       const CentreLine& centre, double px_per_m, double tolerance_px) {
     if (!(std::isfinite(tolerance_px) && tolerance_px > 0))
@@ -72,6 +74,7 @@ FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDet
 
     if (pred.empty() || det.empty()) {
         s.chamfer_cm = pred.empty() && det.empty() ? 0.0 : s.truncation_cm;
+        s.agreement = agreement(0.0, s.count_error);
         return s;
     }
     const cv::Size size(region.cols, region.rows);
@@ -91,7 +94,7 @@ FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDet
     s.precision = double(sum_near(pred, to_det, pred_sum)) / pred.size();
     s.recall = double(sum_near(det, to_pred, det_sum)) / det.size();
     s.f1 = s.precision + s.recall > 0 ? 2 * s.precision * s.recall / (s.precision + s.recall) : 0.0;
-    s.agreement = s.f1 / (1.0 + std::abs(s.count_error));
+    s.agreement = agreement(s.f1, s.count_error);
     s.chamfer_cm = 100.0 * 0.5 * (pred_sum / pred.size() + det_sum / det.size()) / px_per_m;
     return s;
 }
@@ -115,23 +118,28 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
     // The profile from the support line down to the lowest cloth pixel of the fibre: the
     // band's mean shading over its cloth pixels.
     std::vector<double> profile;
-    std::vector<bool> on_cloth;
+    std::vector<bool> on_cloth, on_print;
     const int max_depth = static_cast<int>(std::ceil(std::hypot(shading.width, shading.height)));
     int first = -1, last = -1;
     for (int depth = 0; depth < max_depth; ++depth) {
         double sum = 0.0;
-        int n = 0;
+        int n = 0, printed = 0;
         for (int k = -offsets; k <= offsets; ++k) {
             const Eigen::Vector2d p = mid + depth * down + k * ex;
-            float m = 0.0f, v = 0.0f;
+            float m = 0.0f, v = 0.0f, pm = 0.0f;
             if (value(mask, p, &m) && m > 0.5f && value(shading, p, &v)) {
+                if (!detection.print_mask.empty() && value(detection.print_mask, p, &pm) && pm > 0.5f) {
+                    ++printed;
+                    continue;
+                }
                 sum += v;
                 ++n;
             }
         }
-        const bool cloth = 2 * n > 2 * offsets + 1;  // most of the band is cloth
+        const bool cloth = 2 * (n + printed) > 2 * offsets + 1;  // most of the band is cloth
         profile.push_back(n > 0 ? sum / n : 0.0);
         on_cloth.push_back(cloth);
+        on_print.push_back(printed > 0);  // prints are filled in: no fold can be read there
         if (cloth) {
             if (first < 0) first = depth;
             last = depth;
@@ -150,7 +158,13 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
     // nearest cloth value so that the smoothing does not see the background.
     std::vector<double> p(profile.begin() + first, profile.begin() + last + 1);
     for (size_t i = 1; i < p.size(); ++i)
-        if (!on_cloth[first + i]) p[i] = p[i - 1];
+        if (!on_cloth[first + i] || on_print[first + i]) p[i] = p[i - 1];
+    // Within 2 sigma_max of a print or a gap the profile is not the cloth's own.
+    std::vector<bool> unreadable(p.size(), false);
+    for (size_t i = 0; i < p.size(); ++i)
+        if (!on_cloth[first + i] || on_print[first + i])
+            for (int k = -margin; k <= margin; ++k)
+                if (int(i) + k >= 0 && int(i) + k < int(p.size())) unreadable[size_t(int(i) + k)] = true;
 
     struct Extremum {
         int depth;
@@ -177,6 +191,7 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
         }
         const double norm = std::pow(sigma * sigma, 0.75);  // the detector's gamma-normalisation
         for (int i = std::max(1, from - first); i < std::min(n - 1, to - first + 1); ++i) {
+            if (unreadable[size_t(i)]) continue;
             const double d1a = smooth[i] - smooth[i - 1], d1b = smooth[i + 1] - smooth[i];
             if (!(d1a * d1b <= 0) || (d1a == 0 && d1b == 0)) continue;
             const double d2 = smooth[i + 1] - 2 * smooth[i] + smooth[i - 1];
@@ -203,8 +218,10 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
         out.signs.push_back(e.sign);
     }
     out.folds = static_cast<int>(merged.size());
-    if (out.folds > 0 && out.top_edge_depth_px >= 2.0)
-        out.Q = std::pow(out.depths_px.back() / out.top_edge_depth_px, 1.0 / out.folds);
+    if (out.folds >= 2 && out.depths_px.front() > 0)
+        out.Q = std::pow(out.depths_px.back() / out.depths_px.front(), 1.0 / (out.folds - 1));
+    else if (out.folds == 1 && out.top_edge_depth_px >= 2.0)
+        out.Q = out.depths_px.back() / out.top_edge_depth_px;
     return out;
 }
 

@@ -139,8 +139,9 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
                    const std::vector<std::string>& legend, const Image& mask) {
     cv::Mat canvas = detail::to_bgr8(photo);
     const double diag = std::hypot(canvas.cols, canvas.rows);
-    // About 0.2 % of the diagonal: 3 px on a 1280 px wide photo, readable when scaled down.
-    const int thick = std::max(1, static_cast<int>(std::lround(diag / 500.0)));
+    // About 0.2 % of the diagonal (3 px on a 1280 px wide photo), at least 2 px so that an
+    // anti-aliased line still reaches its full colour.
+    const int thick = std::max(2, static_cast<int>(std::lround(diag / 500.0)));
     const cv::Scalar black(0, 0, 0), white(255, 255, 255);
     const int halo = std::max(1, thick / 2);
     for (const auto& line : lines) {

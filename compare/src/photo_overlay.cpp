@@ -132,8 +132,18 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         bounds.inset_max_m = 0.4 * width_m;
         bounds.young_min_pa = params.young_pa / kYoungFitFactor;
         bounds.young_max_pa = params.young_pa * kYoungFitFactor;
-        out.fit = fit_folds(params, bounds, map_for, out.mask, *out.detection, *out.centre, tolerance_px,
-                            r.scale_px_per_m.has_value());
+        // The pixels stay: with a scale the span is fixed and the width follows the inset;
+        // with a width the span (so the scale) follows it, and so does a height read off
+        // the mask.
+        auto geometry_for = [&](drape::ClothParams p) {
+            if (r.scale_px_per_m) {
+                p.width_m = d_px / px_per_m + 2.0 * p.inset_m;
+            } else if (!r.height_m) {
+                p.height_m = out.extent.height_px * p.support_span_m() / d_px;
+            }
+            return p;
+        };
+        out.fit = fit_folds(params, bounds, geometry_for, map_for, out.mask, *out.detection, *out.centre, tolerance_px);
         params = out.fit->params;
     }
     out.params = params;
@@ -145,7 +155,7 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         out.score = score_folds(out.lines, *out.detection, *out.centre, out.map.px_per_m, tolerance_px);
         out.score->predicted_folds = out.solution.folds;
         out.score->count_error = out.solution.folds - out.centre->folds;
-        out.score->agreement = out.score->f1 / (1.0 + std::abs(out.score->count_error));
+        out.score->agreement = agreement(out.score->f1, out.score->count_error);
     }
 
     // Legend: predicted against measured first, the numbers a textile engineer compares.
@@ -167,7 +177,8 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         out.legend.push_back("fit: E " + fixed(f.young_pa.best / 1e6, 2) + " MPa [" + fixed(f.young_pa.low / 1e6, 2) + ", " +
                              fixed(f.young_pa.high / 1e6, 2) + "], inset " + fixed(100 * f.inset_m.best, 1) + " cm [" +
                              fixed(100 * f.inset_m.low, 1) + ", " + fixed(100 * f.inset_m.high, 1) + "]" +
-                             (bound.empty() ? "" : ";" + bound + " on a bound of the search"));
+                             (bound.empty() ? "" : ";" + bound + " on a bound of the search") +
+                             (f.nothing_matched ? "; no line on a detected fold, only n fitted" : ""));
     }
     std::string size = r.look_name + ": " + fixed(100 * params.width_m, 0) + " x " + fixed(100 * params.height_m, 0) +
                        " cm, inset " + fixed(100 * params.inset_m, 1) + " cm";

@@ -66,8 +66,9 @@ struct CentreLine {
     std::vector<double> depths_px;   // each crest/valley, top to bottom
     std::vector<int> signs;          // +1 crest (bright), -1 valley (dark)
     int folds = 0;                   // measured n: crests and valleys on the fibre
-    // Measured Q = (depth of the lowest fold / top edge sag)^(1/n), as drape's a_0 = a_n Q^n;
-    // unset without folds or without a sagging top edge (< 2 px).
+    // Measured Q, as drape's a_{i-1} = Q a_i: with two or more folds (deepest / shallowest
+    // fold depth)^(1/(n-1)); with one, its depth over the top edge's sag; unset without
+    // folds, or with one fold and a top edge that does not sag (< 2 px).
     std::optional<double> Q;
 };
 CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixels& supports);
@@ -80,13 +81,18 @@ struct FoldScore {
     double precision = 0.0;    // share of predicted line length on the cloth within tolerance of a detected line
     double recall = 0.0;       // share of detected line length within tolerance of a predicted line
     double f1 = 0.0;
-    // What the fit maximises: F1 / (1 + |count_error|).  More lines than the photo shows
-    // lower the precision and raise the count error, so covering the cloth does not pay.
+    // What the fit maximises, in [0, 1]: the mean of F1 (where the lines are) and
+    // 1 / (1 + |count_error|) (how many there are).  More lines than the photo shows lower
+    // the precision and the count term, so covering the cloth does not pay; the count term
+    // still ranks parameter sets whose lines all miss (F1 = 0).
     double agreement = 0.0;
     double chamfer_cm = 0.0;   // symmetric, truncated at `truncation_cm`
     double truncation_cm = 0.0;
     double tolerance_px = 0.0, tolerance_cm = 0.0;
 };
+
+// FoldScore::agreement from its parts.
+double agreement(double f1, int count_error);
 
 // Compares predicted lines (clipped to the detection's search region) with the detected
 // ones.  tolerance_px: distance for precision/recall; chamfer distances are truncated at 5x
@@ -118,17 +124,19 @@ struct FitResult {
     FoldScore score;
     FittedValue inset_m, young_pa;
     int evaluated = 0;
-    bool nothing_matched = false;  // the best agreement is 0: every set scored alike
+    bool nothing_matched = false;  // no set put any line on a detected fold (F1 = 0): only the count was fitted
 };
 
-// Grid search of the box for the highest agreement (ties: lower chamfer distance).  With
-// keep_span the span l is fixed (a scale was given) and the width grows as l + 2d; else the
-// width is fixed and the span is W - 2d.  `map_for` gives the photo mapping of a parameter
-// set; `mask` clips the lines to the cloth.  Sets that the model rejects are skipped.
-// Throws InputError if the bounds are not finite, ordered and positive where needed, or
-// no set in the box can be solved.
-FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds,
+// Grid search of the box for the highest agreement (ties: lower chamfer distance).
+// `geometry_for` completes a parameter set for its inset (the photo fixes pixels, not metres:
+// a new inset may change the width, or the scale and with it the height read off the mask);
+// empty: width and height stay.  `map_for` gives the photo mapping of a parameter set;
+// `mask` clips the lines to the cloth.  Sets that the model rejects are skipped.  Throws
+// InputError if the bounds are not finite, ordered and positive where needed, or no set in
+// the box can be solved.
+using GeometryFn = std::function<drape::ClothParams(const drape::ClothParams&)>;
+FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, const GeometryFn& geometry_for,
                     const std::function<ClothToImage(const drape::ClothParams&)>& map_for, const Image& mask,
-                    const FoldDetection& detection, const CentreLine& centre, double tolerance_px, bool keep_span);
+                    const FoldDetection& detection, const CentreLine& centre, double tolerance_px);
 
 }  // namespace foldcast::compare
