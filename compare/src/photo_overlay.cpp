@@ -129,7 +129,9 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
     if (r.fit) {
         FitBounds bounds;
         bounds.inset_min_m = 0.0;
-        bounds.inset_max_m = 0.4 * width_m;
+        // Supports at least half the flat width apart: closer, the cloth bunches into the
+        // grippers, outside the model's sheet-with-a-sagging-top-edge regime.
+        bounds.inset_max_m = kInsetFitShare * width_m;
         bounds.young_min_pa = params.young_pa / kYoungFitFactor;
         bounds.young_max_pa = params.young_pa * kYoungFitFactor;
         // The pixels stay: with a scale the span is fixed and the width follows the inset;
@@ -145,6 +147,12 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         };
         out.fit = fit_folds(params, bounds, geometry_for, map_for, out.mask, *out.detection, *out.centre, tolerance_px);
         params = out.fit->params;
+        for (auto& a : out.assumptions)
+            if (a == "inset from the mask" || a == "width and inset from the mask")
+                a = r.scale_px_per_m ? "inset fitted, width = span + 2 inset" : "inset fitted";
+        if (!r.height_m)
+            for (auto& a : out.assumptions)
+                if (a == "height from the mask") a = "height from the mask at the fitted scale";
     }
     out.params = params;
     out.solution = drape::solve_folds(params);

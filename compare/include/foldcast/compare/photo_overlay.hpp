@@ -27,6 +27,8 @@ constexpr double kAssumedWidthM = 0.5;
 // Plausible range of E relative to the look's, for the fit: bending moduli of fabrics of one
 // kind measured by KES-FB2 or cantilever tests spread over about a decade each way.
 constexpr double kYoungFitFactor = 10.0;
+// The fit searches the inset from 0 to this share of the flat width (span >= width / 2).
+constexpr double kInsetFitShare = 0.25;
 
 struct OverlayRequest {
     SupportPixels supports;
