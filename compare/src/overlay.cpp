@@ -177,6 +177,7 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
     const int pad = 8;
     const int box_w = std::min(canvas.cols - 2 * pad, key_w + text_w + 3 * pad);
     const int box_h = std::min(canvas.rows - 2 * pad, static_cast<int>(rows.size()) * line_h + 2 * pad);
+    if (box_w < 1 || box_h < 1) return detail::from_bgr8(canvas);  // no room for a legend
     // Where the box covers the least cloth, then the fewest line points and no support;
     // candidates on a grid of steps a quarter of the box, scanned in a fixed order.
     cv::Mat cloth_sum;
