@@ -117,6 +117,7 @@ int run_overlay(const OverlayOptions& o) {
         std::printf("%s\n", j.dump(1).c_str());
     } else {
         for (const auto& line : result.legend) std::printf("%s\n", line.c_str());
+        if (s.folds == 0) std::printf("why no folds: %s\n", s.explanation.c_str());
         std::printf("-> %s\n", o.output.c_str());
     }
     return 0;

@@ -164,19 +164,26 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
         cv::drawMarker(canvas, c, cv::Scalar(255, 0, 255), cv::MARKER_CROSS, r, std::max(1, thick / 2), cv::LINE_AA);
     }
 
-    // Legend: a white box with the key and the numbers.
-    const double font_scale = std::max(0.35, diag / 3000.0);
-    const int font = cv::FONT_HERSHEY_SIMPLEX, text_thick = font_scale > 0.6 ? 2 : 1;
-    int baseline = 0;
-    const int line_h = cv::getTextSize("Ag", font, font_scale, text_thick, &baseline).height + baseline + 6;
-    const int key_w = static_cast<int>(40 * font_scale / 0.5);
-    int text_w = 0;
-    std::vector<std::string> rows = legend;
-    rows.insert(rows.begin(), {"crest (fold towards viewer)", "valley (fold away from viewer)", "support"});
-    for (const auto& t : rows) text_w = std::max(text_w, cv::getTextSize(t, font, font_scale, text_thick, &baseline).width);
-    const int pad = 8;
-    const int box_w = std::min(canvas.cols - 2 * pad, key_w + text_w + 3 * pad);
-    const int box_h = std::min(canvas.rows - 2 * pad, static_cast<int>(rows.size()) * line_h + 2 * pad);
+    // Legend: a white box, one key row (crest, valley, support) then the numbers; the font
+    // shrinks (to 0.3) until the box is at most half the picture wide.
+    const int font = cv::FONT_HERSHEY_SIMPLEX;
+    const std::vector<std::string> keys{"crest", "valley", "support"};
+    double font_scale = std::max(0.35, diag / 3000.0);
+    int text_thick = 1, baseline = 0, line_h = 0, key_w = 0, text_w = 0, key_row_w = 0;
+    const int pad = 6;
+    for (;; font_scale *= 0.92) {
+        text_thick = font_scale > 0.6 ? 2 : 1;
+        line_h = cv::getTextSize("Ag", font, font_scale, text_thick, &baseline).height + baseline + 5;
+        key_w = static_cast<int>(30 * font_scale / 0.5);
+        text_w = 0;
+        for (const auto& t : legend) text_w = std::max(text_w, cv::getTextSize(t, font, font_scale, text_thick, &baseline).width);
+        key_row_w = 0;
+        for (const auto& k : keys) key_row_w += key_w + pad + cv::getTextSize(k, font, font_scale, text_thick, &baseline).width + 2 * pad;
+        if (std::max(text_w, key_row_w) + 2 * pad <= canvas.cols / 2 || font_scale < 0.3) break;
+    }
+    const int rows = 1 + static_cast<int>(legend.size());
+    const int box_w = std::min(canvas.cols - 2 * pad, std::max(text_w, key_row_w) + 2 * pad);
+    const int box_h = std::min(canvas.rows - 2 * pad, rows * line_h + 2 * pad);
     if (box_w < 1 || box_h < 1) return detail::from_bgr8(canvas);  // no room for a legend
     // Where the box covers the least cloth, then the fewest line points and no support;
     // candidates on a grid of steps a quarter of the box, scanned in a fixed order.
@@ -221,20 +228,28 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
     cv::Mat tint(roi.size(), roi.type(), white);
     cv::addWeighted(roi, 0.15, tint, 0.85, 0.0, roi);
     cv::rectangle(canvas, box, black, 1);
-    for (size_t i = 0; i < rows.size(); ++i) {
-        const int y = box.y + pad + static_cast<int>(i) * line_h + line_h / 2;
-        const int x0 = box.x + pad, x1 = x0 + key_w;
-        if (i == 0) {
-            cv::line(canvas, {x0, y}, {x1, y}, white, thick + 2 * halo, cv::LINE_AA);
-            cv::line(canvas, {x0, y}, {x1, y}, black, thick, cv::LINE_AA);
-        } else if (i == 1) {
-            dashed(canvas, {Eigen::Vector2d(x0, y), Eigen::Vector2d(x1, y)}, key_w / 5.0, black, thick + 2 * halo);
-            dashed(canvas, {Eigen::Vector2d(x0, y), Eigen::Vector2d(x1, y)}, key_w / 5.0, white, thick);
-        } else if (i == 2) {
-            cv::circle(canvas, {(x0 + x1) / 2, y}, line_h / 3, cv::Scalar(255, 0, 255), thick, cv::LINE_AA);
+    const int text_dy = line_h / 2 - baseline - 1;
+    {
+        const int y = box.y + pad + line_h / 2;
+        int x = box.x + pad;
+        for (size_t k = 0; k < keys.size(); ++k) {
+            const int x1 = x + key_w;
+            if (k == 0) {
+                cv::line(canvas, {x, y}, {x1, y}, white, thick + 2 * halo, cv::LINE_AA);
+                cv::line(canvas, {x, y}, {x1, y}, black, thick, cv::LINE_AA);
+            } else if (k == 1) {
+                dashed(canvas, {Eigen::Vector2d(x, y), Eigen::Vector2d(x1, y)}, key_w / 5.0, black, thick + 2 * halo);
+                dashed(canvas, {Eigen::Vector2d(x, y), Eigen::Vector2d(x1, y)}, key_w / 5.0, white, thick);
+            } else {
+                cv::circle(canvas, {(x + x1) / 2, y}, line_h / 3, cv::Scalar(255, 0, 255), thick, cv::LINE_AA);
+            }
+            cv::putText(canvas, keys[k], {x1 + pad, y + text_dy}, font, font_scale, black, text_thick, cv::LINE_AA);
+            x = x1 + pad + cv::getTextSize(keys[k], font, font_scale, text_thick, &baseline).width + 2 * pad;
         }
-        const int tx = i < 3 ? x1 + pad : x0;
-        cv::putText(canvas, rows[i], {tx, y + line_h / 2 - baseline - 2}, font, font_scale, black, text_thick, cv::LINE_AA);
+    }
+    for (size_t i = 0; i < legend.size(); ++i) {
+        const int y = box.y + pad + static_cast<int>(i + 1) * line_h + line_h / 2;
+        cv::putText(canvas, legend[i], {box.x + pad, y + text_dy}, font, font_scale, black, text_thick, cv::LINE_AA);
     }
     return detail::from_bgr8(canvas);
 }

@@ -94,7 +94,7 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         }
     } else {
         width_m = r.width_m.value_or(kAssumedWidthM);
-        if (!r.width_m) out.assumptions.push_back("width " + fixed(100 * kAssumedWidthM, 0) + " cm assumed");
+        if (!r.width_m) out.assumptions.push_back("width assumed");
         if (r.inset_m) {
             inset_m = *r.inset_m;
         } else {
@@ -111,7 +111,7 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         height_m = *r.height_m;
     } else {
         height_m = out.extent.height_px / px_per_m;
-        out.assumptions.push_back("height from the mask");
+        out.assumptions.push_back("height from mask");
     }
     drape::ClothParams params = drape::cloth_from_look(r.mechanics, width_m, height_m, inset_m);
     drape::validate(params);
@@ -152,7 +152,7 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
                 a = r.scale_px_per_m ? "inset fitted, width = span + 2 inset" : "inset fitted";
         if (!r.height_m)
             for (auto& a : out.assumptions)
-                if (a == "height from the mask") a = "height from the mask at the fitted scale";
+                if (a == "height from mask") a = "height from mask (fitted scale)";
     }
     out.params = params;
     out.solution = drape::solve_folds(params);
@@ -166,36 +166,35 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         out.score->agreement = agreement(out.score->f1, out.score->count_error);
     }
 
-    // Legend: predicted against measured first, the numbers a textile engineer compares.
+    // Legend: predicted against measured first, the numbers a textile engineer compares;
+    // short lines, so that it fits beside the cloth.
     const auto& s = out.solution;
     out.legend.push_back(s.folds > 0 ? "predicted: n = " + std::to_string(s.folds) + ", Q = " + fixed(s.Q, 2) +
-                                           ", zmax = " + fixed(100 * s.zmax_m, 1) + " cm"
-                                     : "predicted: no folds (" + s.explanation + ")");
+                                           " (zmax " + fixed(100 * s.zmax_m, 1) + " cm)"
+                                     : "predicted: no folds (see --json)");
     const CentreLine& c = *out.centre;
-    out.legend.push_back("measured (centre line): n = " + std::to_string(c.folds) +
-                         (c.Q ? ", Q = " + fixed(*c.Q, 2) : std::string(", Q not measurable")));
+    out.legend.push_back("measured: n = " + std::to_string(c.folds) +
+                         (c.Q ? ", Q = " + fixed(*c.Q, 2) : std::string(", Q n/a")) + " (centre line)");
     if (out.score)
-        out.legend.push_back("precision " + fixed(out.score->precision, 2) + ", recall " + fixed(out.score->recall, 2) +
-                             ", F1 " + fixed(out.score->f1, 2) + " within " + fixed(out.score->tolerance_cm, 1) + " cm");
+        out.legend.push_back("P " + fixed(out.score->precision, 2) + "  R " + fixed(out.score->recall, 2) + "  F1 " +
+                             fixed(out.score->f1, 2) + " (within " + fixed(out.score->tolerance_cm, 1) + " cm)");
     if (out.fit) {
         const auto& f = *out.fit;
-        std::string bound;
-        if (f.young_pa.on_bound) bound += " E";
-        if (f.inset_m.on_bound) bound += std::string(bound.empty() ? "" : " and") + " inset";
-        out.legend.push_back("fit: E " + fixed(f.young_pa.best / 1e6, 2) + " MPa [" + fixed(f.young_pa.low / 1e6, 2) + ", " +
-                             fixed(f.young_pa.high / 1e6, 2) + "], inset " + fixed(100 * f.inset_m.best, 1) + " cm [" +
-                             fixed(100 * f.inset_m.low, 1) + ", " + fixed(100 * f.inset_m.high, 1) + "]" +
-                             (bound.empty() ? "" : ";" + bound + " on a bound of the search") +
-                             (f.nothing_matched ? "; no line on a detected fold, only n fitted" : ""));
+        auto mark = [](const FittedValue& v) { return v.on_bound ? std::string("*") : std::string(); };
+        out.legend.push_back("fit: E " + fixed(f.young_pa.best / 1e6, 2) + mark(f.young_pa) + " MPa [" +
+                             fixed(f.young_pa.low / 1e6, 2) + ", " + fixed(f.young_pa.high / 1e6, 2) + "], inset " +
+                             fixed(100 * f.inset_m.best, 1) + mark(f.inset_m) + " cm [" + fixed(100 * f.inset_m.low, 1) +
+                             ", " + fixed(100 * f.inset_m.high, 1) + "]");
+        if (f.young_pa.on_bound || f.inset_m.on_bound) out.legend.push_back("* on a bound of the search");
+        if (f.nothing_matched) out.legend.push_back("no line on a detected fold: only n fitted");
     }
-    std::string size = r.look_name + ": " + fixed(100 * params.width_m, 0) + " x " + fixed(100 * params.height_m, 0) +
-                       " cm, inset " + fixed(100 * params.inset_m, 1) + " cm";
+    out.legend.push_back(r.look_name + ": " + fixed(100 * params.width_m, 0) + " x " + fixed(100 * params.height_m, 0) +
+                         " cm, inset " + fixed(100 * params.inset_m, 1) + " cm");
     if (!out.assumptions.empty()) {
-        size += " (";
-        for (size_t i = 0; i < out.assumptions.size(); ++i) size += (i ? ", " : "") + out.assumptions[i];
-        size += ")";
+        std::string line;
+        for (size_t i = 0; i < out.assumptions.size(); ++i) line += (i ? "; " : "") + out.assumptions[i];
+        out.legend.push_back(line);
     }
-    out.legend.push_back(size);
     out.picture = draw_overlay(photo, out.lines, supports, out.legend, out.mask);
     return out;
 }
