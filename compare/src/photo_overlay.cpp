@@ -171,7 +171,12 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
     const auto& s = out.solution;
     out.legend.push_back(s.folds > 0 ? "predicted: n = " + std::to_string(s.folds) + ", Q = " + fixed(s.Q, 2) +
                                            " (zmax " + fixed(100 * s.zmax_m, 1) + " cm)"
-                                     : "predicted: no folds (see --json)");
+                                     : std::string("predicted: no folds (") +
+                                           (s.regime == drape::FoldSolution::Regime::no_wrinkles ? "too stiff: S >= 1"
+                                            : s.regime == drape::FoldSolution::Regime::no_feasible_folds
+                                                ? "no n solves the model"
+                                                : "no slack to fold") +
+                                           ")");
     const CentreLine& c = *out.centre;
     out.legend.push_back("measured: n = " + std::to_string(c.folds) +
                          (c.Q ? ", Q = " + fixed(*c.Q, 2) : std::string(", Q n/a")) + " (centre line)");
