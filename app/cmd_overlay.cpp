@@ -136,12 +136,13 @@ Command overlay_command(CLI::App& app) {
         ->delimiter(',')
         ->expected(4)
         ->check(finite_in(-inf, inf));
-    sub->add_option("--scale-px-per-m", o->scale_px_per_m, "Pixels per metre in the cloth plane")->check(finite_in(1e-9, inf));
+    sub->add_option("--scale-px-per-m", o->scale_px_per_m, "Pixels per metre in the cloth plane")
+        ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--width-m", o->width_m, "Cloth width L (top edge) in metres (default: from the scale and the mask, "
                                              "else 0.5 m assumed)")
-        ->check(finite_in(1e-9, inf));
+        ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--height-m", o->height_m, "Cloth height h in metres (default: measured on the cloth mask)")
-        ->check(finite_in(1e-9, inf));
+        ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--inset-m", o->inset_m, "Support inset d: supports are L - 2d apart (default: measured on the mask)")
         ->check(finite_in(0, inf));
     sub->add_option("--corners", o->corners,
@@ -150,14 +151,19 @@ Command overlay_command(CLI::App& app) {
         ->expected(8)
         ->check(finite_in(-inf, inf));
     sub->add_option("--look", o->look, "Fabric look (foldcast looks)")->capture_default_str();
-    sub->add_option("--thickness-mm", o->thickness_mm, "Override the look's thickness")->check(finite_in(1e-9, inf));
-    sub->add_option("--young-mpa", o->young_mpa, "Override the look's Young's modulus")->check(finite_in(1e-12, inf));
-    sub->add_option("--poisson", o->poisson, "Override the look's Poisson's ratio")->check(finite_in(0, 0.499999));
-    sub->add_option("--gsm", o->gsm, "Override the look's weight in g/m^2")->check(finite_in(1e-9, inf));
-    sub->add_option("--load-constant", o->load_constant, "Override the look's load constant c")->check(finite_in(1e-9, inf));
+    sub->add_option("--thickness-mm", o->thickness_mm, "Override the look's thickness")
+        ->check(finite_in(1e-9, inf, "a finite number > 0"));
+    sub->add_option("--young-mpa", o->young_mpa, "Override the look's Young's modulus")
+        ->check(finite_in(1e-12, inf, "a finite number > 0"));
+    sub->add_option("--poisson", o->poisson, "Override the look's Poisson's ratio")
+        ->check(finite_in(0, 0.499999, "a number in [0, 0.5)"));
+    sub->add_option("--gsm", o->gsm, "Override the look's weight in g/m^2")
+        ->check(finite_in(1e-9, inf, "a finite number > 0"));
+    sub->add_option("--load-constant", o->load_constant, "Override the look's load constant c")
+        ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--mask", o->mask, "Cloth mask, white = cloth, the photo's size (default: GrabCut around the supports)");
     sub->add_option("--tolerance", o->tolerance, "Precision/recall distance as a share of the support distance")
-        ->check(finite_in(1e-9, 1.0))
+        ->check(finite_in(1e-9, 1.0, "a share of the support distance in (0, 1]"))
         ->capture_default_str();
     sub->add_flag("--score", o->score, "Print and draw the agreement with the folds detected in the photo");
     sub->add_flag("--fit", o->fit, "Search the inset and Young's modulus for the best agreement (implies --score)");

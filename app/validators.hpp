@@ -7,10 +7,14 @@
 
 namespace foldcast::app {
 
-// A finite number in [lo, hi] (hi may be infinity for "no upper bound").
-inline CLI::Validator finite_in(double lo, double hi) {
-    const std::string allowed = "a finite number in [" + CLI::detail::to_string(lo) + ", " +
-                                (std::isinf(hi) ? std::string("inf)") : CLI::detail::to_string(hi) + "]");
+// A finite number in [lo, hi] (either may be infinite: no bound on that side); `allowed`
+// replaces the generated description ("a number in (0, 1]").
+inline CLI::Validator finite_in(double lo, double hi, std::string allowed = {}) {
+    if (allowed.empty())
+        allowed = std::isinf(lo) && std::isinf(hi) ? std::string("a finite number")
+                  : std::isinf(hi)                 ? "a finite number >= " + CLI::detail::to_string(lo)
+                                                   : "a finite number in [" + CLI::detail::to_string(lo) + ", " +
+                                                         CLI::detail::to_string(hi) + "]";
     return CLI::Validator(
         [lo, hi, allowed](std::string& text) -> std::string {
             double v = 0.0;
