@@ -2,20 +2,24 @@
 // hanging cloth and draw them; --json lists the polylines.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "foldcast/compare/folds.hpp"
 #include "foldcast/core/atomic_file.hpp"
+#include "validators.hpp"
 
 namespace foldcast::app {
 namespace {
 
 struct FoldsOptions {
-    std::string photo, output, mask, supports;
+    std::string photo, output, mask;
+    std::vector<double> supports;
     double min_length_px = 0.0;
     bool keep_prints = false;
     bool json = false;
@@ -28,7 +32,8 @@ int run_folds(const FoldsOptions& o) {
     const compare::Image photo = compare::read_image(o.photo);
     std::optional<compare::SupportPixels> supports;
     if (!o.supports.empty()) {
-        supports = compare::parse_supports(o.supports);
+        supports = compare::SupportPixels{Eigen::Vector2d(o.supports[0], o.supports[1]),
+                                          Eigen::Vector2d(o.supports[2], o.supports[3])};
         compare::validate_supports(*supports, photo.width, photo.height);
     }
     const compare::Image mask = o.mask.empty() ? compare::estimate_cloth_mask(photo, supports)
@@ -79,9 +84,17 @@ Command folds_command(CLI::App& app) {
     sub->add_option("photo", o->photo, "Photo (PNG, JPEG, ...)")->required();
     sub->add_option("-o,--output", o->output, "Picture with the detected lines drawn (PNG)")->required();
     sub->add_option("--mask", o->mask, "Cloth mask image (white = cloth), same size as the photo");
-    sub->add_option("--supports", o->supports, "X1,Y1,X2,Y2: the supports in pixels; seeds the GrabCut cloth mask");
-    sub->add_option("--min-length-px", o->min_length_px, "Drop lines shorter than this (default: max(10, 3 % of the diagonal))");
-    sub->add_flag("--keep-prints", o->keep_prints, "Also look for lines on printed motifs (off: they are masked out)");
+    const double inf = std::numeric_limits<double>::infinity();
+    sub->add_option("--supports", o->supports, "X1,Y1,X2,Y2: the supports in pixels; seeds the GrabCut cloth mask")
+        ->delimiter(',')
+        ->expected(4)
+        ->check(finite_in(-inf, inf));
+    sub->add_option("--min-length-px", o->min_length_px,
+                    "Drop lines shorter than this (default 0: max(10, 3 % of the diagonal))")
+        ->check(finite_in(0, inf));
+    sub->add_flag("--keep-prints", o->keep_prints,
+                  "Also look for lines on printed motifs (off: prints, told from shading by their chromaticity, are "
+                  "filled in and masked out)");
     sub->add_flag("--json", o->json, "Print the polylines as one JSON object");
     return {sub, [o] { return run_folds(*o); }};
 }

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
 
 #include "foldcast/compare/folds.hpp"
@@ -7,12 +8,14 @@ namespace foldcast::compare {
 
 void validate_supports(const SupportPixels& s, int width, int height) {
     for (const Eigen::Vector2d& p : {s.first, s.second})
+        if (!p.allFinite()) throw InputError("supports: a coordinate is not a finite number");
+    for (const Eigen::Vector2d& p : {s.first, s.second})
         if (!(p.x() >= 0 && p.y() >= 0 && p.x() <= width - 1 && p.y() <= height - 1))
-            throw InputError("--supports: point (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) +
+            throw InputError("supports: point (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) +
                              ") lies outside the " + std::to_string(width) + "x" + std::to_string(height) +
                              " image (x in [0," + std::to_string(width - 1) + "], y in [0," +
                              std::to_string(height - 1) + "])");
-    if (s.distance_px() < 2.0) throw InputError("--supports: the two points must be at least 2 px apart");
+    if (s.distance_px() < 2.0) throw InputError("supports: the two points are " + std::to_string(s.distance_px()) + " px apart; they must be at least 2 px apart");
 }
 
 namespace {
@@ -75,7 +78,7 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
             seed_a.push_back(lab.at<cv::Vec3b>(y, x)[1]);
             seed_b.push_back(lab.at<cv::Vec3b>(y, x)[2]);
         }
-    if (seed_a.empty()) throw InputError("--supports: the cloth below the supports lies outside the image");
+    if (seed_a.empty()) throw InputError("supports: the cloth below the supports lies outside the image");
     std::nth_element(seed_a.begin(), seed_a.begin() + seed_a.size() / 2, seed_a.end());
     std::nth_element(seed_b.begin(), seed_b.begin() + seed_b.size() / 2, seed_b.end());
     const double ma = seed_a[seed_a.size() / 2], mb = seed_b[seed_b.size() / 2];
@@ -103,12 +106,14 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
 Image read_mask(const std::filesystem::path& path, int width, int height) {
     const Image raw = read_image(path);
     if (raw.width != width || raw.height != height)
-        throw InputError("--mask '" + path.string() + "': size " + std::to_string(raw.width) + "x" +
+        throw InputError("mask '" + path.string() + "': size " + std::to_string(raw.width) + "x" +
                          std::to_string(raw.height) + " differs from the photo's " + std::to_string(width) + "x" +
                          std::to_string(height));
     Image mask(width, height, 1);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) mask.at(x, y, 0) = raw.at(x, y, 0) > 0.5f ? 1.0f : 0.0f;
+    if (std::none_of(mask.values.begin(), mask.values.end(), [](float v) { return v > 0.5f; }))
+        throw InputError("mask '" + path.string() + "': no pixel above half scale, so no cloth; white marks the cloth");
     return mask;
 }
 

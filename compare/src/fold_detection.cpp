@@ -7,8 +7,10 @@
 #include <cmath>
 #include <deque>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/photo.hpp>
 
 #include "foldcast/compare/folds.hpp"
+#include "foldcast/core/colour.hpp"
 #include "mat_convert.hpp"
 
 namespace foldcast::compare {
@@ -78,30 +80,57 @@ float sample(const cv::Mat& m, float x, float y) {
            (1 - fx) * fy * m.at<float>(y1, x0) + fx * fy * m.at<float>(y1, x1);
 }
 
-// Pixels whose chroma (CIELAB a,b) is far from the cloth's median chroma: printed motifs,
-// labels.  Dilated a little so their outlines go too.
-cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth) {
-    cv::Mat bgr = detail::to_bgr8(photo), lab;
-    cv::cvtColor(bgr, lab, cv::COLOR_BGR2Lab);  // 8-bit: a, b offset by 128
-    std::vector<int> as, bs;
-    for (int y = 0; y < lab.rows; ++y)
-        for (int x = 0; x < lab.cols; ++x)
-            if (cloth.at<uchar>(y, x)) {
-                as.push_back(lab.at<cv::Vec3b>(y, x)[1]);
-                bs.push_back(lab.at<cv::Vec3b>(y, x)[2]);
-            }
-    cv::Mat out = cv::Mat::zeros(lab.size(), CV_8U);
-    if (as.empty()) return out;
-    std::nth_element(as.begin(), as.begin() + as.size() / 2, as.end());
-    std::nth_element(bs.begin(), bs.begin() + bs.size() / 2, bs.end());
-    const double ma = as[as.size() / 2], mb = bs[bs.size() / 2];
-    constexpr double kChromaDistance = 30.0;  // 8-bit Lab units; shading alone stays well below
-    for (int y = 0; y < lab.rows; ++y)
-        for (int x = 0; x < lab.cols; ++x) {
-            const cv::Vec3b v = lab.at<cv::Vec3b>(y, x);
-            if (std::hypot(v[1] - ma, v[2] - mb) > kChromaDistance) out.at<uchar>(y, x) = 255;
+// Printed motifs (letters, logos, dots): pixels whose linear-light chromaticity
+// (R, G) / (R + G + B) lies far from the cloth's median.  Shading (a fold turning away from
+// the light) scales R, G and B alike and leaves the chromaticity where it is; a print of
+// another colour moves it.  The limit adapts to the cloth's own spread (its weave, JPEG
+// noise, coloured bounce light): 6 robust standard deviations, at least 0.04.  Pixels too
+// dark for a stable ratio (linear sum < 0.03) never count as print.  Opened by 3x3 to drop
+// specks, then dilated by `grow_px` so the blurred outline of a print goes too.
+cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth, int grow_px) {
+    const cv::Mat rgb = detail::rgb_of(photo);
+    cv::Mat chroma_r(rgb.size(), CV_32F), chroma_g(rgb.size(), CV_32F), dark(rgb.size(), CV_8U);
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x) {
+            const cv::Vec3f v = rgb.at<cv::Vec3f>(y, x);
+            const float r = srgb_to_linear(std::clamp(v[0], 0.0f, 1.0f)), g = srgb_to_linear(std::clamp(v[1], 0.0f, 1.0f)),
+                        b = srgb_to_linear(std::clamp(v[2], 0.0f, 1.0f));
+            const float sum = r + g + b;
+            dark.at<uchar>(y, x) = sum < 0.03f;
+            chroma_r.at<float>(y, x) = sum > 0 ? r / sum : 1.0f / 3.0f;
+            chroma_g.at<float>(y, x) = sum > 0 ? g / sum : 1.0f / 3.0f;
         }
-    cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(9, 9)));
+    auto median_of = [](std::vector<float> v) {
+        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+        return v[v.size() / 2];
+    };
+    std::vector<float> rs, gs;
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x)
+            if (cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x)) {
+                rs.push_back(chroma_r.at<float>(y, x));
+                gs.push_back(chroma_g.at<float>(y, x));
+            }
+    cv::Mat out = cv::Mat::zeros(rgb.size(), CV_8U);
+    if (rs.empty()) return out;
+    const float mr = median_of(rs), mg = median_of(gs);
+    cv::Mat distance(rgb.size(), CV_32F);
+    std::vector<float> ds;
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x) {
+            const float d = std::hypot(chroma_r.at<float>(y, x) - mr, chroma_g.at<float>(y, x) - mg);
+            distance.at<float>(y, x) = d;
+            if (cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x)) ds.push_back(d);
+        }
+    const float median_d = median_of(ds);
+    for (float& d : ds) d = std::abs(d - median_d);
+    const float limit = std::max(0.04f, median_d + 6.0f * 1.4826f * median_of(ds));
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x)
+            out.at<uchar>(y, x) = cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x) && distance.at<float>(y, x) > limit ? 255 : 0;
+    cv::morphologyEx(out, out, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+    if (grow_px > 0)
+        cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1)));
     return out;
 }
 
@@ -110,9 +139,27 @@ const int kDy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 
 }  // namespace
 
+void validate(const FoldDetectionOptions& o) {
+    auto check = [](bool ok, const std::string& name, double value, const char* allowed) {
+        if (!ok) throw InputError("fold detection: " + name + " = " + std::to_string(value) + " is not allowed; " + allowed);
+    };
+    for (double s : o.sigmas_px) check(std::isfinite(s) && s > 0, "sigmas_px", s, "each scale must be a finite number > 0");
+    check(std::isfinite(o.gamma) && o.gamma >= 0 && o.gamma <= 2, "gamma", o.gamma, "allowed: 0 to 2");
+    check(std::isfinite(o.high_threshold) && o.high_threshold >= 0, "high_threshold", o.high_threshold,
+          "allowed: >= 0 (0 = automatic)");
+    check(std::isfinite(o.low_ratio) && o.low_ratio > 0 && o.low_ratio <= 1, "low_ratio", o.low_ratio, "allowed: (0, 1]");
+    check(std::isfinite(o.min_length_px) && o.min_length_px >= 0, "min_length_px", o.min_length_px,
+          "allowed: a finite length >= 0 px (0 = automatic)");
+}
+
 FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDetectionOptions& options) {
+    validate(options);
     if (mask.width != photo.width || mask.height != photo.height)
-        throw InputError("fold detection: the mask's size differs from the photo's");
+        throw InputError("fold detection: the mask is " + std::to_string(mask.width) + "x" +
+                         std::to_string(mask.height) + ", the photo " + std::to_string(photo.width) + "x" +
+                         std::to_string(photo.height) + "; they must be the same size");
+    if (std::none_of(mask.values.begin(), mask.values.end(), [](float v) { return v > 0.5f; }))
+        throw InputError("fold detection: the cloth mask is empty (no pixel above half scale); nothing to search");
     FoldDetection out;
     out.mask = mask;
     const int w = photo.width, h = photo.height;
@@ -124,23 +171,38 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     }
     const double sigma_max = *std::max_element(out.sigmas_px.begin(), out.sigmas_px.end());
 
-    cv::Mat luma = detail::luma_of(photo);
-    const RidgeField field = ridge_field(luma, out.sigmas_px, options.gamma);
-
     // Search region: the cloth, away from its outline (the silhouette is a strong "ridge"),
-    // without printed motifs.
+    // without printed motifs.  Prints are also filled in from their surroundings (Telea) in
+    // the luma the ridge filter sees, so that their outlines are not ridges at any scale.
     cv::Mat cloth;
     detail::to_mat(mask).convertTo(cloth, CV_8U, 255.0);
     cloth = cloth > 127;
+    cv::Mat luma = detail::luma_of(photo);
+    cv::Mat prints = cv::Mat::zeros(luma.size(), CV_8U);
+    if (options.exclude_prints && photo.channels >= 3) {
+        prints = print_pixels(photo, cloth, static_cast<int>(std::ceil(out.sigmas_px.front())) + 1);
+        if (cv::countNonZero(prints) > 0) {
+            // Through 16 bits: OpenCV's Telea fills 8- and 16-bit images (float ones pass
+            // through unchanged in 4.6).
+            cv::Mat luma16, filled;
+            luma.convertTo(luma16, CV_16U, 65535.0);
+            cv::inpaint(luma16, prints, filled, 3.0, cv::INPAINT_TELEA);
+            filled.convertTo(luma, CV_32F, 1.0 / 65535.0);
+        }
+    }
+    const RidgeField field = ridge_field(luma, out.sigmas_px, options.gamma);
     cv::Mat region;
     const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
     cv::erode(cloth, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    if (options.exclude_prints && photo.channels >= 3) region &= ~print_pixels(photo, cloth);
+    region &= ~prints;
     {
         cv::Mat r;
         region.convertTo(r, CV_32F, 1.0 / 255.0);
         out.search_region = detail::from_mat(r);
+        prints.convertTo(r, CV_32F, 1.0 / 255.0);
+        out.print_mask = detail::from_mat(r);
+        out.shading = detail::from_mat(luma);
     }
 
     // Non-maximum suppression across the line, with a parabolic sub-pixel offset.

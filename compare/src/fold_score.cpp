@@ -1,5 +1,7 @@
 // Agreement between predicted and detected fold lines, and the parameter search on it.
+#include <algorithm>
 #include <cmath>
+#include <set>
 #include <opencv2/imgproc.hpp>
 
 #include "foldcast/compare/overlay.hpp"
@@ -39,8 +41,14 @@ cv::Mat distance_to(const std::vector<Eigen::Vector2d>& points, cv::Size size) {
 
 }  // namespace
 
-FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDetection& detection, double px_per_m,
-                      double tolerance_px) {
+double agreement(double f1, int count_error) { return 0.5 * (f1 + 1.0 / (1.0 + std::abs(count_error))); }
+
+FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDetection& detection,
+                      const CentreLine& centre, double px_per_m, double tolerance_px) {
+    if (!(std::isfinite(tolerance_px) && tolerance_px > 0))
+        throw InputError("fold score: tolerance = " + std::to_string(tolerance_px) + " px; it must be a finite distance > 0");
+    if (!(std::isfinite(px_per_m) && px_per_m > 0))
+        throw InputError("fold score: scale = " + std::to_string(px_per_m) + " px/m; it must be finite and > 0");
     FoldScore s;
     s.tolerance_px = tolerance_px;
     s.tolerance_cm = 100.0 * tolerance_px / px_per_m;
@@ -50,18 +58,23 @@ FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDet
     detail::to_mat(detection.search_region).convertTo(region, CV_8U, 255.0);
 
     std::vector<Eigen::Vector2d> pred, det;
+    std::set<int> fold_indices;
     for (const auto& line : predicted) {
         if (line.top_edge) continue;
-        ++s.predicted_folds;
+        fold_indices.insert(line.index);
         for (const auto& p : resample(line.points_px))
             if (inside(region, p)) pred.push_back(p);
     }
-    s.detected_folds = static_cast<int>(detection.folds.size());
+    s.predicted_folds = static_cast<int>(fold_indices.size());
+    s.measured_folds = centre.folds;
+    s.count_error = s.predicted_folds - s.measured_folds;
+    s.detected_lines = static_cast<int>(detection.folds.size());
     for (const auto& f : detection.folds)
         for (const auto& p : resample(f.points_px)) det.push_back(p);
 
     if (pred.empty() || det.empty()) {
         s.chamfer_cm = pred.empty() && det.empty() ? 0.0 : s.truncation_cm;
+        s.agreement = agreement(0.0, s.count_error);
         return s;
     }
     const cv::Size size(region.cols, region.rows);
@@ -78,50 +91,138 @@ FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDet
         return near;
     };
     double pred_sum = 0.0, det_sum = 0.0;
-    s.recall = double(sum_near(pred, to_det, pred_sum)) / pred.size();
-    s.precision = double(sum_near(det, to_pred, det_sum)) / det.size();
+    s.precision = double(sum_near(pred, to_det, pred_sum)) / pred.size();
+    s.recall = double(sum_near(det, to_pred, det_sum)) / det.size();
     s.f1 = s.precision + s.recall > 0 ? 2 * s.precision * s.recall / (s.precision + s.recall) : 0.0;
+    s.agreement = agreement(s.f1, s.count_error);
     s.chamfer_cm = 100.0 * 0.5 * (pred_sum / pred.size() + det_sum / det.size()) / px_per_m;
     return s;
 }
 
-FitResult fit_folds(const drape::ClothParams& start, const std::function<ClothToImage(const drape::ClothParams&)>& map_for,
-                    const FoldDetection& detection, double tolerance_px, bool keep_span) {
-    const double span = start.support_span_m();
-    FitResult best;
-    bool have = false;
-    for (int i = 0; i < 10; ++i)
-        for (int j = -4; j <= 4; ++j) {  // load constant x 2^(0.75 j)
-            drape::ClothParams p = start;
-            if (keep_span) {
-                p.inset_m = 0.4 * span * i / 9.0;
-                p.width_m = span + 2.0 * p.inset_m;
-            } else {
-                p.inset_m = 0.4 * start.width_m * i / 9.0;
-            }
-            p.load_constant = start.load_constant * std::pow(2.0, 0.75 * j);
-            drape::FoldSolution solution;
-            ClothToImage map;
-            try {
-                solution = drape::solve_folds(p);
-                map = map_for(p);
-            } catch (const InputError&) {
-                continue;  // outside the model's valid range
-            }
-            const auto lines = project_fold_lines(drape::fold_lines(p, solution), solution.folds, map);
-            const FoldScore score = score_folds(lines, detection, map.px_per_m, tolerance_px);
-            ++best.evaluated;
-            // F1 first: the chamfer distance alone rewards predicting many dense lines.
-            const bool better = !have || score.f1 > best.score.f1 + 1e-9 ||
-                                (std::abs(score.f1 - best.score.f1) <= 1e-9 && score.chamfer_cm < best.score.chamfer_cm);
-            if (better) {
-                const int evaluated = best.evaluated;
-                best = {p, solution, score, evaluated};
-                have = true;
+CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixels& supports) {
+    CentreLine out;
+    const Image& shading = detection.shading;
+    const Image& mask = detection.mask;
+    if (shading.empty() || detection.sigmas_px.empty()) return out;
+    const double d = supports.distance_px();
+    const Eigen::Vector2d ex = (supports.second - supports.first) / d, down(-ex.y(), ex.x());
+    const Eigen::Vector2d mid = 0.5 * (supports.first + supports.second);
+    const double half_band = std::max(1.0, 0.02 * d);
+    const int offsets = static_cast<int>(std::floor(half_band));
+    auto value = [&](const Image& img, const Eigen::Vector2d& p, float* v) {
+        const long x = std::lround(p.x()), y = std::lround(p.y());
+        if (x < 0 || y < 0 || x >= img.width || y >= img.height) return false;
+        *v = img.at(int(x), int(y), 0);
+        return true;
+    };
+    // The profile from the support line down to the lowest cloth pixel of the fibre: the
+    // band's mean shading over its cloth pixels.
+    std::vector<double> profile;
+    std::vector<bool> on_cloth, on_print;
+    const int max_depth = static_cast<int>(std::ceil(std::hypot(shading.width, shading.height)));
+    int first = -1, last = -1;
+    for (int depth = 0; depth < max_depth; ++depth) {
+        double sum = 0.0;
+        int n = 0, printed = 0;
+        for (int k = -offsets; k <= offsets; ++k) {
+            const Eigen::Vector2d p = mid + depth * down + k * ex;
+            float m = 0.0f, v = 0.0f, pm = 0.0f;
+            if (value(mask, p, &m) && m > 0.5f && value(shading, p, &v)) {
+                if (!detection.print_mask.empty() && value(detection.print_mask, p, &pm) && pm > 0.5f) {
+                    ++printed;
+                    continue;
+                }
+                sum += v;
+                ++n;
             }
         }
-    if (!have) throw InputError("--fit: no parameter set in the search range could be solved");
-    return best;
+        const bool cloth = 2 * (n + printed) > 2 * offsets + 1;  // most of the band is cloth
+        profile.push_back(n > 0 ? sum / n : 0.0);
+        on_cloth.push_back(cloth);
+        on_print.push_back(printed > 0);  // prints are filled in: no fold can be read there
+        if (cloth) {
+            if (first < 0) first = depth;
+            last = depth;
+        }
+    }
+    if (first < 0) return out;
+    out.top_edge_depth_px = first;
+    out.hem_depth_px = last;
+    // Away from the top edge and the hem by 2 sigma_max, as the 2-D search region is from
+    // the outline: the silhouette's contrast is not a fold.
+    const double sigma_max = *std::max_element(detection.sigmas_px.begin(), detection.sigmas_px.end());
+    const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
+    const int from = first + margin, to = last - margin;
+    if (to - from < 3) return out;
+    // Between first and last the profile may have gaps (holes in the band): fill by the
+    // nearest cloth value so that the smoothing does not see the background.
+    std::vector<double> p(profile.begin() + first, profile.begin() + last + 1);
+    for (size_t i = 1; i < p.size(); ++i)
+        if (!on_cloth[first + i] || on_print[first + i]) p[i] = p[i - 1];
+    // Within 2 sigma_max of a print or a gap the profile is not the cloth's own.
+    std::vector<bool> unreadable(p.size(), false);
+    for (size_t i = 0; i < p.size(); ++i)
+        if (!on_cloth[first + i] || on_print[first + i])
+            for (int k = -margin; k <= margin; ++k)
+                if (int(i) + k >= 0 && int(i) + k < int(p.size())) unreadable[size_t(int(i) + k)] = true;
+
+    struct Extremum {
+        int depth;
+        int sign;
+        double strength;
+    };
+    std::vector<Extremum> found;
+    for (double sigma : detection.sigmas_px) {
+        // Gaussian smoothing and derivatives by finite differences, reflected ends.
+        const int radius = static_cast<int>(std::ceil(3 * sigma));
+        std::vector<double> kernel(2 * radius + 1);
+        double ksum = 0.0;
+        for (int k = -radius; k <= radius; ++k) ksum += kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
+        const int n = static_cast<int>(p.size());
+        std::vector<double> smooth(n, 0.0);
+        for (int i = 0; i < n; ++i) {
+            double acc = 0.0;
+            for (int k = -radius; k <= radius; ++k) {
+                int j = i + k;
+                while (j < 0 || j >= n) j = j < 0 ? -j : 2 * (n - 1) - j;
+                acc += kernel[k + radius] * p[std::clamp(j, 0, n - 1)];
+            }
+            smooth[i] = acc / ksum;
+        }
+        const double norm = std::pow(sigma * sigma, 0.75);  // the detector's gamma-normalisation
+        for (int i = std::max(1, from - first); i < std::min(n - 1, to - first + 1); ++i) {
+            if (unreadable[size_t(i)]) continue;
+            const double d1a = smooth[i] - smooth[i - 1], d1b = smooth[i + 1] - smooth[i];
+            if (!(d1a * d1b <= 0) || (d1a == 0 && d1b == 0)) continue;
+            const double d2 = smooth[i + 1] - 2 * smooth[i] + smooth[i - 1];
+            const double strength = norm * std::abs(d2);
+            if (strength < detection.high_threshold) continue;
+            found.push_back({first + i, d2 < 0 ? 1 : -1, strength});
+        }
+    }
+    // One extremum per place (the strongest scale), then strict alternation: two crests in
+    // a row without a valley between them are one broad crest.
+    std::sort(found.begin(), found.end(), [](const Extremum& a, const Extremum& b) {
+        return a.depth != b.depth ? a.depth < b.depth : a.strength > b.strength;
+    });
+    std::vector<Extremum> merged;
+    for (const auto& e : found) {
+        if (!merged.empty() && (e.depth - merged.back().depth < 2.0 * sigma_max || e.sign == merged.back().sign)) {
+            if (e.strength > merged.back().strength) merged.back() = e;
+            continue;
+        }
+        merged.push_back(e);
+    }
+    for (const auto& e : merged) {
+        out.depths_px.push_back(e.depth);
+        out.signs.push_back(e.sign);
+    }
+    out.folds = static_cast<int>(merged.size());
+    if (out.folds >= 2 && out.depths_px.front() > 0)
+        out.Q = std::pow(out.depths_px.back() / out.depths_px.front(), 1.0 / (out.folds - 1));
+    else if (out.folds == 1 && out.top_edge_depth_px >= 2.0)
+        out.Q = out.depths_px.back() / out.top_edge_depth_px;
+    return out;
 }
 
 }  // namespace foldcast::compare

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <functional>
 
+#include "foldcast/core/colour.hpp"
+
 #include "test_paths.hpp"
 #include "compare_test_util.hpp"
 #include "foldcast/compare/folds.hpp"
@@ -116,12 +118,91 @@ TEST(ClothMask, GrabCutSeparatesTheShirtFromTableAndRobot) {
     EXPECT_LT(covered, 0.30 * photo.width * photo.height);
 }
 
-TEST(ClothMask, SupportsOutsideTheImageAreRejected) {
+TEST(ClothMask, SupportsOutsideOnTopOfEachOtherOrNotFiniteAreRejected) {
     const auto photo = constant_image(50, 40, 3, 0.5f);
     EXPECT_THROW(compare::estimate_cloth_mask(photo, compare::SupportPixels{{10, 10}, {60, 10}}), InputError);
-    EXPECT_THROW(compare::parse_supports("1,2,3"), InputError);
-    EXPECT_THROW(compare::parse_supports("1,2,x,4"), InputError);
-    const auto s = compare::parse_supports("1.5, 2,3,4");
-    EXPECT_EQ(s.first.x(), 1.5);
-    EXPECT_EQ(s.second.y(), 4.0);
+    EXPECT_THROW(compare::validate_supports({{10, 10}, {10.5, 10}}, 50, 40), InputError);
+    EXPECT_THROW(compare::validate_supports({{10, 10}, {NAN, 10}}, 50, 40), InputError);
+    EXPECT_NO_THROW(compare::validate_supports({{10, 10}, {40, 10}}, 50, 40));
+    try {
+        compare::validate_supports({{10, 10}, {10, 10}}, 50, 40);
+        FAIL();
+    } catch (const InputError& e) {
+        // The library names its own parameter, not a command-line flag.
+        EXPECT_EQ(std::string(e.what()).rfind("supports:", 0), 0u) << e.what();
+    }
+}
+
+TEST(FoldDetection, EmptyMaskAndInvalidOptionsAreRejected) {
+    const auto img = draw(60, 40, {});
+    EXPECT_THROW(compare::detect_folds(img, constant_image(60, 40, 1, 0.0f)), InputError);
+    EXPECT_THROW(compare::detect_folds(img, constant_image(61, 40, 1, 1.0f)), InputError);
+    for (double bad : {-1.0, double(NAN), double(INFINITY)}) {
+        compare::FoldDetectionOptions o;
+        o.min_length_px = bad;
+        EXPECT_THROW(compare::detect_folds(img, constant_image(60, 40, 1, 1.0f), o), InputError) << bad;
+    }
+}
+
+// Navy cloth (linear RGB 0.03, 0.04, 0.25) shaded by one horizontal crest, with a printed
+// block letter "E" in white and a yellow disc: prints change the colour, the fold only the
+// brightness.
+compare::Image printed_cloth(double crest_y, bool with_print) {
+    const int w = 200, h = 160;
+    compare::Image img(w, h, 3);
+    const float navy[3] = {0.03f, 0.04f, 0.25f}, white[3] = {0.8f, 0.8f, 0.8f}, yellow[3] = {0.8f, 0.75f, 0.05f};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double d = y - crest_y;
+            const double shade = 0.7 + 0.5 * std::exp(-d * d / (2 * 3.0 * 3.0));
+            const float* albedo = navy;
+            if (with_print) {
+                const bool stem = x >= 30 && x < 40 && y >= 20 && y < 130;
+                const bool bars = x >= 30 && x < 80 && ((y >= 20 && y < 30) || (y >= 70 && y < 80) || (y >= 120 && y < 130));
+                if (stem || bars) albedo = white;
+                if (std::hypot(x - 140, y - 100) < 25) albedo = yellow;
+            }
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = linear_to_srgb(std::min(1.0f, float(albedo[c] * shade)));
+        }
+    return img;
+}
+
+TEST(FoldDetection, PrintsAreNotFoldsButTheFoldIsFound) {
+    const double crest_y = 50.3;
+    const auto img = printed_cloth(crest_y, true);
+    const auto mask = constant_image(img.width, img.height, 1, 1.0f);
+    const auto det = compare::detect_folds(img, mask);
+    // On the print: inside a letter or the disc, or within 3 px of their outlines.
+    auto on_print = [](const Eigen::Vector2d& p) {
+        auto inside = [](double x, double y) {
+            const bool stem = x >= 30 && x < 40 && y >= 20 && y < 130;
+            const bool bars = x >= 30 && x < 80 && ((y >= 20 && y < 30) || (y >= 70 && y < 80) || (y >= 120 && y < 130));
+            return stem || bars || std::hypot(x - 140, y - 100) < 25;
+        };
+        for (double dy = -3; dy <= 3; dy += 1)
+            for (double dx = -3; dx <= 3; dx += 1)
+                if (inside(p.x() + dx, p.y() + dy)) return true;
+        return false;
+    };
+    double crest_length = 0.0;
+    for (const auto& f : det.folds)
+        for (size_t i = 0; i < f.points_px.size(); ++i) {
+            // Every point on the fold (the only one); where it passes beside the letter's stem
+            // it is still the fold, anywhere else on the print it would be a print's line.
+            const auto& p = f.points_px[i];
+            EXPECT_NEAR(p.y(), crest_y, 2.0) << "line point off the fold at " << p.transpose();
+            if (i > 0 && f.sign > 0) crest_length += (p - f.points_px[i - 1]).norm();
+        }
+    EXPECT_GT(crest_length, 100.0);  // the crest is found beside and between the prints
+    // The print mask covers the letter and the disc, not the plain cloth.
+    EXPECT_EQ(det.print_mask.at(35, 100, 0), 1.0f);
+    EXPECT_EQ(det.print_mask.at(140, 100, 0), 1.0f);
+    EXPECT_EQ(det.print_mask.at(110, 140, 0), 0.0f);
+    // Without the separation the letter's strokes come back as lines: the check can fail.
+    compare::FoldDetectionOptions keep;
+    keep.exclude_prints = false;
+    int on_edges = 0;
+    for (const auto& f : compare::detect_folds(img, mask, keep).folds)
+        for (const auto& p : f.points_px) on_edges += on_print(p) && std::abs(p.y() - crest_y) > 2.0;
+    EXPECT_GT(on_edges, 50);
 }

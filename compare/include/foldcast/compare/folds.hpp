@@ -1,8 +1,10 @@
 #pragma once
 // Fold detection in photographs of hanging cloth: a cloth mask (given, or GrabCut seeded
-// around and below the two supports), a multi-scale Hessian ridge/valley filter with
-// gamma-normalised responses (Lindeberg), non-maximum suppression across the ridge with
-// sub-pixel positions, hysteresis, and linking into polylines.
+// around and below the two supports), prints separated from shading by their chromaticity
+// (shading scales linear RGB, a print changes its ratios) and filled in, a multi-scale
+// Hessian ridge/valley filter with gamma-normalised responses (Lindeberg) on the shading,
+// non-maximum suppression across the ridge with sub-pixel positions, hysteresis, and
+// linking into polylines.
 #include <Eigen/Core>
 #include <optional>
 #include <vector>
@@ -18,8 +20,8 @@ struct SupportPixels {
     double distance_px() const { return (second - first).norm(); }
 };
 
-// Throws InputError (one line) unless both supports lie inside a width x height image and
-// are at least 2 px apart.
+// Throws InputError (one line, naming "supports") unless both supports are finite, lie
+// inside a width x height image and are at least 2 px apart.
 void validate_supports(const SupportPixels& supports, int width, int height);
 
 // +1 crest: a bright ridge of image luminance (a fold towards the light); -1 valley: a dark
@@ -37,13 +39,18 @@ struct FoldDetectionOptions {
     double high_threshold = 0.0;    // 0: max(0.006, 4 x median response over the search region)
     double low_ratio = 0.5;         // low threshold = low_ratio x high
     double min_length_px = 0.0;     // 0: max(10, 3 % of the image diagonal)
-    bool exclude_prints = true;     // ignore printed motifs: pixels whose chroma is far from the cloth's
+    bool exclude_prints = true;     // ignore printed motifs: pixels whose chromaticity is far from the cloth's
 };
+// Throws InputError naming the field unless every value is finite and in range
+// (sigmas > 0, gamma in [0, 2], thresholds >= 0, low_ratio in (0, 1], min_length_px >= 0).
+void validate(const FoldDetectionOptions& options);
 
 struct FoldDetection {
     std::vector<DetectedFold> folds;
     Image mask;               // 1 channel, 1 = cloth
     Image search_region;      // 1 channel, 1 = where lines were looked for (mask minus border, prints)
+    Image print_mask;         // 1 channel, 1 = printed motif (chromaticity far from the cloth's), dilated
+    Image shading;            // 1 channel: the luma the ridge filter saw (prints filled in from around them)
     std::vector<double> sigmas_px;
     double high_threshold = 0.0, low_threshold = 0.0;
 };
@@ -54,22 +61,14 @@ struct FoldDetection {
 // Deterministic.  Without supports the whole image counts as cloth.
 Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>& supports);
 
-// Reads a mask file: any pixel above half scale is cloth.  Throws InputError if its size
-// differs from width x height.
+// Reads a mask file: any pixel above half scale is cloth.  Throws InputError naming the file
+// if its size differs from width x height or it holds no cloth pixel.
 Image read_mask(const std::filesystem::path& path, int width, int height);
 
+// Throws InputError unless the mask has the photo's size and at least one cloth pixel.
 FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDetectionOptions& options = {});
 
 // The photo with the mask outline (yellow), crests (orange, solid) and valleys (cyan).
 Image draw_detected_folds(const Image& photo, const FoldDetection& detection);
-
-}  // namespace foldcast::compare
-
-namespace foldcast::compare {
-
-// "X1,Y1,X2,Y2" -> supports.  Throws InputError naming `flag` unless it is four numbers.
-SupportPixels parse_supports(const std::string& text, const std::string& flag = "--supports");
-// "a,b,c,..." -> exactly `count` numbers, else InputError naming `flag`.
-std::vector<double> parse_numbers(const std::string& text, size_t count, const std::string& flag);
 
 }  // namespace foldcast::compare

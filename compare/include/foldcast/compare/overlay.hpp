@@ -1,11 +1,14 @@
 #pragma once
 // Predicted fold lines over a photo: the cloth plane of drape's frame (origin midway between
 // the supports, x right, y up, metres) mapped to pixels by a similarity fixed by the two
-// supports, or by a homography fixed by four points; scoring against detected folds and a
-// search of the model's free parameters for the best score.
+// supports, or by a homography fixed by four points; clipping to the cloth, drawing,
+// scoring against detected folds and the centre-line measurement, and a search of the
+// model's physical parameters for the best agreement.  foldcast/compare/photo_overlay.hpp
+// chains these for one photo.
 #include <Eigen/Core>
 #include <array>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,41 +42,101 @@ struct PredictedLine {
 std::vector<PredictedLine> project_fold_lines(const std::vector<drape::FoldLine>& lines, int folds,
                                               const ClothToImage& map);
 
+// The pieces of the fold lines (top edge dropped: it is the cloth's outline, not a fold)
+// that lie on the cloth: each line is cut where it leaves the mask (1 channel, > 0.5 =
+// cloth); a line may become several pieces with the same index.  Pieces shorter than
+// 2 px are dropped.
+std::vector<PredictedLine> clip_to_cloth(const std::vector<PredictedLine>& lines, const Image& mask);
+
 // The photo with positive folds solid black, negative folds dashed white (each with a thin
-// halo of the other colour so both read on any cloth), supports ringed, and a legend box
-// with `legend` lines in the corner that hides the fewest lines.  Same size as the photo.
+// halo of the other colour so both read on any cloth), line widths proportional to the
+// image's diagonal, supports ringed, and a legend box with `legend` lines placed where it
+// covers the least cloth (`mask`, may be empty) and then the fewest lines.  Same size as
+// the photo.
 Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, const SupportPixels& supports,
-                   const std::vector<std::string>& legend);
+                   const std::vector<std::string>& legend, const Image& mask = {});
+
+// The folds seen along the centre fibre (the vertical through the supports' midpoint, at
+// right angles to the support line): the shading profile averaged over a band +/- 2 % of
+// the support distance wide, its crests (bright) and valleys (dark) found with the
+// detector's scales and threshold, in 1-D.  Depths are pixels below the support line.
+struct CentreLine {
+    double top_edge_depth_px = 0.0;  // first cloth pixel on the fibre: the top edge's sag a_n
+    double hem_depth_px = 0.0;       // last cloth pixel on the fibre
+    std::vector<double> depths_px;   // each crest/valley, top to bottom
+    std::vector<int> signs;          // +1 crest (bright), -1 valley (dark)
+    int folds = 0;                   // measured n: crests and valleys on the fibre
+    // Measured Q, as drape's a_{i-1} = Q a_i: with two or more folds (deepest / shallowest
+    // fold depth)^(1/(n-1)); with one, its depth over the top edge's sag; unset without
+    // folds, or with one fold and a top edge that does not sag (< 2 px).
+    std::optional<double> Q;
+};
+CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixels& supports);
 
 struct FoldScore {
-    int predicted_folds = 0;  // n (the top edge is not a fold)
-    int detected_folds = 0;
-    double chamfer_cm = 0.0;  // symmetric, truncated at `truncation_cm`
-    double truncation_cm = 0.0;
-    double precision = 0.0;   // share of detected line length within tolerance of a prediction
-    double recall = 0.0;      // share of predicted line length (inside the region) within tolerance
+    int predicted_folds = 0;   // n of the prediction (the top edge is not a fold)
+    int detected_lines = 0;    // lines the detector found
+    int measured_folds = 0;    // n on the centre line (CentreLine::folds)
+    int count_error = 0;       // predicted_folds - measured_folds
+    double precision = 0.0;    // share of predicted line length on the cloth within tolerance of a detected line
+    double recall = 0.0;       // share of detected line length within tolerance of a predicted line
     double f1 = 0.0;
+    // What the fit maximises, in [0, 1]: the mean of F1 (where the lines are) and
+    // 1 / (1 + |count_error|) (how many there are).  More lines than the photo shows lower
+    // the precision and the count term, so covering the cloth does not pay; the count term
+    // still ranks parameter sets whose lines all miss (F1 = 0).
+    double agreement = 0.0;
+    double chamfer_cm = 0.0;   // symmetric, truncated at `truncation_cm`
+    double truncation_cm = 0.0;
     double tolerance_px = 0.0, tolerance_cm = 0.0;
 };
 
+// FoldScore::agreement from its parts.
+double agreement(double f1, int count_error);
+
 // Compares predicted lines (clipped to the detection's search region) with the detected
-// ones.  tolerance_px: distance for precision/recall; chamfer distances are truncated at 5x it.
-FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDetection& detection, double px_per_m,
-                      double tolerance_px);
+// ones.  tolerance_px: distance for precision/recall; chamfer distances are truncated at 5x
+// it.  Throws InputError unless tolerance_px and px_per_m are finite and > 0.
+FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDetection& detection,
+                      const CentreLine& centre, double px_per_m, double tolerance_px);
+
+// The box the fit searches.  Inset d: [inset_min_m, inset_max_m].  Stiffness: only the
+// product c E enters the model (sigma_cr = c E t^2 / (l^2 (1 - nu^2))), so E is searched at
+// the given thickness, weight and load constant, over [young_min_pa, young_max_pa].
+struct FitBounds {
+    double inset_min_m = 0.0, inset_max_m = 0.0;
+    double young_min_pa = 0.0, young_max_pa = 0.0;
+    int inset_steps = 12;  // evenly spaced, ends included
+    int young_steps = 13;  // log-spaced, ends included
+};
+
+// A fitted value with the range of the parameter sets whose agreement is within 5 % of the
+// best one, and whether the best lies on an end of the search box.
+struct FittedValue {
+    double best = 0.0, low = 0.0, high = 0.0;
+    double bound_min = 0.0, bound_max = 0.0;
+    bool on_bound = false;
+};
 
 struct FitResult {
     drape::ClothParams params;
     drape::FoldSolution solution;
     FoldScore score;
+    FittedValue inset_m, young_pa;
     int evaluated = 0;
+    bool nothing_matched = false;  // no set put any line on a detected fold (F1 = 0): only the count was fitted
 };
 
-// Grid search over the support inset (10 values from 0 to 0.4 x width, or with keep_span
-// 0 to 0.4 x span with the width growing as span + 2 inset) and the load constant
-// (x 2^-3 .. x 2^3 of `start`, 9 values) for the highest F1 (ties: lower chamfer distance).
-// `map_for` gives the photo mapping of a parameter set.  Sets that the model rejects are
-// skipped; sets without folds are scored too (recall 0).
-FitResult fit_folds(const drape::ClothParams& start, const std::function<ClothToImage(const drape::ClothParams&)>& map_for,
-                    const FoldDetection& detection, double tolerance_px, bool keep_span = false);
+// Grid search of the box for the highest agreement (ties: lower chamfer distance).
+// `geometry_for` completes a parameter set for its inset (the photo fixes pixels, not metres:
+// a new inset may change the width, or the scale and with it the height read off the mask);
+// empty: width and height stay.  `map_for` gives the photo mapping of a parameter set;
+// `mask` clips the lines to the cloth.  Sets that the model rejects are skipped.  Throws
+// InputError if the bounds are not finite, ordered and positive where needed, or no set in
+// the box can be solved.
+using GeometryFn = std::function<drape::ClothParams(const drape::ClothParams&)>;
+FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, const GeometryFn& geometry_for,
+                    const std::function<ClothToImage(const drape::ClothParams&)>& map_for, const Image& mask,
+                    const FoldDetection& detection, const CentreLine& centre, double tolerance_px);
 
 }  // namespace foldcast::compare

@@ -1,0 +1,28 @@
+#pragma once
+// CLI11 validators the built-in ones lack: CLI::Range lets NaN through (every comparison
+// with NaN is false).
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <string>
+
+namespace foldcast::app {
+
+// A finite number in [lo, hi] (either may be infinite: no bound on that side); `allowed`
+// replaces the generated description ("a number in (0, 1]").
+inline CLI::Validator finite_in(double lo, double hi, std::string allowed = {}) {
+    if (allowed.empty())
+        allowed = std::isinf(lo) && std::isinf(hi) ? std::string("a finite number")
+                  : std::isinf(hi)                 ? "a finite number >= " + CLI::detail::to_string(lo)
+                                                   : "a finite number in [" + CLI::detail::to_string(lo) + ", " +
+                                                         CLI::detail::to_string(hi) + "]";
+    return CLI::Validator(
+        [lo, hi, allowed](std::string& text) -> std::string {
+            double v = 0.0;
+            if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+            if (!std::isfinite(v) || v < lo || v > hi) return "'" + text + "' is not allowed; expected " + allowed;
+            return {};
+        },
+        allowed, "FINITE");
+}
+
+}  // namespace foldcast::app
