@@ -4,7 +4,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "library_validator.hpp"
+#include "validators.hpp"
 #include "foldcast/looks.hpp"
 #include "foldcast/render.hpp"
 #include "foldcast/batch/catalogue.hpp"

@@ -46,7 +46,7 @@ int run_overlay(const OverlayOptions& o) {
             Eigen::Vector2d(o.corners[0], o.corners[1]), Eigen::Vector2d(o.corners[2], o.corners[3]),
             Eigen::Vector2d(o.corners[4], o.corners[5]), Eigen::Vector2d(o.corners[6], o.corners[7])};
     request.look_name = o.look;
-    request.mechanics = looks::Library::load_default().get(o.look).mechanics;
+    request.mechanics = looks::Library::load_default().find(o.look).mechanics;
     looks::Mechanics& mech = request.mechanics;
     if (o.thickness_mm) mech.thickness_mm = *o.thickness_mm;
     if (o.young_mpa) mech.young_mpa = *o.young_mpa;
@@ -150,7 +150,7 @@ Command overlay_command(CLI::App& app) {
         ->delimiter(',')
         ->expected(8)
         ->check(finite_in(-inf, inf));
-    sub->add_option("--look", o->look, "Fabric look (foldcast looks)")->capture_default_str();
+    sub->add_option("--look", o->look, "Fabric look: a name (foldcast looks) or a look .toml file")->capture_default_str();
     sub->add_option("--thickness-mm", o->thickness_mm, "Override the look's thickness")
         ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--young-mpa", o->young_mpa, "Override the look's Young's modulus")

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "library_validator.hpp"
+#include "validators.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/render.hpp"
 #include "progress_bar.hpp"

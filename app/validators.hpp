@@ -1,9 +1,12 @@
 #pragma once
 // CLI11 validators the built-in ones lack: CLI::Range lets NaN through (every comparison
-// with NaN is false).
+// with NaN is false), and a library's own parsers should reject flag values at parse time.
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <functional>
 #include <string>
+
+#include "foldcast/core/error.hpp"
 
 namespace foldcast::app {
 
@@ -23,6 +26,22 @@ inline CLI::Validator finite_in(double lo, double hi, std::string allowed = {}) 
             return {};
         },
         allowed, "FINITE");
+}
+
+// A library's own parser as a validator: the library reports what is wrong with the value in
+// its own terms, CLI11 puts the flag's name in front ("--aov: AOV list ..."), and the value is
+// rejected at parse time with exit 2 like every other bad flag.
+inline CLI::Validator library_validator(std::function<void(const std::string&)> parse, std::string description) {
+    return CLI::Validator(
+        [parse = std::move(parse)](std::string& value) -> std::string {
+            try {
+                parse(value);
+            } catch (const InputError& e) {
+                return e.what();
+            }
+            return {};
+        },
+        std::move(description));
 }
 
 }  // namespace foldcast::app
