@@ -180,11 +180,19 @@ void read_garment(Section& s, GarmentSpec& g, const fs::path& dir) {
     if (2.0 * g.inset_m >= g.width_m)
         throw InputError("garment.inset_m = " + std::to_string(g.inset_m) +
                          ": the supports must stay apart (need inset_m < width_m / 2)");
+    g.supports = s.integer("supports", g.supports, 2, 65);
+    const double span_m = g.width_m - 2.0 * g.inset_m;
+    g.support_drop_m = s.number("support_drop_m", g.support_drop_m, -span_m, span_m);
     if (s.has("grid")) {
         const Eigen::VectorXd grid = s.vector("grid", 2, Eigen::Vector2d(g.grid_nu, g.grid_nv), 2, 4096);
         g.grid_nu = static_cast<int>(grid[0]);
         g.grid_nv = static_cast<int>(grid[1]);
     }
+    if ((g.grid_nu - 1) % (g.supports - 1) != 0)
+        throw InputError("garment.grid = [" + std::to_string(g.grid_nu) + ", " + std::to_string(g.grid_nv) +
+                         "]: with supports = " + std::to_string(g.supports) +
+                         " the first value minus one must be a multiple of " + std::to_string(g.supports - 1) +
+                         " (the bays), so that every support is a grid vertex");
     g.animation_frames = s.integer("animation_frames", g.animation_frames, 0, 100000);
     g.sway_amplitude_m = s.number("sway_amplitude_m", g.sway_amplitude_m, 0.0, 10.0);
     s.finish();
