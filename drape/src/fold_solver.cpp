@@ -13,7 +13,7 @@
 // so the hem is the curve y = -h + c (Z - a_0), z = c zmax, as long as the top edge exactly
 // when Z - a_0 = a_n.  So g(b) = Z(b) - b (1 + Q^-n) = 0: g(0) = 2 n A > 0 and, where zmax
 // reaches 0 (b = A Q^n), g = -2A < 0; the root is bracketed and unique (checked numerically
-// over Q in (1, 1000], n < 60) and found by safeguarded Newton.
+// over Q in 1.001-10, n < 40, Q^n <= 1e8) and found by safeguarded Newton.
 // Rule for n: the largest n with Z <= h (the most folds the cloth's height holds).  Z at the
 // root grows with n, so the scan stops at the first n whose zig-zag is longer than h.
 #include <algorithm>
