@@ -28,6 +28,8 @@ namespace fs = std::filesystem;
 // Defaults: a typical cotton shirting panel, 0.5 m x 0.7 m, supports 0.1 m in from each side.
 struct DrapeOptions {
     double width_m = 0.5, height_m = 0.7, inset_m = 0.1;
+    int supports = 2;
+    double support_drop_m = 0.0;
     double thickness_mm = 0.3, young_mpa = 5.0, gsm = 150.0, weight_n_mm2 = 0.0;
     double poisson = 0.3, load_constant = looks::default_load_constant();
     std::string look, grid = "64x64", output;
@@ -110,7 +112,13 @@ drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
     require(std::isfinite(m.poisson) && m.poisson >= 0.0 && m.poisson < 0.5, "--poisson", m.poisson,
             ">= 0 and < 0.5");
     require_positive("--load-constant", m.load_constant);
+    require(o.supports >= 2 && o.supports <= 65, "--supports", o.supports, "2..65");
+    require(std::isfinite(o.support_drop_m) && std::abs(o.support_drop_m) <= o.width_m - 2.0 * o.inset_m,
+            "--support-drop-m", o.support_drop_m,
+            "finite with |drop| <= the support span (" + number(o.width_m - 2.0 * o.inset_m) + " m)");
     drape::ClothParams p = drape::cloth_from_look(m, o.width_m, o.height_m, o.inset_m);
+    p.supports = o.supports;
+    p.support_drop_m = o.support_drop_m;
     if (flags.weight->count()) p.weight_n_per_m2 = o.weight_n_mm2 * 1e6;  // N/mm^2 -> N/m^2
     return p;
 }
@@ -130,6 +138,7 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
         {"folds", s.folds},
         {"Q", s.Q},
         {"zmax_m", s.zmax_m},
+        {"fold_length_m", s.fold_length_m},
         {"amplitudes_m", s.amplitudes_m},
         {"feasible_folds", s.feasible_folds},
         {"residual", s.residual},
@@ -141,7 +150,8 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
         {"slack_amplitude_m", s.slack_amplitude_m},
         {"critical_stress_pa", drape::critical_stress_pa(p)},
         {"cloth", {{"width_m", p.width_m}, {"height_m", p.height_m}, {"inset_m", p.inset_m},
-                   {"support_span_m", p.support_span_m()}, {"thickness_m", p.thickness_m},
+                   {"support_span_m", p.support_span_m()}, {"supports", p.supports},
+                   {"support_drop_m", p.support_drop_m}, {"thickness_m", p.thickness_m},
                    {"young_pa", p.young_pa}, {"poisson", p.poisson},
                    {"weight_n_per_m2", p.weight_n_per_m2}, {"load_constant", p.load_constant}}},
         {"grid", {grid.nu, grid.nv}},
@@ -152,7 +162,8 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
         for (const auto& c : s.candidates)
             candidates.push_back({{"folds", c.folds}, {"solved", c.solved}, {"feasible", c.feasible},
                                   {"a0_m", c.lowest_amplitude_m}, {"an_m", c.top_amplitude_m},
-                                  {"zmax_m", c.zmax_m}, {"residual", c.residual},
+                                  {"zmax_m", c.zmax_m}, {"fold_length_m", c.fold_length_m},
+                                  {"residual", c.residual},
                                   {"why_not", c.why_not}});
         j["candidates"] = candidates;
     }
@@ -164,9 +175,13 @@ void print_text(const drape::ClothParams& p, const drape::FoldSolution& s, const
     std::printf("cloth %.3g x %.3g m, supports %.3g m apart; t = %.3g mm, E = %.3g MPa, w = %.4g N/m^2\n",
                 p.width_m, p.height_m, p.support_span_m(), p.thickness_m * 1e3, p.young_pa * 1e-6,
                 p.weight_n_per_m2);
+    if (p.supports > 2 || p.support_drop_m != 0.0)
+        std::printf("%d supports (%d bays of %.3g m cloth on %.3g m), the last %.3g m lower than the first; "
+                    "folds per bay\n",
+                    p.supports, p.bays(), p.width_m / p.bays(), p.support_span_m() / p.bays(), p.support_drop_m);
     std::printf("%s\n", s.explanation.c_str());
-    std::printf("folds %d, Q %.6g, zmax %.4g m, S %.4g, residual %.2g\n", s.folds, s.Q, s.zmax_m,
-                s.stress_ratio, s.residual);
+    std::printf("folds %d, Q %.6g, zmax %.4g m, zig-zag %.4g m, S %.4g, residual %.2g\n", s.folds, s.Q,
+                s.zmax_m, s.fold_length_m, s.stress_ratio, s.residual);
     std::printf("amplitudes a_0..a_n (m):");
     for (double a : s.amplitudes_m) std::printf(" %.4g", a);
     std::printf("\nfeasible fold counts:");
@@ -175,9 +190,9 @@ void print_text(const drape::ClothParams& p, const drape::FoldSolution& s, const
                 g.stretch.mean, g.stretch.max);
     if (o.verbose)
         for (const auto& c : s.candidates)
-            std::printf("  n=%-3d %-10s a_0 %.4g a_n %.4g zmax %.4g residual %.2g %s\n", c.folds,
+            std::printf("  n=%-3d %-10s a_0 %.4g a_n %.4g zmax %.4g zig-zag %.4g residual %.2g %s\n", c.folds,
                         c.feasible ? "feasible" : (c.solved ? "solved" : "no"), c.lowest_amplitude_m,
-                        c.top_amplitude_m, c.zmax_m, c.residual, c.why_not.c_str());
+                        c.top_amplitude_m, c.zmax_m, c.fold_length_m, c.residual, c.why_not.c_str());
 }
 
 int run_drape(const DrapeOptions& o, const Flags& flags) {
@@ -248,7 +263,7 @@ Command drape_command(CLI::App& app) {
     auto flags = std::make_shared<Flags>();
     CLI::App* sub = app.add_subcommand(
         "drape",
-        "Predict the folds of a cloth hanging from two supports (tension-field model, "
+        "Predict the folds of a cloth hanging from two or more supports (tension-field model, "
         "docs/drape.md) and write the garment grid or the animation of the folds forming.\n"
         "Defaults: a cotton shirting panel 0.5 m x 0.7 m, supports 0.1 m in from each side, "
         "0.3 mm thick, E 5 MPa, 150 g/m^2, Poisson 0.3.");
@@ -256,6 +271,13 @@ Command drape_command(CLI::App& app) {
     sub->add_option("--height-m", o->height_m, "Cloth height h (m)")->capture_default_str();
     sub->add_option("--inset-m", o->inset_m,
                     "Support inset d on each side; supports are L - 2d apart (m), 0 <= d < L/2")
+        ->capture_default_str();
+    sub->add_option("--supports", o->supports,
+                    "Supports equally spaced under the top edge, 2..65: supports - 1 bays share the "
+                    "inner ones and each folds with its share of the width (--grid NU - 1 a multiple of the bays)")
+        ->capture_default_str();
+    sub->add_option("--support-drop-m", o->support_drop_m,
+                    "How much lower the last support hangs than the first (m; negative: higher); the pattern is sheared")
         ->capture_default_str();
     sub->add_option("--look", o->look, "Fabric look for the mechanics: a name (see `foldcast looks`) or a look "
                                        ".toml file; the flags below override its values");

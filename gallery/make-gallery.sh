@@ -22,6 +22,8 @@ step "tall vs short, soft vs stiff"
 for s in tall short soft stiff; do
   $fc render gallery/$s.toml -o $out/$s.png --width 480 --height 600 --spp $spp --quiet
 done
+step "a curtain on 5 hooks (4 bays)"
+$fc render gallery/curtain.toml -o $out/curtain.png --width 480 --height 600 --spp $spp --quiet
 step "every look as a swatch sheet"
 $fc looks --swatches $out/swatches.png --spp $swatch_spp --quiet
 step "a satin drape animation through the .fca codec"
@@ -34,7 +36,7 @@ $fc overlay tests/data/photos/two_point_shirt_s5_half.jpg -o $out/overlay.png \
     --supports 197.5,50,357.5,48.5 --scale-px-per-m 400 --look cotton_jersey --fit > $out/overlay.json
 
 step "contact sheet and index.html"
-tiles=(default preview tall short soft stiff animated swatches overlay)
+tiles=(default preview tall short soft stiff curtain animated swatches overlay)
 inputs=(); filters=""; layout=""
 i=0
 for t in "${tiles[@]}"; do
@@ -56,6 +58,7 @@ caption() {
     short) echo "Short cotton poplin: few folds";;
     soft) echo "Soft: chiffon, many fine folds";;
     stiff) echo "Stiff: canvas, two broad folds";;
+    curtain) echo "A linen curtain on 5 hooks: 4 bays sharing their inner hooks";;
     animated) echo "Satin drape animation decoded from .fca, last frame";;
     swatches) echo "Every look draped the same way";;
     overlay) echo "Predicted fold lines over a real photo (black: crests, dashed white: valleys)";;

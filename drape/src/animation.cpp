@@ -28,6 +28,7 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
                   const ProgressFn& progress) {
     validate(params);
     detail::validate_grid(grid);
+    detail::validate_bay_grid(params, grid);
     if (options.frames < 1 || options.frames > 100000)
         throw InputError("frames = " + std::to_string(options.frames) + ": must be 1..100000");
     if (!std::isfinite(options.fps) || options.fps <= 0.0 || options.fps > 1000.0)
@@ -49,9 +50,8 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
         ClothParams frame_params = params;
         frame_params.inset_m = frame_inset_m(params, options, f);
         const FoldSolution solution = solve_folds(frame_params);
-        const detail::FoldSurface surface(frame_params, solution);
         std::vector<Vec3f>& positions = anim.frames[std::size_t(f)];
-        detail::grid_positions(surface, frame_params, grid, positions);
+        detail::garment_positions(frame_params, solution, grid, positions);
         if (options.sway_amplitude_m > 0.0) {
             // A pendulum-like swing out of the cloth plane: zero on the support line,
             // growing with the square of the depth, lagging a little further down.

@@ -22,6 +22,7 @@ ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, d
 }
 
 namespace {
+constexpr int kMaxSupports = 65;  // 64 bays: beyond any rail a garment grid resolves
 std::string number(double v) {
     std::ostringstream s;
     s.precision(6);
@@ -46,9 +47,26 @@ void validate(const ClothParams& p) {
                          number(0.5 * p.width_m));
     if (!std::isfinite(p.poisson) || p.poisson < 0.0 || p.poisson >= 0.5)
         throw InputError("poisson = " + number(p.poisson) + ": must be >= 0 and < 0.5");
+    if (p.supports < 2 || p.supports > kMaxSupports)
+        throw InputError("supports = " + std::to_string(p.supports) + ": must be 2.." +
+                         std::to_string(kMaxSupports));
+    if (!std::isfinite(p.support_drop_m) || std::abs(p.support_drop_m) > p.support_span_m())
+        throw InputError("support_drop_m = " + number(p.support_drop_m) +
+                         ": must be a finite number with |drop| <= the support span " +
+                         number(p.support_span_m()) + " m");
 }
 
-double critical_stress_pa(const ClothParams& p) {
+ClothParams bay_params(const ClothParams& p) {
+    ClothParams bay = p;
+    bay.width_m = p.width_m / p.bays();
+    bay.inset_m = p.inset_m / p.bays();
+    bay.supports = 2;
+    bay.support_drop_m = 0.0;
+    return bay;
+}
+
+double critical_stress_pa(const ClothParams& params) {
+    const ClothParams p = bay_params(params);
     const double l = p.support_span_m();
     return p.load_constant * p.young_pa * p.thickness_m * p.thickness_m /
            (l * l * (1.0 - p.poisson * p.poisson));

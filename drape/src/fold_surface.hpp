@@ -8,8 +8,8 @@
 // which passes through every fold line exactly, has dz/dphi = 0 on them (rounded crests,
 // no kinks) and whose y is smooth because a_i = a_n Q^(n-i) is an exponential in phi.
 // Material depth v maps to phi by the profile's arc length, scaled so that the zig-zag
-// uses the fibre length c h of the model's straight chords; below that the fibre hangs
-// straight down.
+// uses the fibre length c Z of the model's straight chords (Z the centre fibre's zig-zag,
+// <= h); below that the fibre hangs straight down.
 #include <Eigen/Core>
 #include <vector>
 
@@ -34,7 +34,7 @@ private:
     void profile(double t, double& amplitude, double& z_profile) const;
 
     double span_, height_, pi_over_l_;
-    double zig_height_;  // h with folds, 0 without (the fibre hangs straight from the top)
+    double zig_height_;  // Z with folds, 0 without (the fibre hangs straight from the top)
     double zmax_, lowest_amplitude_;
     std::vector<double> amplitude_table_, z_table_;  // a(phi(t)), s_top cos(pi phi(t))
 };
@@ -49,5 +49,14 @@ std::vector<Triangle> grid_triangles(GridSize grid);
 std::vector<Vec2f> grid_uvs(const ClothParams& params, GridSize grid);
 Stretch grid_stretch(const std::vector<Vec3f>& positions, const ClothParams& params, GridSize grid);
 void validate_grid(GridSize grid);
+
+// The garment's vertex positions for the whole cloth: the bay grid repeated over
+// params.bays() bays (sharing their inner support columns) and sheared by the support
+// drop (supports.cpp).  Needs (grid.nu - 1) divisible by the bays (else InputError).
+void garment_positions(const ClothParams& params, const FoldSolution& solution, GridSize grid,
+                       std::vector<Vec3f>& positions, std::vector<float>* fold_sign = nullptr);
+void validate_bay_grid(const ClothParams& params, GridSize grid);
+// Row-0 vertex indices of the supports, left to right.
+std::vector<int> support_columns(const ClothParams& params, GridSize grid);
 
 }  // namespace foldcast::drape::detail

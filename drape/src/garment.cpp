@@ -9,12 +9,11 @@ Garment build_garment(const ClothParams& params, const FoldSolution& solution, G
     validate(params);
     detail::validate_grid(grid);
     Garment g;
-    const detail::FoldSurface surface(params, solution);
-    detail::grid_positions(surface, params, grid, g.mesh.positions, &g.fold_sign);
+    detail::garment_positions(params, solution, grid, g.mesh.positions, &g.fold_sign);
     g.mesh.topology.triangles = detail::grid_triangles(grid);
     g.mesh.topology.uvs = detail::grid_uvs(params, grid);
     g.mesh.normals = vertex_normals(g.mesh.positions, g.mesh.topology.triangles);
-    g.support_vertices = {0, grid.nu - 1};
+    g.support_vertices = detail::support_columns(params, grid);
     g.stretch = detail::grid_stretch(g.mesh.positions, params, grid);
     return g;
 }

@@ -88,8 +88,10 @@ GarmentData load_garment(const SceneSpec& scene, const ProgressFn& progress) {
     const GarmentSpec& spec = scene.garment;
     switch (spec.source) {
         case GarmentSpec::Source::drape: {
-            const drape::ClothParams params =
+            drape::ClothParams params =
                 drape::cloth_from_look(scene.look.mechanics, spec.width_m, spec.height_m, spec.inset_m);
+            params.supports = spec.supports;
+            params.support_drop_m = spec.support_drop_m;
             const drape::FoldSolution solution = drape::solve_folds(params);
             const drape::GridSize grid{spec.grid_nu, spec.grid_nv};
             drape::Garment garment = drape::build_garment(params, solution, grid);

@@ -63,10 +63,18 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
     if (2.0 * g.inset_m >= g.width_m)
         throw InputError("garment.inset_m = " + std::to_string(g.inset_m) +
                          ": the supports must stay apart (need inset_m < width_m / 2)");
+    g.supports = integer(s, "supports", g.supports, 2, 65);
+    const double span_m = g.width_m - 2.0 * g.inset_m;
+    g.support_drop_m = number(s, "support_drop_m", g.support_drop_m, range(-span_m, span_m));
     if (const auto grid = s.integers("grid", 2, 2, 4096)) {
         g.grid_nu = static_cast<int>((*grid)[0]);
         g.grid_nv = static_cast<int>((*grid)[1]);
     }
+    if ((g.grid_nu - 1) % (g.supports - 1) != 0)
+        throw InputError("garment.grid = [" + std::to_string(g.grid_nu) + ", " + std::to_string(g.grid_nv) +
+                         "]: with supports = " + std::to_string(g.supports) +
+                         " the first value minus one must be a multiple of " + std::to_string(g.supports - 1) +
+                         " (the bays), so that every support is a grid vertex");
     g.animation_frames = integer(s, "animation_frames", g.animation_frames, 0, 100000);
     g.sway_amplitude_m = number(s, "sway_amplitude_m", g.sway_amplitude_m, range(0.0, 10.0));
     s.finish();

@@ -1,6 +1,6 @@
 // Overlay geometry against a path-traced render (issue 6, item 6): the "photo" is
-// tests/regression/scenes/front_drape.toml, a known drape (cotton poplin, 0.6 x 0.5 m, inset
-// 0.12 m, 4 folds) under a known pinhole camera, straight on.  The supports are given to
+// tests/regression/scenes/front_drape.toml, a known drape (cotton poplin, 0.6 x 0.55 m, inset
+// 0.08 m, 4 folds) under a known pinhole camera, straight on.  The supports are given to
 // the overlay in pixels (render::project of the support points), as a user would click them,
 // and the overlay's predicted lines must lie within 2 px of the folds in the render.
 //

@@ -134,3 +134,26 @@ TEST(DrapeCli, LookGivesTheMechanicsAndFlagsOverrideIt) {
     EXPECT_EQ(k["cloth"]["young_pa"], j["cloth"]["young_pa"]);
     EXPECT_NE(k["cloth"]["thickness_m"], j["cloth"]["thickness_m"]);
 }
+
+TEST(DrapeCli, SupportsAndDrop) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const Result r = run("--json --supports 5 --support-drop-m 0.05 --width-m 1.2 --height-m 1 --inset-m 0.08 "
+                         "--grid 33x20 -o curtain.obj",
+                         dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["cloth"]["supports"].get<int>(), 5);
+    EXPECT_DOUBLE_EQ(j["cloth"]["support_drop_m"].get<double>(), 0.05);
+    EXPECT_GE(j["folds"].get<int>(), 1);
+    EXPECT_LE(j["fold_length_m"].get<double>(), 1.0);
+    EXPECT_TRUE(fs::exists(dir / "curtain.obj"));
+    // A grid whose columns cannot put every support on a vertex, and bad counts: exit 2.
+    for (const char* bad : {"--supports 5 --width-m 1.2 --grid 64x20", "--supports 1", "--supports 70",
+                            "--support-drop-m 0.5", "--support-drop-m nan"}) {
+        const Result e = run(bad, dir);
+        EXPECT_EQ(e.status, 2) << bad << ": " << e.err;
+        EXPECT_NE(e.err.find(std::string(bad).find("grid") != std::string::npos ? "grid" : "--support"),
+                  std::string::npos) << bad << ": " << e.err;
+    }
+    fs::remove_all(dir);
+}

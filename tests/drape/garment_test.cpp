@@ -41,11 +41,20 @@ TEST(Garment, SupportsAtTheSupportPointsAndTopEdgeOnTheTopFoldLine) {
         if (i > 0) length += (q - g.mesh.positions[std::size_t(i - 1)]).norm();
     }
     EXPECT_NEAR(length, p.width_m, 2e-3 * p.width_m);  // chords of the curve
-    // The centre fibre ends on the lowest fold line: the hem at x = 0 is at y = -a_0.
+    // The centre fibre zig-zags down to the lowest fold line (y = -a_0) and hangs straight
+    // for the rest, h - Z: the hem at x = 0 is at y = -(a_0 + h - Z) = -(h - a_n).
+    ASSERT_LT(s.fold_length_m, p.height_m);
     const Vec3f& hem_centre = g.mesh.positions[std::size_t(grid.nv - 1) * grid.nu + grid.nu / 2];
     EXPECT_NEAR(hem_centre.x(), 0.0, 1e-6);
-    EXPECT_NEAR(hem_centre.y(), -s.amplitudes_m.front(), 1e-5);
+    EXPECT_NEAR(hem_centre.y(), -(s.amplitudes_m.front() + p.height_m - s.fold_length_m), 1e-5);
+    EXPECT_NEAR(hem_centre.y(), -(p.height_m - an), 1e-5);
     EXPECT_NEAR(hem_centre.z(), s.zmax_m, 1e-5);  // fold line 0 bulges towards the viewer
+    // The hem row is as long as the top edge (the closure's second length equation).
+    double hem_length = 0.0;
+    for (int i = 1; i < grid.nu; ++i)
+        hem_length += (g.mesh.positions[std::size_t((grid.nv - 1) * grid.nu + i)] -
+                       g.mesh.positions[std::size_t((grid.nv - 1) * grid.nu + i - 1)]).norm();
+    EXPECT_NEAR(hem_length, p.width_m, 2e-3 * p.width_m);
 }
 
 TEST(Garment, MeshIsCompleteFiniteAndInUnitsOfCloth) {

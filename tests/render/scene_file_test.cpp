@@ -103,6 +103,23 @@ TEST(SceneFile, BadValuesNameKeyValueAndRange) {
     EXPECT_NE(e.find(".obj, .pc2 or .fca"), std::string::npos) << e;
 }
 
+TEST(SceneFile, SupportsAndDropKeys) {
+    const SceneSpec curtain = load_scene(std::filesystem::path(FOLDCAST_SOURCE_DIR) / "gallery/curtain.toml");
+    EXPECT_EQ(curtain.garment.supports, 5);
+    EXPECT_EQ(curtain.garment.support_drop_m, 0.0);
+    const SceneSpec s = load_scene(write_scene("[garment]\nsupports = 3\nsupport_drop_m = -0.05\ngrid = [33, 20]\n"));
+    EXPECT_EQ(s.garment.supports, 3);
+    EXPECT_EQ(s.garment.support_drop_m, -0.05);
+    std::string e = error_of("[garment]\nsupports = 1\n");
+    EXPECT_NE(e.find("garment.supports"), std::string::npos) << e;
+    EXPECT_NE(e.find("[2, 65]"), std::string::npos) << e;
+    e = error_of("[garment]\nsupport_drop_m = 1.0\n");  // the default span is 0.36 m
+    EXPECT_NE(e.find("garment.support_drop_m"), std::string::npos) << e;
+    e = error_of("[garment]\nsupports = 5\ngrid = [64, 64]\n");
+    EXPECT_NE(e.find("garment.grid"), std::string::npos) << e;
+    EXPECT_NE(e.find("multiple of 4"), std::string::npos) << e;
+}
+
 TEST(SceneFile, SyntaxErrorNamesLine) {
     const std::string e = error_of("[output]\nwidth = = 3\n");
     EXPECT_NE(e.find("scene.toml:2"), std::string::npos) << e;

@@ -22,18 +22,30 @@ struct ClothParams {
     double poisson = 0.3;
     double weight_n_per_m2 = 1.47;  // w
     double load_constant = looks::default_load_constant();  // c
+    // More supports (docs/drape.md): `supports` equally spaced under the top edge, the
+    // outer two at the corners moved in by inset_m, so supports - 1 bays share their inner
+    // supports and each folds by the model with its share of the width.  The last support
+    // hangs support_drop_m lower than the first (negative: higher); the pattern is sheared.
+    int supports = 2;
+    double support_drop_m = 0.0;
 
     double support_span_m() const { return width_m - 2.0 * inset_m; }
+    int bays() const { return supports - 1; }
 };
+
+// One bay as a two-support cloth: width L/bays, inset d/bays, level.  The fold solve and
+// the stress ratio are those of a bay.
+ClothParams bay_params(const ClothParams& params);
 
 ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, double height_m,
                             double inset_m);
 
 // Throws InputError naming the parameter and the allowed range: sizes, thickness, modulus,
-// weight and load constant finite and > 0, 0 <= inset < width/2, 0 <= poisson < 0.5.
+// weight and load constant finite and > 0, 0 <= inset < width/2, 0 <= poisson < 0.5,
+// 2 <= supports <= 65, |support drop| <= support span.
 void validate(const ClothParams& params);
 
-// sigma_cr = c E t^2 / (l^2 (1 - nu^2)), in Pa.
+// sigma_cr = c E t^2 / (l^2 (1 - nu^2)), in Pa, l the span of one bay.
 double critical_stress_pa(const ClothParams& params);
 // S = sigma_cr t / (w h); S >= 1: the cloth is too stiff to wrinkle.
 double stress_ratio(const ClothParams& params);
@@ -48,19 +60,23 @@ double top_edge_amplitude_m(double span_m, double length_m);
 // One candidate number of folds and its solve of the length equations.
 struct FoldCandidate {
     int folds = 0;
-    bool solved = false;    // the length equations have a real solution (zmax > 0, a_0 > 0)
-    bool feasible = false;  // solved with the lowest fold line inside the cloth (a_0 <= h)
+    bool solved = false;    // the top edge and hem length equations have a solution (zmax > 0, a_0 > 0)
+    bool feasible = false;  // solved with a zig-zag that fits the centre fibre (fold_length_m <= h)
     double top_amplitude_m = 0.0;  // a_n
     double lowest_amplitude_m = 0.0;  // a_0 = a_n Q^n
     double zmax_m = 0.0;
+    double fold_length_m = 0.0;    // Z: length of the centre fibre's zig-zag through the n folds
     double residual = 0.0;         // max relative residual of the length equations
     std::string why_not;           // when not feasible
 };
 
 struct FoldSolution {
-    int folds = 0;      // n; 0 = no wrinkles (smooth sag) or no feasible n
+    int folds = 0;      // n (per bay); 0 = no wrinkles (smooth sag) or no slack
     double Q = 1.0;     // amplitude ratio a_{i-1}/a_i
     double zmax_m = 0.0;
+    // Z, the centre fibre's zig-zag length; the rest h - Z hangs straight below the lowest
+    // fold line.  Z > h only when even one fold is longer than the cloth: the hem cuts it.
+    double fold_length_m = 0.0;
     std::vector<double> amplitudes_m;  // a_0 (lowest fold line) .. a_n (top edge sag)
     std::vector<int> feasible_folds;
     std::vector<FoldCandidate> candidates;  // every n tried, for verbose output
@@ -74,11 +90,13 @@ struct FoldSolution {
 // Pure function: no I/O.  Throws InputError for invalid params (see validate).
 FoldSolution solve_folds(const ClothParams& params);
 
-// A sampled fold line i (0 = lowest): points (x, -y_i(x), z_i(x)) in metres, and its sign
-// (+1 crest towards the viewer, -1 valley).
+// A sampled fold line i (0 = lowest) of one bay: points (x, -y_i(x), z_i(x)) in metres, and
+// its sign (+1 crest towards the viewer, -1 valley).  With more supports every bay's lines
+// are listed (bay 0 first), sheared by the support drop.
 struct FoldLine {
     int index = 0;
     int sign = 1;
+    int bay = 0;
     std::vector<Eigen::Vector3d> points;
 };
 std::vector<FoldLine> fold_lines(const ClothParams& params, const FoldSolution& solution,
@@ -97,10 +115,11 @@ struct Stretch {
 struct Garment {
     Mesh mesh;                        // positions, triangles, UVs in metres, normals
     std::vector<float> fold_sign;     // per vertex in [-1,1]: which way the local fold bulges
-    std::vector<int> support_vertices;  // fixed points
+    std::vector<int> support_vertices;  // fixed points: every support, inner ones too (row 0)
     Stretch stretch;
 };
 
+// Needs (grid.nu - 1) divisible by the bays, so that every support is a grid vertex.
 Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid);
 
 struct AnimationOptions {
