@@ -24,7 +24,6 @@ double zig_zag_length_m(const FoldSolution& s) {
 
 FoldSurface::FoldSurface(const ClothParams& params, const FoldSolution& solution)
     : span_(params.support_span_m()),
-      height_(params.height_m),
       pi_over_l_(kPi / params.support_span_m()),
       zig_height_(solution.folds > 0 ? zig_zag_length_m(solution) : 0.0),
       zmax_(solution.folds > 0 ? solution.zmax_m : 0.0),

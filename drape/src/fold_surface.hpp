@@ -33,7 +33,7 @@ private:
     // Linear interpolation in the tables indexed by t = v / (c h) in [0, 1].
     void profile(double t, double& amplitude, double& z_profile) const;
 
-    double span_, height_, pi_over_l_;
+    double span_, pi_over_l_;
     double zig_height_;  // Z with folds, 0 without (the fibre hangs straight from the top)
     double zmax_, lowest_amplitude_;
     std::vector<double> amplitude_table_, z_table_;  // a(phi(t)), s_top cos(pi phi(t))

@@ -10,7 +10,6 @@ namespace foldcast::drape::detail {
 struct Root {
     double x = 0.0;
     double f = 0.0;
-    int iterations = 0;
 };
 
 // f_and_df(x, f, df) evaluates f and f'.  Needs f(lo) and f(hi) of opposite signs (or zero).
@@ -20,8 +19,8 @@ Root newton_bracketed(F&& f_and_df, double lo, double hi, double f_tol, int max_
     double flo, dlo, fhi, dhi;
     f_and_df(lo, flo, dlo);
     f_and_df(hi, fhi, dhi);
-    if (std::abs(flo) <= f_tol) return {lo, flo, 0};
-    if (std::abs(fhi) <= f_tol) return {hi, fhi, 0};
+    if (std::abs(flo) <= f_tol) return {lo, flo};
+    if (std::abs(fhi) <= f_tol) return {hi, fhi};
     const bool rising = flo < 0.0;  // orientation: f(lo) < 0 < f(hi) or the reverse
     double x = std::abs(flo) < std::abs(fhi) ? lo : hi;
     double fx = x == lo ? flo : fhi;
@@ -35,15 +34,15 @@ Root newton_bracketed(F&& f_and_df, double lo, double hi, double f_tol, int max_
         x = next;
         f_and_df(x, fx, dfx);
         slow = std::abs(fx) > 0.5 * previous_abs_f;
-        if (std::abs(fx) <= f_tol) return {x, fx, it};
+        if (std::abs(fx) <= f_tol) return {x, fx};
         if ((fx < 0.0) == rising)
             lo = x;
         else
             hi = x;
         if (hi - lo <= 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi)))
-            return {x, fx, it};
+            return {x, fx};
     }
-    return {x, fx, max_iterations};
+    return {x, fx};
 }
 
 }  // namespace foldcast::drape::detail
