@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -114,6 +115,11 @@ struct Server::Impl {
                 res.status = 431;
                 return httplib::Server::HandlerResponse::Handled;
             }
+            // GET and HEAD carry no body; cpp-httplib would not read one, and nor do we.
+            if (req.has_header("Transfer-Encoding") || std::atoll(req.get_header_value("Content-Length").c_str()) > 0) {
+                res.status = 413;
+                return httplib::Server::HandlerResponse::Handled;
+            }
             if (req.method != "GET" && req.method != "HEAD") {
                 res.status = 405;
                 res.set_header("Allow", "GET, HEAD");
@@ -169,6 +175,12 @@ Server::Server(Options options) : impl_(std::make_unique<Impl>()) {
     const std::size_t workers = s.options.workers, queued = s.options.queued;
     s.http.new_task_queue = [workers, queued] { return new BoundedPool(workers, queued); };
     s.http.set_payload_max_length(1024);  // requests carry no body
+    // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second server
+    // on the same port would bind silently and take half of the connections.
+    s.http.set_socket_options([](socket_t sock) {
+        int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
     s.http.set_read_timeout(5, 0);
     s.http.set_write_timeout(10, 0);
     s.http.set_keep_alive_timeout(2);

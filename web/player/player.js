@@ -174,7 +174,8 @@ function tick() {
   const dt = (t - last) / 1000;
   last = t;
   const s = state.stream;
-  if (s && state.geometry && state.status) {
+  // Frames are decodable once the first data packet (the keyframes) is in, after the header.
+  if (s && state.geometry && state.status && state.status.packets >= 2) {
     if (state.playing && stats.firstFrameMs !== null) state.time_s += dt;  // the clock starts at frame 0
     const index = state.playing ? Math.floor(state.time_s * s.fps) % s.frames : Number($('scrub').value);
     if (state.playing) $('scrub').value = String(index);

@@ -15,7 +15,7 @@ const files = join(args.tmp, 'files');
 mkdirSync(files, { recursive: true });
 
 const fca = join(files, 'drape.fca');
-execFileSync(args.foldcast, ['drape', '--grid', '48x48', '--frames', '96', '--sway-m', '0.02', '-o', fca]);
+execFileSync(args.foldcast, ['drape', '--grid', '48x48', '--frames', '96', '--sway-m', '0.02', '-o', fca], { stdio: 'ignore' });
 const size = statSync(fca).size;
 const kbps = Math.max(8, Math.round((size * 8) / 1000 / 4));  // the download takes about 4 s
 const serve = await startServe(args.foldcast, files, ['--throttle-kbps', String(kbps)]);
@@ -28,7 +28,7 @@ const check = (ok, what) => {
 };
 try {
   const page = await browser.newPage();
-  page.on('console', (m) => console.log(`page: ${m.text()}`));
+  page.on('console', (m) => { if (!m.text().includes('GL Driver Message')) console.log(`page: ${m.text()}`); });
   page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
   await page.goto(`http://127.0.0.1:${serve.port}/?file=files/drape.fca&look=denim`);
   await page.waitForFunction(() => window.foldcastPlayer?.stats.downloadDoneMs !== null || window.foldcastPlayer?.stats.error,
@@ -44,7 +44,7 @@ try {
 
   // The last frame on screen, once complete, equals the native decoder's bit for bit.
   const pc2 = join(args.tmp, 'native.pc2');
-  execFileSync(args.foldcast, ['decode', fca, '-o', pc2]);
+  execFileSync(args.foldcast, ['decode', fca, '-o', pc2], { stdio: 'ignore' });
   const native = readFileSync(pc2);
   const vertices = native.readInt32LE(16), frames = native.readInt32LE(28);
   const last = frames - 1;

@@ -9,6 +9,7 @@ export async function launchChromium(executablePath, tmp) {
   const browser = await puppeteer.launch({
     executablePath,
     headless: true,
+    defaultViewport: { width: 960, height: 640 },
     userDataDir: profile,
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
       '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',

@@ -6,7 +6,7 @@ import { execFileSync } from 'node:child_process';
 import { createHash } from 'node:crypto';
 import { mkdirSync, readFileSync, rmSync } from 'node:fs';
 import { createRequire } from 'node:module';
-import { join } from 'node:path';
+import { join, resolve } from 'node:path';
 import { parseArgs } from 'node:util';
 import { FcaStream } from '../player/fca_stream.js';
 
@@ -15,7 +15,7 @@ const { values: args } = parseArgs({
 });
 rmSync(args.tmp, { recursive: true, force: true });
 mkdirSync(args.tmp, { recursive: true });
-const run = (cmd, list) => execFileSync(cmd, list, { encoding: 'utf8', maxBuffer: 1 << 26 });
+const run = (cmd, list) => execFileSync(cmd, list, { encoding: 'utf8', maxBuffer: 1 << 26, stdio: ['ignore', 'pipe', 'ignore'] });
 
 // Reference files: a real Blender cache in both profiles, drape animations of one and
 // several packets, and a truncated file.
@@ -33,7 +33,7 @@ for (const [grid, frames] of [['24x24', 40], ['48x48', 96]]) {
 }
 
 const require = createRequire(import.meta.url);
-const createFoldcastDecoder = require(join(args.web, 'foldcast_decoder.js'));
+const createFoldcastDecoder = require(resolve(args.web, 'foldcast_decoder.js'));
 const module = await createFoldcastDecoder({ wasmBinary: readFileSync(join(args.web, 'foldcast_decoder.wasm')) });
 
 // A deterministic generator for chunk sizes (xorshift32).
