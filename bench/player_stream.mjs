@@ -25,13 +25,13 @@ const here = new URL('..', import.meta.url).pathname;
 const inputs = [];
 {
   const out = join(files, 'basicCloth.fca');
-  execFileSync(args.foldcast, ['encode', join(here, 'tests/data/animations/basicCloth.pc2'), '-o', out]);
+  execFileSync(args.foldcast, ['encode', join(here, 'tests/data/animations/basicCloth.pc2'), '-o', out], { stdio: 'ignore' });
   inputs.push({ name: 'basicCloth (81 vertices, 150 frames)', file: 'basicCloth.fca', vertices: 81, frames: 150 });
 }
 {
   const [grid, frames] = args.quick ? [32, 60] : [128, 240];
   const out = join(files, `drape${grid}.fca`);
-  execFileSync(args.foldcast, ['drape', '--grid', `${grid}x${grid}`, '--frames', String(frames), '-o', out]);
+  execFileSync(args.foldcast, ['drape', '--grid', `${grid}x${grid}`, '--frames', String(frames), '-o', out], { stdio: 'ignore' });
   inputs.push({ name: `drape ${grid}x${grid} x ${frames}`, file: `drape${grid}.fca`, vertices: grid * grid, frames });
 }
 

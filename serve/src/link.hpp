@@ -17,7 +17,9 @@ public:
         using clock = std::chrono::steady_clock;
         std::unique_lock lock(mutex_);
         const auto now = clock::now();
-        if (next_free_ < now) next_free_ = now;
+        // An idle link starts again now; a sender that was scheduled late (a loaded machine)
+        // may catch up on at most kCatchUp of missed time, as a real link's buffers allow.
+        if (next_free_ < now - kCatchUp) next_free_ = now - kCatchUp;
         next_free_ += std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(double(bytes) / bytes_per_s_));
         const auto until = next_free_;
         return !woken_.wait_until(lock, until, [&] { return stopped_; });
@@ -28,6 +30,7 @@ public:
     }
 
 private:
+    static constexpr std::chrono::milliseconds kCatchUp{50};
     double bytes_per_s_;
     std::mutex mutex_;
     std::condition_variable woken_;

@@ -160,6 +160,7 @@ async function stream(url, module) {
       stats.headerMs = now();
       setUpMesh(decoder);
     }
+    if (stats.firstFrameMs === null && status.packets >= 2) draw(0);
     if (status.headerReady && status.playableFrames === decoder.frames && stats.allPlayableMs === null) stats.allPlayableMs = now();
     if (status.complete && stats.completeMs === null) stats.completeMs = now();
   }
@@ -173,6 +174,14 @@ function tick() {
   const t = now();
   const dt = (t - last) / 1000;
   last = t;
+  draw(dt);
+  controls.update();
+  requestAnimationFrame(tick);
+}
+
+// Advances the clock by dt seconds and draws; also called as soon as the first frame is
+// decodable, so that it appears without waiting for the next animation frame.
+function draw(dt) {
   const s = state.stream;
   // Frames are decodable once the first data packet (the keyframes) is in, after the header.
   if (s && state.geometry && state.status && state.status.packets >= 2) {
@@ -200,8 +209,6 @@ function tick() {
   } else {
     renderer.render(scene, camera);
   }
-  controls.update();
-  requestAnimationFrame(tick);
 }
 
 function updatePanel(s, index) {
