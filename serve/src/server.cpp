@@ -3,6 +3,8 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -202,6 +204,8 @@ int Server::port() const { return impl_->port; }
 
 void Server::run() { impl_->http.listen_after_bind(); }
 
+bool Server::running() const { return impl_->http.is_running(); }
+
 void Server::stop() {
     if (impl_->link) impl_->link->stop();
     impl_->http.stop();
@@ -213,13 +217,23 @@ void run_until_signal(Server& server) {
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by every thread started below
+    std::atomic<bool> returned{false};
     std::thread waiter([&] {
         int got = 0;
         sigwait(&signals, &got);
-        server.stop();
+        // A signal that arrives before run() is listening would find nothing to stop: wait
+        // for it to listen (or to have returned).
+        while (!returned) {
+            if (server.running()) {
+                server.stop();
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
     });
     server.run();
-    // run() also returns if listening failed; wake the waiter so that it can be joined.
+    returned = true;
+    // run() also returns if listening failed: wake the waiter if it still waits.
     pthread_kill(waiter.native_handle(), SIGTERM);
     waiter.join();
 }

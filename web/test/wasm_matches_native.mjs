@@ -70,9 +70,12 @@ let checked = 0, failed = 0;
 for (const file of files) {
   const bytes = readFileSync(file);
   const size = bytes.length;
+  // paper reconstructs each frame from its whole wavelet tree (about 0.1 s per prefix of
+  // basicCloth natively, several times that in wasm): fewer cuts there.
+  const [even, randoms] = file.includes('paper') ? [12, 4] : [48, 16];
   const cuts = new Set([0, 1, 7, 8, 9, 40, size - 1, size]);
-  for (let i = 1; i < 48; ++i) cuts.add(Math.floor((size * i) / 48));
-  for (let i = 0; i < 16; ++i) cuts.add(Math.floor(random() * size));
+  for (let i = 1; i < even; ++i) cuts.add(Math.floor((size * i) / even));
+  for (let i = 0; i < randoms; ++i) cuts.add(Math.floor(random() * size));
   const list = [...cuts].filter((c) => c >= 0 && c <= size).sort((a, b) => a - b);
   const native = run(args.digests, [file, ...list.map(String)]).trim().split('\n').map((l) => JSON.parse(l));
   let headers = 0, completes = 0;

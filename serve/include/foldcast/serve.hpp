@@ -48,7 +48,8 @@ public:
 
     int port() const;      // the bound port
     void run();            // serves until stop()
-    void stop();           // from any thread
+    bool running() const;  // run() is listening
+    void stop();           // from any thread; a no-op unless running()
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
