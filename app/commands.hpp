@@ -18,6 +18,7 @@ Command folds_command(CLI::App& app);
 Command overlay_command(CLI::App& app);
 Command encode_command(CLI::App& app);
 Command decode_command(CLI::App& app);
+Command serve_command(CLI::App& app);
 Command render_command(CLI::App& app);
 Command turntable_command(CLI::App& app);
 Command preview_command(CLI::App& app);

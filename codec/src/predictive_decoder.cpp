@@ -13,6 +13,7 @@
 #include "rans_coder.hpp"
 #include "residual_tokens.hpp"
 #include "spatial_runs.hpp"
+#include "target_clones.hpp"
 
 namespace foldcast::codec {
 namespace {
@@ -87,7 +88,7 @@ template <RansDecoder::Renormalise R>
 // The residuals the tokens stand for into q (3n + 1 values: each vertex writes 4), escaped
 // coordinates 0 for now; returns how many coordinates are escaped, their indices in q listed
 // in `escaped` (3n + 4 entries: each vertex writes 4, then moves on by its escape count).
-__attribute__((target_clones("avx2", "default")))
+FOLDCAST_AVX2_CLONES
 std::size_t token_values(const std::uint8_t* token, std::size_t n, std::int32_t* q, std::uint32_t* escaped) {
     // Four lanes at once (a GNU vector: one add and one store on any target).
     using Lanes = std::uint32_t __attribute__((vector_size(16)));
@@ -115,7 +116,7 @@ std::int32_t grid_high(const Header& h) {
 
 // grid = temporal + residual, then position = origin + step * grid.  False if a coordinate
 // leaves [low, high].
-__attribute__((target_clones("avx2", "default")))
+FOLDCAST_AVX2_CLONES
 bool finish_row(const std::uint32_t* temporal, const std::uint32_t* residual, std::size_t row, std::int32_t low, std::int32_t high,
                 const double* origin3, double step, std::int32_t* grid, float* out) {
     std::uint32_t outside = 0;

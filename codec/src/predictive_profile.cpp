@@ -9,6 +9,7 @@
 #include "byte_io.hpp"
 #include "rans_coder.hpp"
 #include "residual_tokens.hpp"
+#include "target_clones.hpp"
 
 namespace foldcast::codec {
 namespace {
@@ -35,7 +36,7 @@ private:
 // Temporal prediction of frame t (all 3N coordinates) by `ref` from decoded frames, into `out`.
 // One loop per kind, so the compiler vectorises it; encoder and decoder share it, so they
 // predict bit for bit alike.
-__attribute__((target_clones("avx2", "default")))
+FOLDCAST_AVX2_CLONES
 void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* const* frames, std::size_t row,
                  std::int64_t largest, std::int32_t* out) {
     switch (ref.kind) {

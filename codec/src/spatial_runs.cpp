@@ -1,4 +1,5 @@
 #include "spatial_runs.hpp"
+#include "target_clones.hpp"
 
 #include <algorithm>
 
@@ -90,7 +91,7 @@ void run_residuals(const SpatialRun& run, const std::vector<std::array<std::uint
 }
 }  // namespace
 
-__attribute__((target_clones("avx2", "default")))
+FOLDCAST_AVX2_CLONES
 void spatial_residuals(const SpatialPlan& plan, const std::uint32_t* q, std::uint32_t m, std::uint32_t* r) {
     for (const SpatialRun& run : plan.runs) run_residuals(run, plan.gather, q, m, r);
 }

@@ -1,6 +1,7 @@
 // Incremental decoding: bytes accumulate until a whole packet is there; each complete
 // packet is checked (length bound, CRC, order) and handed to the profile's decoder.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "byte_io.hpp"
@@ -154,6 +155,14 @@ std::size_t StreamingDecoder::frame_count() const { impl_->require(); return imp
 double StreamingDecoder::fps() const { impl_->require(); return impl_->header.fps; }
 Profile StreamingDecoder::profile() const { impl_->require(); return impl_->header.profile; }
 const Topology& StreamingDecoder::topology() const { impl_->require(); return impl_->header.topology; }
+std::optional<double> StreamingDecoder::max_error_m() const {
+    impl_->require();
+    const Header& h = impl_->header;
+    if (h.profile != Profile::predictive) return std::nullopt;
+    // Per coordinate: the fine grid rounds by <= step/2, the residual quantiser (step m x
+    // step) by <= m step / 2 (docs/codec.md); Euclidean over three coordinates.
+    return std::sqrt(3.0) * h.step * (h.threshold + 1.0) / 2.0;
+}
 
 Animation StreamingDecoder::animation() const {
     Animation anim = impl_->without_frames();

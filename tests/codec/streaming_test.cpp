@@ -80,6 +80,24 @@ TEST_P(Streaming, FrameAccessorMatchesAnimation) {
     EXPECT_EQ(d.profile(), GetParam());
 }
 
+// The bound the header states is the one asked for (default profile) and holds on every
+// final frame; paper states none.
+TEST_P(Streaming, HeaderStatesTheErrorBoundOfFinalFrames) {
+    const Animation a = test::wave_grid(16, 12, 40);
+    EncodeOptions o = profile_options(GetParam());
+    o.max_error_m = 1e-3;
+    StreamingDecoder d("s");
+    d.feed(encode(a, o));
+    if (GetParam() == Profile::paper) {
+        EXPECT_FALSE(d.max_error_m().has_value());
+        return;
+    }
+    ASSERT_TRUE(d.max_error_m().has_value());
+    EXPECT_NEAR(*d.max_error_m(), 1e-3, 1e-9);
+    const Metrics m = measure(a, d.animation(), 0);
+    EXPECT_LE(m.max_error_m, *d.max_error_m() * (1.0 + 1e-5));
+}
+
 // Decoding into an earlier animation's buffers gives the same frames, whatever that
 // animation held, and overwrites buffers of the right size instead of allocating.
 TEST_P(Streaming, DecodingIntoAnEarlierAnimationGivesTheSameFrames) {

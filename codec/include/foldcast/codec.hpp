@@ -86,6 +86,9 @@ public:
     double fps() const;
     Profile profile() const;
     const Topology& topology() const;
+    // Largest per-vertex position error (metres, Euclidean) of a final frame, from the
+    // header: the default profile's quantiser guarantees it; `paper` states none (nullopt).
+    std::optional<double> max_error_m() const;
 
     // Best reconstruction of one frame / all frames from the packets accepted so far.
     std::vector<Vec3f> frame(std::size_t t) const;
