@@ -36,7 +36,7 @@ Command batch_command(CLI::App& app) {
                 for (const std::string& look : manifest.looks) library.get(look);  // fail before any work
                 if (args->dry_run) {
                     for (const render::BatchJob& job : render::shard_jobs(manifest, shard))
-                        std::printf("%4zu %s %s\n", job.index, render::is_finished(job.output) ? "done" : "todo",
+                        std::printf("%4zu %s %s\n", job.index, render::is_finished(job.output, render::job_identity(job, manifest)) ? "done" : "todo",
                                     job.output.c_str());
                     return 0;
                 }

@@ -13,7 +13,11 @@ namespace fs = std::filesystem;
 void write_obj(const fs::path& path, const Mesh& mesh) {
     validate(mesh, path.string());
     AtomicFile file(path);
-    std::ofstream& out = file.stream();
+    write_obj(file.stream(), mesh);
+    file.commit();
+}
+
+void write_obj(std::ostream& out, const Mesh& mesh) {
     char line[160];
     out << "# foldcast mesh: " << mesh.positions.size() << " vertices, "
         << mesh.topology.triangles.size() << " triangles\n";
@@ -42,7 +46,6 @@ void write_obj(const fs::path& path, const Mesh& mesh) {
         }
         out << '\n';
     }
-    file.commit();
 }
 
 Mesh read_obj(const fs::path& path) {

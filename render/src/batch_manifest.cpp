@@ -88,6 +88,8 @@ BatchManifest load_manifest(const fs::path& path) {
     const fs::path base = fs::absolute(path).parent_path();
     BatchManifest m;
     m.path = path;
+    if (const toml::node* dir = root.get("output_dir"); dir != nullptr && !dir->is_string())
+        throw InputError(where(path, *dir) + ": 'output_dir' must be a string (a directory path)");
     m.output_dir = base / root["output_dir"].value_or(std::string("catalogue"));
     m.width = number_in<int>(root, "width", m.width, 16, 16384, path);
     m.height = number_in<int>(root, "height", m.height, 16, 16384, path);

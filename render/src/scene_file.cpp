@@ -182,6 +182,8 @@ void read_garment(Section& s, GarmentSpec& g, const fs::path& dir) {
                          ": the supports must stay apart (need inset_m < width_m / 2)");
     if (s.has("grid")) {
         const Eigen::VectorXd grid = s.vector("grid", 2, Eigen::Vector2d(g.grid_nu, g.grid_nv), 2, 4096);
+        if (grid[0] != std::floor(grid[0]) || grid[1] != std::floor(grid[1]))
+            s.fail(*s.get("grid"), "grid", "must be two whole numbers [nu, nv] (vertices across and down), 2..4096");
         g.grid_nu = static_cast<int>(grid[0]);
         g.grid_nv = static_cast<int>(grid[1]);
     }
@@ -226,6 +228,8 @@ AreaLight read_light(Section& s, const std::string& default_name) {
 SceneSpec load_scene(const fs::path& file) {
     const std::string name = file.string();
     if (!fs::exists(file)) throw InputError("scene file " + name + ": does not exist");
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) throw InputError("scene file " + name + ": is not a regular file (a directory?)");
     toml::table root;
     try {
         root = toml::parse_file(name);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/mesh.hpp"
 #include "foldcast/core/progress.hpp"
 #include "foldcast/looks.hpp"
@@ -175,6 +176,9 @@ RenderResult render_still(const SceneSpec& scene, const RenderOptions& options,
 // float RGBA) and each AOV beside it as OUT.<aov>.png / OUT.<aov>.exr.  Atomic writes.
 // Returns the paths written.
 std::vector<std::filesystem::path> write_render(const std::filesystem::path& out,
+                                                const RenderResult& result, const SceneSpec& scene);
+// The same files staged in `outputs`, replaced when the caller commits it.
+std::vector<std::filesystem::path> write_render(OutputTransaction& outputs, const std::filesystem::path& out,
                                                 const RenderResult& result, const SceneSpec& scene);
 // sRGB 8-bit encoding used for PNG output (exposure applied, clamped).
 std::vector<std::uint8_t> to_srgb8(const Image& rgba, double exposure_ev, bool keep_alpha);
