@@ -191,6 +191,25 @@ private:
 }  // namespace
 
 std::unique_ptr<ProfileDecoder> make_paper_decoder(const Header& header, const std::string& what) {
+    // Work policy: building the layout costs O(T) before any data arrives, so the header's
+    // claim must be one the bytes can hold: a complete stream has one packet per
+    // kCoefficientsPerPacket coefficients of the 2^J - 8 detail rows (plus the base packet),
+    // each at least 4 + 1 + 4 bytes of framing and one byte of Huffman data.  Computed from
+    // N and T alone, before the layout.
+    const std::uint64_t trajectories = 3 * std::uint64_t(header.vertices);
+    int level = kCoarsestLevel;
+    while (level_size(level) < header.frames - 1 && level < 40) ++level;
+    const std::uint64_t detail_rows = level == kCoarsestLevel ? 0 : (std::uint64_t(1) << level) - 8;
+    const std::uint64_t per_packet = std::max<std::uint64_t>(1, PaperLayout::kCoefficientsPerPacket / trajectories);
+    const std::uint64_t packets = 1 + (detail_rows + per_packet - 1) / per_packet;
+    constexpr std::uint64_t kMinPacketBytes = 10;
+    if (level > kMaxPaperLevel || packets * kMinPacketBytes > header.total_bytes)
+        throw InputError(what + ": header: " + std::to_string(header.frames) + " frames of " +
+                         std::to_string(header.vertices) + " vertices need " + std::to_string(packets) +
+                         " packets (at least " + std::to_string(packets * kMinPacketBytes) +
+                         " bytes) in the paper profile, more than the " + std::to_string(header.total_bytes) +
+                         " bytes the file declares" +
+                         (level > kMaxPaperLevel ? " or the profile's limit of 2^" + std::to_string(kMaxPaperLevel) + " + 1 frames" : ""));
     return std::make_unique<PaperDecoder>(header, what);
 }
 

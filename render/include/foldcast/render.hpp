@@ -13,10 +13,13 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/mesh.hpp"
 #include "foldcast/core/progress.hpp"
 #include "foldcast/looks.hpp"
+
+namespace foldcast {
+class OutputTransaction;  // foldcast/core/atomic_file.hpp
+}
 
 namespace foldcast::render {
 
