@@ -52,6 +52,7 @@ nlohmann::json score_json(const compare::FoldScore& s) {
 
 int run_overlay(const OverlayOptions& o) {
     check_writable(o.output);
+    check_not_input(o.output, o.photo, "-o");
     const compare::Image photo = compare::read_image(o.photo);
     const compare::SupportPixels supports = compare::parse_supports(o.supports);
     compare::validate_supports(supports, photo.width, photo.height);

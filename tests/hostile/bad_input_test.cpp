@@ -80,13 +80,15 @@ TEST_F(BadInput, DiffFailsOnNanAndRefusesNonsenseThresholds) {
 TEST_F(BadInput, DiffRefusesToOverwriteAnInput) {
     const fs::path a = pfm("a.pfm", 8, 8, 0.25f);
     const fs::path b = pfm("b.pfm", 8, 8, 0.5f);
-    const fs::path png = dir_ / "a.png";
     fs::copy_file(test::test_data("photos/two_point_shirt_s3_half.jpg"), dir_ / "photo.jpg");
     const std::string before = bytes_of(a);
     expect_refused({"diff", a.string(), b.string(), "-o", a.string()}, 4, a.string());
     EXPECT_EQ(bytes_of(a), before);
     expect_refused({"diff", a.string(), b.string(), "-o", (dir_ / "." / "b.pfm").string()}, 4, "b.pfm");
-    (void)png;
+    const std::string photo = (dir_ / "photo.jpg").string(), photo_bytes = bytes_of(photo);
+    expect_refused({"folds", photo, "-o", photo, "--supports", "197.5,50,357.5,48.5"}, 2, "-o");
+    expect_refused({"overlay", photo, "-o", photo, "--supports", "197.5,50,357.5,48.5", "--scale-px-per-m", "400"}, 2, "-o");
+    EXPECT_EQ(bytes_of(photo), photo_bytes);
 }
 
 // A JPEG whose SOF0 claims 65535 x 65535 pixels, and one cut in half.
