@@ -41,13 +41,13 @@ Animation tiny_animation() {
 // A seed of fuzz_fca_paper: N - 1, T - 2 (u16), then each data packet's profile payload as
 // a u16 length and its bytes (the packet framing, sequence numbers and CRCs left out).
 void write_paper_seed(const std::filesystem::path& dir, const std::string& name, const std::string& fca,
-                      std::size_t vertices, std::size_t frames, std::size_t keep_packets) {
+                      std::size_t vertices, std::size_t frames) {
     std::string seed;
     seed += static_cast<char>(vertices - 1);
     seed += static_cast<char>((frames - 2) & 0xff);
     seed += static_cast<char>((frames - 2) >> 8);
-    std::size_t at = 8, kept = 0;  // after the magic
-    while (at + 9 <= fca.size() && kept < keep_packets) {
+    std::size_t at = 8;  // after the magic
+    while (at + 9 <= fca.size()) {
         std::uint32_t length = 0;
         std::memcpy(&length, fca.data() + at, 4);
         if (fca[at + 4] == 2 && length >= 4) {  // a data packet: its payload after the sequence number
@@ -55,7 +55,6 @@ void write_paper_seed(const std::filesystem::path& dir, const std::string& name,
             seed += static_cast<char>(payload.size() & 0xff);
             seed += static_cast<char>(payload.size() >> 8);
             seed += payload;
-            ++kept;
         }
         at += 9 + length;
     }
@@ -92,8 +91,7 @@ int main(int argc, char** argv) {
     keep.keep_fraction = 0.5;
     const std::string kept = codec::encode(a, keep);
     write_seed(dir, "tiny_paper_keep.bin", kept, std::string::npos);
-    write_paper_seed(paper_dir, "tiny_paper.bin", paper, a.vertex_count(), a.frame_count(), std::string::npos);
-    write_paper_seed(paper_dir, "tiny_paper_first_packet.bin", paper, a.vertex_count(), a.frame_count(), 1);
-    write_paper_seed(paper_dir, "tiny_paper_keep.bin", kept, a.vertex_count(), a.frame_count(), std::string::npos);
+    write_paper_seed(paper_dir, "tiny_paper.bin", paper, a.vertex_count(), a.frame_count());
+    write_paper_seed(paper_dir, "tiny_paper_keep.bin", kept, a.vertex_count(), a.frame_count());
     return 0;
 }

@@ -51,7 +51,7 @@ void remove_live_temporaries() {
     ::_exit(128 + sig);  // not reached: the default action of these signals ends the process
 }
 
-extern "C" void on_interrupt(int sig) {
+void on_interrupt(int sig) {
     int none = 0;
     g_pending_signal.compare_exchange_strong(none, sig);
     if (g_deferrals.load() > 0) return;  // the last InterruptDeferral re-delivers it
@@ -84,8 +84,8 @@ InterruptCleanup::InterruptCleanup(const std::filesystem::path& path) {
     if (text.size() >= kMaxPathBytes)
         throw std::runtime_error("temporary path too long to register for cleanup: " + text);
     for (slot_ = 0; slot_ < g_slots.size(); ++slot_) {
-        int free = kFree;
-        if (g_slots[slot_].state.compare_exchange_strong(free, kWriting)) {
+        int expected = kFree;
+        if (g_slots[slot_].state.compare_exchange_strong(expected, kWriting)) {
             std::memcpy(g_slots[slot_].path, text.c_str(), text.size() + 1);
             g_slots[slot_].state.store(kLive);
             return;
