@@ -122,7 +122,7 @@ Command looks_command(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--seed", options->swatch.seed, "With --swatches: random seed")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);  // CLI11 would read -1 as 2^64 - 1
+        ->check(non_negative_integer);
     sub->add_option("--threads", options->swatch.threads,
                     "With --swatches: render threads (default all cores; same image for any count)")
         ->check(CLI::Range(1, 1024));

@@ -1,4 +1,5 @@
 #include <opencv2/imgcodecs.hpp>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
@@ -14,7 +15,7 @@ Image read_image(const fs::path& path) {
     if (!fs::is_regular_file(path, ec))
         throw UnreadableImage("cannot read image '" + path.string() + "': no such file");
     cv::Mat raw;
-    std::string why;
+    std::string why, library_said;
     {
         // libpng/libjpeg warnings and OpenCV's size assertion (a header claiming 100000 x
         // 100000) become one line of ours naming the file.
@@ -25,8 +26,12 @@ Image read_image(const fs::path& path) {
             raw.release();
             why = "; " + e.err;
         }
-        if (raw.empty() && why.empty() && !quiet.first_line().empty()) why = "; " + quiet.first_line();
+        library_said = quiet.first_line();
+        if (raw.empty() && why.empty() && !library_said.empty()) why = "; " + library_said;
     }
+    // Decoded despite a complaint (libjpeg fills a cut-short JPEG with grey): say so, once.
+    if (!raw.empty() && !library_said.empty())
+        std::fprintf(stderr, "foldcast: warning: image '%s': %s\n", path.c_str(), library_said.c_str());
     if (raw.empty())
         throw UnreadableImage("cannot read image '" + path.string() +
                               "': not an image OpenCV can decode (PNG, JPEG, TIFF, BMP, PPM, WebP) or larger than " +

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/quiet_stderr.hpp"
@@ -33,7 +34,7 @@ V3 sample_tiled(const cv::Mat& img, float s, float t) {
 
 cv::Mat load_image(const std::filesystem::path& path, bool srgb) {
     cv::Mat raw;
-    std::string why;
+    std::string why, library_said;
     {
         const QuietStderr quiet;  // libpng/libjpeg warnings become part of our one line
         try {
@@ -42,8 +43,11 @@ cv::Mat load_image(const std::filesystem::path& path, bool srgb) {
             raw.release();
             why = ": " + e.err;
         }
-        if (raw.empty() && why.empty() && !quiet.first_line().empty()) why = ": " + quiet.first_line();
+        library_said = quiet.first_line();
+        if (raw.empty() && why.empty() && !library_said.empty()) why = ": " + library_said;
     }
+    if (!raw.empty() && !library_said.empty())
+        std::fprintf(stderr, "foldcast: warning: look texture %s: %s\n", path.c_str(), library_said.c_str());
     if (raw.empty())
         throw InputError("look texture " + path.string() + ": cannot be read as an image (PNG, JPEG, EXR...)" + why);
     cv::Mat f;
