@@ -30,7 +30,7 @@ protected:
     void SetUp() override { dir_ = test::temp_dir(); }
 
     test::Outcome run(std::vector<std::string> args) {
-        args.insert(args.begin(), test::foldcast_binary());
+        args.insert(args.begin(), test::foldcast_under_test());
         return test::run_child(args, dir_ / "stderr.txt", {30, 4ull << 30});
     }
     // Exit `status` and a first stderr line of ours containing `needle`, no library noise.

@@ -86,7 +86,7 @@ protected:
     test::Outcome decode(const std::string& bytes, const std::string& label) {
         const fs::path in = dir_ / "in.fca";
         std::ofstream(in, std::ios::binary) << bytes;
-        const test::Outcome o = test::run_child({test::foldcast_binary(), "decode", in.string(), "-o", (dir_ / "out.pc2").string()},
+        const test::Outcome o = test::run_child({test::foldcast_under_test(), "decode", in.string(), "-o", (dir_ / "out.pc2").string()},
                                                 dir_ / "stderr.txt", kCap);
         EXPECT_TRUE(o.exited) << label << ": killed by signal " << o.signal << " after " << o.seconds << " s";
         EXPECT_TRUE(o.exit_code == 0 || o.exit_code == 2) << label << ": exit " << o.exit_code << ": " << o.err;
@@ -109,7 +109,7 @@ TEST_F(FcaBattery, MutatedAndTruncatedFilesOfBothProfiles) {
         ASSERT_GE(list.size(), 2u);
         const std::string name = codec::profile_name(profile);
         EXPECT_EQ(decode(good, name + " intact").exit_code, 0);
-        for (int k = 0; k < 40; ++k) {
+        for (int k = 0; k < 24; ++k) {
             std::string bad = good;
             const Packet& p = list[rng() % list.size()];
             const int changes = 1 + static_cast<int>(rng() % 4);
@@ -120,7 +120,7 @@ TEST_F(FcaBattery, MutatedAndTruncatedFilesOfBothProfiles) {
             if (k % 2 == 0) fix_crc(bad, p);  // half reach the payload parsers
             decode(bad, name + " mutation " + std::to_string(k));
         }
-        for (int k = 0; k < 16; ++k) {
+        for (int k = 0; k < 8; ++k) {
             const std::size_t cut = rng() % good.size();
             decode(good.substr(0, cut), name + " truncated at " + std::to_string(cut));
         }

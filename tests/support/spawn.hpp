@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,6 +17,13 @@
 #include <vector>
 
 namespace foldcast::test {
+
+// The foldcast these tests run: FOLDCAST_BINARY when set (to show that a test fails on
+// another build, e.g. one from before a fix), else the one of this build tree.
+inline std::string foldcast_under_test() {
+    const char* chosen = std::getenv("FOLDCAST_BINARY");
+    return chosen != nullptr && *chosen != '\0' ? std::string(chosen) : std::string(FOLDCAST_BINARY_DIR) + "/foldcast";
+}
 
 struct Limits {
     int cpu_seconds = 0;             // RLIMIT_CPU: SIGXCPU past it; 0 = none
