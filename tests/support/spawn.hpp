@@ -57,6 +57,9 @@ inline Child spawn(const std::vector<std::string>& argv, const std::filesystem::
     if (pid == 0) {
         const int null = ::open("/dev/null", O_WRONLY);
         const int err = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        // As a user's shell would: a test started in the background has SIGINT ignored,
+        // which the child would inherit (and foldcast keeps an ignored signal ignored).
+        for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::signal(sig, SIG_DFL);
         if (null >= 0) ::dup2(null, 1);
         if (err >= 0) ::dup2(err, 2);
         if (limits.cpu_seconds > 0) {
