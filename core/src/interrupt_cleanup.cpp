@@ -111,6 +111,7 @@ void InterruptCleanup::release() {
 }
 
 InterruptDeferral::InterruptDeferral() {
+    install_handlers_once();  // without our handler the signal would not wait
     g_deferrals.fetch_add(1);
     if (const int sig = g_pending_signal.load(); sig != 0) die_of(sig);
 }
