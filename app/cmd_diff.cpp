@@ -1,6 +1,7 @@
 // foldcast diff A B: image comparison for visual regression with idiff's conventions and
 // exit statuses (0 pass, 1 warning, 2 failure, 3 size mismatch, 4 unreadable file): this
 // subcommand's own contract, different from the 0/1/2 of the others.
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -9,12 +10,14 @@
 
 #include "commands.hpp"
 #include "foldcast/compare/diff.hpp"
+#include "foldcast/core/atomic_file.hpp"
+#include "foldcast/core/error.hpp"
 
 namespace foldcast::app {
 namespace {
 
 struct DiffOptions {
-    std::string reference, test, heat_map_path, heat_map_kind = "flip";
+    std::string reference, test, heat_map_path, heat_map_kind = "flip", allow_failures_text = "0";
     compare::DiffThresholds th;
     bool json = false;
 };
@@ -32,6 +35,15 @@ int report_error(const DiffOptions& o, compare::DiffVerdict verdict, const std::
 }
 
 int run_diff(const DiffOptions& o) {
+    compare::validate(o.th);
+    if (!o.heat_map_path.empty()) {
+        try {  // the heat-map must not replace the images it compares
+            check_not_input(o.heat_map_path, o.reference, "-o");
+            check_not_input(o.heat_map_path, o.test, "-o");
+        } catch (const InputError& e) {
+            return report_error(o, compare::DiffVerdict::unreadable, e.what());
+        }
+    }
     compare::Image a, b;
     try {
         a = compare::read_image(o.reference);
@@ -76,6 +88,7 @@ int run_diff(const DiffOptions& o) {
                          {"fail_pixels", r.fail_pixels},
                          {"fail_percent", r.fail_percent},
                          {"fail_share", r.fail_percent / 100.0},
+                         {"nan_values", r.nan_values},
                          {"thresholds",
                           {{"fail", o.th.fail},
                            {"failpercent", o.th.fail_percent},
@@ -95,6 +108,7 @@ int run_diff(const DiffOptions& o) {
         std::printf("  SSIM (luma) = %.6f\n  FLIP mean = %.6f  max = %.6f\n", r.ssim, r.flip_mean, r.flip_max);
         std::printf("  %lld pixels (%.3g%%) over %g\n", r.warn_pixels, r.warn_percent, o.th.warn);
         std::printf("  %lld pixels (%.3g%%) over %g\n", r.fail_pixels, r.fail_percent, o.th.fail);
+        if (r.nan_values > 0) std::printf("  %lld values are NaN in one image or both\n", r.nan_values);
         std::printf("%s\n", compare::verdict_name(r.verdict));
     }
     return static_cast<int>(r.verdict);
@@ -123,10 +137,17 @@ Command diff_command(CLI::App& app) {
     sub->add_option("--warnpercent", o->th.warn_percent, "WARNING when more than this percentage of pixels warn")
         ->capture_default_str();
     sub->add_option("--hardwarn", o->th.hard_warn, "WARNING when any difference exceeds this (default: infinity)");
-    sub->add_option("--allowfailures", o->th.allow_failures, "PASS whenever at most this many pixels fail (idiff's rule)")
+    // Read as text: CLI11 would clamp 99999999999999999999 to the largest long long silently.
+    sub->add_option("--allowfailures", o->allow_failures_text, "PASS whenever at most this many pixels fail (idiff's rule)")
         ->capture_default_str();
     sub->add_flag("--json", o->json, "Print one JSON object with the metrics and the verdict");
-    return {sub, [o] { return run_diff(*o); }};
+    return {sub, [o] {
+        const std::string& text = o->allow_failures_text;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), o->th.allow_failures);
+        if (ec != std::errc() || end != text.data() + text.size() || o->th.allow_failures < 0)
+            throw InputError("--allowfailures '" + text + "': must be a whole number from 0 to 9223372036854775807");
+        return run_diff(*o);
+    }};
 }
 
 }  // namespace foldcast::app

@@ -29,6 +29,7 @@ double round2(double v) { return std::round(v * 100.0) / 100.0; }
 
 int run_folds(const FoldsOptions& o) {
     check_writable(o.output);
+    check_not_input(o.output, o.photo, "-o");
     const compare::Image photo = compare::read_image(o.photo);
     std::optional<compare::SupportPixels> supports;
     if (!o.supports.empty()) {

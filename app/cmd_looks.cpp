@@ -121,7 +121,9 @@ Command looks_command(CLI::App& app) {
     sub->add_option("--spp", options->swatch.spp, "With --swatches: samples per pixel")
         ->check(CLI::Range(1, 1 << 16))
         ->capture_default_str();
-    sub->add_option("--seed", options->swatch.seed, "With --swatches: random seed")->capture_default_str();
+    sub->add_option("--seed", options->swatch.seed, "With --swatches: random seed")
+        ->capture_default_str()
+        ->check(non_negative_integer);
     sub->add_option("--threads", options->swatch.threads,
                     "With --swatches: render threads (default all cores; same image for any count)")
         ->check(CLI::Range(1, 1024));

@@ -38,6 +38,7 @@ nlohmann::json fitted_json(const compare::FittedValue& v) {
 
 int run_overlay(const OverlayOptions& o) {
     check_writable(o.output);
+    check_not_input(o.output, o.photo, "-o");
     const compare::Image photo = compare::read_image(o.photo);
     compare::OverlayRequest request;
     request.supports = {Eigen::Vector2d(o.supports[0], o.supports[1]), Eigen::Vector2d(o.supports[2], o.supports[3])};

@@ -25,7 +25,7 @@ Command render_command(CLI::App& app) {
     sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
     sub->add_option("--spp", args->spp, "Samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 20));
-    CLI::Option* seed = sub->add_option("--seed", args->seed, "Random seed (default: the scene's)");
+    CLI::Option* seed = sub->add_option("--seed", args->seed, "Random seed (default: the scene's)")->check(non_negative_integer);
     sub->add_option("--threads", args->threads, "Render threads (default: all cores); the image is the same for any count")
         ->check(CLI::Range(1, 1024));
     sub->add_option("--aov", args->aovs, "Extra images beside OUT: albedo,normal,depth,fold (OUT.<aov>.png|exr)")

@@ -34,7 +34,11 @@ void parse_frames(const std::string& text, batch::TurntableOptions& options) {
     const std::size_t slash = text.find('/', colon);
     options.first_frame = number(text.substr(0, colon));
     options.last_frame = number(text.substr(colon + 1, slash == std::string::npos ? std::string::npos : slash - colon - 1));
-    if (slash != std::string::npos) options.total_frames = number(text.substr(slash + 1));
+    if (slash != std::string::npos) {
+        options.total_frames = number(text.substr(slash + 1));
+        // 0 would mean "the scene's count" inside TurntableOptions: not what "/0" says.
+        if (options.total_frames < 1) throw InputError("--frames " + text + ": N in A:B/N must be at least 1");
+    }
 }
 
 }  // namespace

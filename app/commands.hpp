@@ -3,8 +3,18 @@
 // subcommand and returns the function that runs it after parsing.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 
 namespace foldcast::app {
+
+// For unsigned options: CLI11 would read "-1" into an unsigned integer as its largest value.
+inline const CLI::Validator non_negative_integer(
+    [](std::string& text) {
+        return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos
+                   ? std::string()
+                   : std::string("'" + text + "' must be a whole number >= 0");
+    },
+    "UINT");
 
 struct Command {
     CLI::App* sub = nullptr;

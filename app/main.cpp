@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 #include <vector>
 
 #include "commands.hpp"
@@ -27,6 +28,17 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::preview_command(app));
     commands.push_back(foldcast::app::batch_command(app));
 
+    // CLI11 would answer "A subcommand is required" to a misspelt one: name it instead.
+    bool known_name = false;
+    if (argc > 1)
+        for (const auto& command : commands) known_name = known_name || command.sub->check_name(argv[1]);
+    if (argc > 1 && argv[1][0] != '-' && !known_name) {
+        std::string known;
+        for (const auto& command : commands) known += (known.empty() ? "" : ", ") + command.sub->get_name();
+        std::fprintf(stderr, "foldcast: unknown subcommand '%s' (known: %s)\n", argv[1], known.c_str());
+        std::fprintf(stderr, "Run with --help for usage.\n");
+        return 2;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -5,9 +5,12 @@
 #include <array>
 #include <fstream>
 #include <memory>
+#include <sstream>
+#include <string_view>
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/batch/catalogue.hpp"
+#include "foldcast/render.hpp"
 
 namespace foldcast::batch {
 namespace fs = std::filesystem;
@@ -41,15 +44,56 @@ fs::path sidecar(const fs::path& output) {
     s += ".sha256";
     return s;
 }
+
+// The sidecar's first line: a comment for sha256sum -c, the job's identity for us.
+constexpr std::string_view kJobTag = "# foldcast-job ";
+
+std::string sha256_text(std::string_view text) {
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    if (EVP_Digest(text.data(), text.size(), digest, &length, EVP_sha256(), nullptr) != 1)
+        throw std::runtime_error("SHA-256 is not available from OpenSSL");
+    static const char* hex = "0123456789abcdef";
+    std::string out;
+    for (unsigned i = 0; i < length; ++i) {
+        out += hex[digest[i] >> 4];
+        out += hex[digest[i] & 15];
+    }
+    return out;
+}
+
+std::string hash_if_file(const fs::path& path) {
+    std::error_code ec;
+    return fs::is_regular_file(path, ec) ? sha256_file(path) : std::string("none");
+}
 }  // namespace
 
-bool is_finished(const fs::path& output) {
+std::string job_identity(const BatchJob& job, const BatchManifest& manifest) {
+    std::ostringstream text;
+    text.precision(17);
+    text << "foldcast batch job 1\nscene " << hash_if_file(job.garment.scene) << "\n";
+    // The garment files a scene names change the pixels as much as the scene itself.
+    std::error_code ec;
+    if (fs::is_regular_file(job.garment.scene, ec)) {
+        const SceneSpec scene = load_scene(job.garment.scene);
+        fs::path topology = scene.garment.topology;
+        if (topology.empty() && !scene.garment.path.empty()) topology = fs::path(scene.garment.path).replace_extension(".obj");
+        text << "garment " << hash_if_file(scene.garment.path) << " " << hash_if_file(topology) << "\n";
+    }
+    text << "look " << job.look << "\nview " << job.view.azimuth_deg << " " << job.view.elevation_deg << "\n"
+         << "image " << manifest.width << "x" << manifest.height << " spp " << manifest.spp << " seed " << manifest.seed
+         << "\n";
+    return sha256_text(text.str());
+}
+
+bool is_finished(const fs::path& output, const std::string& identity) {
     std::error_code ec;
     if (!fs::is_regular_file(output, ec) || !fs::is_regular_file(sidecar(output), ec)) return false;
     std::ifstream in(sidecar(output));
-    std::string recorded;
+    std::string tag_line, recorded;
+    std::getline(in, tag_line);
     in >> recorded;
-    return recorded.size() == 64 && recorded == sha256_file(output);
+    return tag_line == std::string(kJobTag) + identity && recorded.size() == 64 && recorded == sha256_file(output);
 }
 
 std::string outputs_json(const BatchManifest& manifest, const std::vector<BatchOutput>& outputs) {
@@ -71,12 +115,14 @@ std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, c
     std::vector<BatchOutput> outputs;
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         const BatchJob& job = jobs[i];
-        BatchOutput out{job, "", is_finished(job.output)};
+        const std::string identity = job_identity(job, manifest);
+        BatchOutput out{job, "", is_finished(job.output, identity)};
         if (!out.skipped) {
             fs::create_directories(job.output.parent_path());
             render_job(job, manifest);
             out.sha256 = sha256_file(job.output);
-            write_file_atomically(sidecar(job.output), out.sha256 + "  " + job.output.filename().string() + "\n");
+            write_file_atomically(sidecar(job.output), std::string(kJobTag) + identity + "\n" + out.sha256 + "  " +
+                                                           job.output.filename().string() + "\n");
         } else {
             out.sha256 = sha256_file(job.output);
         }

@@ -37,35 +37,38 @@ fs::path turntable_frame_path(const fs::path& dir, int frame) {
     return dir / name;
 }
 
-void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4) {
+namespace {
+// Frame f's PNG: the one this run staged in `outputs`, else the file an earlier run left.
+fs::path frame_to_read(OutputTransaction& outputs, const fs::path& frames_dir, int f) {
+    const fs::path final_path = turntable_frame_path(frames_dir, f);
+    const fs::path staged = outputs.staged(final_path);
+    return staged.empty() ? final_path : staged;
+}
+
+void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4) {
     check_writable(mp4);
-    cv::Mat first = cv::imread(turntable_frame_path(frames_dir, 0).string(), cv::IMREAD_COLOR);
+    cv::Mat first = cv::imread(frame_to_read(outputs, frames_dir, 0).string(), cv::IMREAD_COLOR);
     if (first.empty()) throw InputError("turntable frames in " + frames_dir.string() + ": frame_0000.png is missing");
-    // Write beside the target under a temporary name, then rename (atomic output).
-    fs::path temp = mp4;
-    temp += ".partial.mp4";
-    {
-        cv::VideoWriter writer(temp.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
-                               cv::Size(first.cols, first.rows));
-        if (!writer.isOpened()) throw std::runtime_error("cannot open an MP4 writer (OpenCV videoio, mp4v) for " + mp4.string());
-        for (int f = 0; f < frame_count; ++f) {
-            const fs::path p = turntable_frame_path(frames_dir, f);
-            cv::Mat img = cv::imread(p.string(), cv::IMREAD_COLOR);
-            if (img.empty()) {
-                writer.release();
-                fs::remove(temp);
-                throw InputError("turntable frames in " + frames_dir.string() + ": " + p.filename().string() +
-                                 " is missing (render every range with --frames A:B first)");
-            }
-            if (img.cols != first.cols || img.rows != first.rows) {
-                writer.release();
-                fs::remove(temp);
-                throw InputError(p.string() + ": size differs from frame_0000.png");
-            }
-            writer.write(img);
-        }
+    // A registered temporary of a unique name beside the target (removed on failure or interrupt).
+    const fs::path temp = outputs.stage_file(mp4);
+    cv::VideoWriter writer(temp.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps, cv::Size(first.cols, first.rows));
+    if (!writer.isOpened()) throw std::runtime_error("cannot open an MP4 writer (OpenCV videoio, mp4v) for " + mp4.string());
+    for (int f = 0; f < frame_count; ++f) {
+        const fs::path p = turntable_frame_path(frames_dir, f);
+        cv::Mat img = cv::imread(frame_to_read(outputs, frames_dir, f).string(), cv::IMREAD_COLOR);
+        if (img.empty())
+            throw InputError("turntable frames in " + frames_dir.string() + ": " + p.filename().string() +
+                             " is missing (render every range with --frames A:B first)");
+        if (img.cols != first.cols || img.rows != first.rows) throw InputError(p.string() + ": size differs from frame_0000.png");
+        writer.write(img);
     }
-    fs::rename(temp, mp4);
+}
+}  // namespace
+
+void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4) {
+    OutputTransaction outputs;
+    stage_mp4(outputs, frames_dir, frame_count, fps, mp4);
+    outputs.commit();
 }
 
 TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, const TurntableOptions& options,
@@ -107,11 +110,13 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const Camera camera = frame_camera(scene.camera, fit, static_cast<double>(width) / height);
 
     TurntableResult result;
+    // This run's frames and the MP4 replace the old ones together when every frame is done.
+    OutputTransaction outputs;
     // Frame f is written (sRGB, PNG) on a second thread while frame f+1 renders; at most one
     // write is in flight, so memory stays at two frames and a failed write stops the loop.
-    std::future<void> writing;
     SceneSpec opaque = setup.lit_scene();
     opaque.transparent = false;  // video frames have no alpha
+    std::future<void> writing;  // after what its task uses: waits for the task when destroyed early
     std::unique_ptr<PreviewRenderer> rasteriser;
     if (options.preview) rasteriser = std::make_unique<PreviewRenderer>(width, height, options.msaa_samples);
     for (int f = first; f < last; ++f) {
@@ -130,15 +135,17 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
         beauty_only->beauty = std::move(r.beauty);
         const fs::path p = turntable_frame_path(dir, f);
         if (writing.valid()) writing.get();
-        writing = std::async(std::launch::async, [beauty_only, p, &opaque] { write_render(p, *beauty_only, opaque); });
+        writing = std::async(std::launch::async,
+                             [beauty_only, p, &opaque, &outputs] { write_render(outputs, p, *beauty_only, opaque); });
         result.written.push_back(p);
         ++result.frames_rendered;
     }
     if (writing.valid()) writing.get();
     if (to_mp4 && first == 0 && last == total) {
-        encode_mp4(dir, total, scene.turntable_fps, out);
+        stage_mp4(outputs, dir, total, scene.turntable_fps, out);
         result.written.push_back(out);
     }
+    outputs.commit();
     result.stats.width = width;
     result.stats.height = height;
     result.stats.spp = settings.spp;

@@ -5,6 +5,7 @@
 // followed by an .fca file, or a prefix of one.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -37,6 +38,29 @@ Animation tiny_animation() {
     return a;
 }
 
+// A seed of fuzz_fca_paper: N - 1, T - 2 (u16), then each data packet's profile payload as
+// a u16 length and its bytes (the packet framing, sequence numbers and CRCs left out).
+void write_paper_seed(const std::filesystem::path& dir, const std::string& name, const std::string& fca,
+                      std::size_t vertices, std::size_t frames) {
+    std::string seed;
+    seed += static_cast<char>(vertices - 1);
+    seed += static_cast<char>((frames - 2) & 0xff);
+    seed += static_cast<char>((frames - 2) >> 8);
+    std::size_t at = 8;  // after the magic
+    while (at + 9 <= fca.size()) {
+        std::uint32_t length = 0;
+        std::memcpy(&length, fca.data() + at, 4);
+        if (fca[at + 4] == 2 && length >= 4) {  // a data packet: its payload after the sequence number
+            const std::string payload = fca.substr(at + 5 + 4, length - 4);
+            seed += static_cast<char>(payload.size() & 0xff);
+            seed += static_cast<char>(payload.size() >> 8);
+            seed += payload;
+        }
+        at += 9 + length;
+    }
+    std::ofstream(dir / name, std::ios::binary) << seed;
+}
+
 void write_seed(const std::filesystem::path& dir, const std::string& name, const std::string& fca, std::size_t keep_bytes) {
     std::ofstream out(dir / name, std::ios::binary);
     out.put('\x40');
@@ -45,12 +69,13 @@ void write_seed(const std::filesystem::path& dir, const std::string& name, const
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 2) {
-        std::fprintf(stderr, "usage: fuzz_make_corpus DIR\n");
+    if (argc != 3) {
+        std::fprintf(stderr, "usage: fuzz_make_corpus DIR PAPER_DIR\n");
         return 2;
     }
-    const std::filesystem::path dir = argv[1];
+    const std::filesystem::path dir = argv[1], paper_dir = argv[2];
     std::filesystem::create_directories(dir);
+    std::filesystem::create_directories(paper_dir);
     const Animation a = tiny_animation();
     codec::EncodeOptions bounded;
     bounded.max_error_m = 1e-3;
@@ -64,6 +89,9 @@ int main(int argc, char** argv) {
     codec::EncodeOptions keep;
     keep.profile = codec::Profile::paper;
     keep.keep_fraction = 0.5;
-    write_seed(dir, "tiny_paper_keep.bin", codec::encode(a, keep), std::string::npos);
+    const std::string kept = codec::encode(a, keep);
+    write_seed(dir, "tiny_paper_keep.bin", kept, std::string::npos);
+    write_paper_seed(paper_dir, "tiny_paper.bin", paper, a.vertex_count(), a.frame_count());
+    write_paper_seed(paper_dir, "tiny_paper_keep.bin", kept, a.vertex_count(), a.frame_count());
     return 0;
 }

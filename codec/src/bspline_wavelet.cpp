@@ -29,7 +29,33 @@ std::pair<long, long> wavelet_window(long i, long m, long rows) {
     if (!mirrored) return {first, last};
     return {rows - 1 - last, rows - 1 - first};
 }
+
 }  // namespace
+
+// <f, G f> for f = q on rows [first, first + q.size()) and zero elsewhere, in O(window) work
+// instead of O(rows), with the same result to the last bit as full.dot(gram * full) over
+// all rows: the products are the same and are summed in the same order.  G f accumulates
+// per row in column order (Eigen's column-major sparse product), and zero entries add
+// nothing.  Eigen's dot keeps two packet accumulators filled from the vector's start, so
+// the slice starts at a multiple of two packets, and it runs to the end of the vector when
+// the window reaches past the last whole pair of packets, where the tail is summed apart.
+double window_energy(const Eigen::SparseMatrix<double>& gram, long rows, long first, const Eigen::VectorXd& q) {
+    constexpr long lanes = 2 * Eigen::internal::packet_traits<double>::size;
+    const long width = static_cast<long>(q.size());
+    const long last = first + width - 1;
+    const long start = first / lanes * lanes;
+    const long whole_pairs_end = rows / lanes * lanes;
+    const long end = last < whole_pairs_end ? (last + lanes) / lanes * lanes : rows;
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(end - start);
+    Eigen::VectorXd gf = Eigen::VectorXd::Zero(end - start);
+    f.segment(first - start, width) = q;
+    for (long c = first; c <= last; ++c) {
+        const double fc = q(c - first);
+        for (Eigen::SparseMatrix<double>::InnerIterator e(gram, c); e; ++e)
+            if (e.row() >= start && e.row() < end) gf(e.row() - start) += e.value() * fc;
+    }
+    return f.dot(gf);
+}
 
 std::pair<std::size_t, std::array<double, 4>> bspline_basis(int level, double x) {
     const long intervals = 1L << level;
@@ -152,9 +178,7 @@ CubicBSplineWavelet::CubicBSplineWavelet(int finest_level) : finest_(finest_leve
                                        " does not have a one-dimensional null space");
             Eigen::VectorXd q = svd.matrixV().col(width - 1);
             // Unit L2 norm, and a fixed sign (largest entry positive) for determinism.
-            Eigen::VectorXd full = Eigen::VectorXd::Zero(rows);
-            full.segment(first, width) = q;
-            const double norm2 = full.dot(gram * full);
+            const double norm2 = window_energy(gram, rows, first, q);
             Eigen::Index arg = 0;
             q.cwiseAbs().maxCoeff(&arg);
             q *= (q(arg) < 0 ? -1.0 : 1.0) / std::sqrt(norm2);

@@ -27,6 +27,10 @@ Eigen::SparseMatrix<double> gram_matrix(int level);
 // P^j: (2^j+3) x (2^(j-1)+3), j >= kCoarsestLevel + 1 (closed form valid for j >= 3).
 Eigen::SparseMatrix<double> refinement_matrix(int level);
 
+// <f, G f> where f is q on rows [first, first + q.size()) of a vector of `rows` and zero
+// elsewhere: bit-identical to f.dot(gram * f) over the whole vector, in O(q.size()) work.
+double window_energy(const Eigen::SparseMatrix<double>& gram, long rows, long first, const Eigen::VectorXd& q);
+
 class CubicBSplineWavelet {
 public:
     explicit CubicBSplineWavelet(int finest_level);  // finest_level >= kCoarsestLevel

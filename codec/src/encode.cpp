@@ -63,6 +63,9 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
         double(anim.vertex_count()) * double(anim.frame_count()) > double(kMaxVertexFrames))
         throw InputError("animation to encode is too large (" + std::to_string(anim.vertex_count()) + " x " +
                          std::to_string(anim.frame_count()) + " vertex-frames, limit " + std::to_string(kMaxVertexFrames) + ")");
+    if (options.profile == Profile::paper && anim.frame_count() > kMaxPaperFrames)
+        throw InputError("animation to encode has " + std::to_string(anim.frame_count()) + " frames; the paper profile holds at most " +
+                         std::to_string(kMaxPaperFrames) + " (use the default profile)");
     if (!(std::isfinite(anim.fps) && anim.fps > 0.0 && anim.fps <= 1e6))
         throw InputError("animation to encode has fps " + std::to_string(anim.fps) + " (allowed (0, 1e6])");
     if (options.max_error_m && options.keep_fraction)

@@ -14,6 +14,13 @@
 
 namespace foldcast::codec {
 
+// The finest wavelet level the paper profile writes or reads: T - 1 <= 2^16 + 3 velocity
+// samples (T <= 65,540 frames, 36 minutes at 30 fps).  Building the wavelet costs O(2^J)
+// small SVDs (about 2 s at this level) before any coefficient is read, so the decoder
+// refuses more: a hostile header cannot make it work for minutes.
+inline constexpr int kMaxPaperLevel = 16;
+inline constexpr std::size_t kMaxPaperFrames = (std::size_t(1) << kMaxPaperLevel) + 4;
+
 struct PaperLayout {
     PaperLayout(std::size_t vertices, std::size_t frames);
 

@@ -191,6 +191,26 @@ private:
 }  // namespace
 
 std::unique_ptr<ProfileDecoder> make_paper_decoder(const Header& header, const std::string& what) {
+    // Work policy: building the layout costs O(T) (about 8 us a frame) before any data
+    // arrives, so T is capped (kMaxPaperLevel) and must be one the declared size can hold: a
+    // complete stream has one packet per kCoefficientsPerPacket coefficients of the 2^J - 8
+    // detail rows (plus the base packet), each at least 4 + 1 + 4 bytes of framing and one
+    // byte of Huffman data.  From N and T alone, before the layout.  (Against the declared
+    // size, not the bytes at hand: a short prefix of a long file still decodes.)
+    const std::uint64_t bytes = header.total_bytes;
+    const std::uint64_t trajectories = 3 * std::uint64_t(header.vertices);
+    int level = kCoarsestLevel;
+    while (level_size(level) < header.frames - 1 && level < 40) ++level;
+    const std::uint64_t detail_rows = level == kCoarsestLevel ? 0 : (std::uint64_t(1) << level) - 8;
+    const std::uint64_t per_packet = std::max<std::uint64_t>(1, PaperLayout::kCoefficientsPerPacket / trajectories);
+    const std::uint64_t packets = 1 + (detail_rows + per_packet - 1) / per_packet;
+    constexpr std::uint64_t kMinPacketBytes = 10;
+    if (level > kMaxPaperLevel || packets * kMinPacketBytes > bytes)
+        throw InputError(what + ": header: " + std::to_string(header.frames) + " frames of " +
+                         std::to_string(header.vertices) + " vertices need " + std::to_string(packets) +
+                         " packets (at least " + std::to_string(packets * kMinPacketBytes) +
+                         " bytes) in the paper profile: more than the " + std::to_string(bytes) + " bytes the file declares" +
+                         (level > kMaxPaperLevel ? " or the profile's limit of " + std::to_string(kMaxPaperFrames) + " frames" : ""));
     return std::make_unique<PaperDecoder>(header, what);
 }
 

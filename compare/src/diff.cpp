@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -35,8 +36,25 @@ Image colour_mapped(const std::vector<float>& values, int width, int height, flo
 
 }  // namespace
 
+void validate(const DiffThresholds& th) {
+    auto check = [](double v, const char* flag, bool percent) {
+        if (std::isnan(v) || v < 0.0 || (percent && v > 100.0))
+            throw InputError(std::string(flag) + " " + std::to_string(v) + ": must be " +
+                             (percent ? "a percentage in [0, 100]" : "a number >= 0 (inf allowed)"));
+    };
+    check(th.fail, "--fail", false);
+    check(th.fail_percent, "--failpercent", true);
+    check(th.hard_fail, "--hardfail", false);
+    check(th.warn, "--warn", false);
+    check(th.warn_percent, "--warnpercent", true);
+    check(th.hard_warn, "--hardwarn", false);
+    if (th.allow_failures < 0)
+        throw InputError("--allowfailures " + std::to_string(th.allow_failures) + ": must be a whole number >= 0");
+}
+
 DiffReport diff_images(const Image& reference, const Image& test, const DiffThresholds& th, Image* heat_map,
                        HeatMapKind kind) {
+    validate(th);
     if (reference.width != test.width || reference.height != test.height || reference.channels != test.channels)
         throw SizeMismatch("images differ in size: " + std::to_string(reference.width) + "x" +
                            std::to_string(reference.height) + "x" + std::to_string(reference.channels) +
@@ -55,7 +73,13 @@ DiffReport diff_images(const Image& reference, const Image& test, const DiffThre
         float worst = 0.0f;
         for (int c = 0; c < nc; ++c) {
             const size_t k = static_cast<size_t>(i) * nc + c;
-            const double d = std::abs(static_cast<double>(reference.values[k]) - test.values[k]);
+            // Fail closed: a NaN on either side (or inf - inf) is an infinite difference, never
+            // one that every comparison with a threshold lets through.
+            double d = std::abs(static_cast<double>(reference.values[k]) - test.values[k]);
+            if (std::isnan(d)) {
+                d = std::numeric_limits<double>::infinity();
+                ++r.nan_values;
+            }
             sum_abs += d;
             sum_sq += d * d;
             worst = std::max(worst, static_cast<float>(d));
@@ -80,8 +104,10 @@ DiffReport diff_images(const Image& reference, const Image& test, const DiffThre
     r.warn_percent = 100.0 * r.warn_pixels / npels;
     r.fail_percent = 100.0 * r.fail_pixels / npels;
 
-    // idiff's decision, including its strict comparisons and its first rule.
-    if (r.fail_pixels <= th.allow_failures)
+    // idiff's decision, including its strict comparisons and its first rule; NaN first.
+    if (r.nan_values > 0)
+        r.verdict = DiffVerdict::failure;
+    else if (r.fail_pixels <= th.allow_failures)
         r.verdict = DiffVerdict::pass;
     else if (r.fail_pixels > th.fail_percent / 100.0 * npels || r.max_abs_error > th.hard_fail)
         r.verdict = DiffVerdict::failure;

@@ -1,8 +1,10 @@
 #include <opencv2/imgcodecs.hpp>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
 #include "foldcast/core/atomic_file.hpp"
+#include "foldcast/core/quiet_stderr.hpp"
 #include "mat_convert.hpp"
 
 namespace foldcast::compare {
@@ -12,10 +14,28 @@ Image read_image(const fs::path& path) {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec))
         throw UnreadableImage("cannot read image '" + path.string() + "': no such file");
-    cv::Mat raw = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    cv::Mat raw;
+    std::string why, library_said;
+    {
+        // libpng/libjpeg warnings and OpenCV's size assertion (a header claiming 100000 x
+        // 100000) become one line of ours naming the file.
+        const QuietStderr quiet;
+        try {
+            raw = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+        } catch (const cv::Exception& e) {
+            raw.release();
+            why = "; " + e.err;
+        }
+        library_said = quiet.first_line();
+        if (raw.empty() && why.empty() && !library_said.empty()) why = "; " + library_said;
+    }
+    // Decoded despite a complaint (libjpeg fills a cut-short JPEG with grey): say so, once.
+    if (!raw.empty() && !library_said.empty())
+        std::fprintf(stderr, "foldcast: warning: image '%s': %s\n", path.c_str(), library_said.c_str());
     if (raw.empty())
         throw UnreadableImage("cannot read image '" + path.string() +
-                              "': not an image OpenCV can decode (PNG, JPEG, TIFF, BMP, PPM, WebP)");
+                              "': not an image OpenCV can decode (PNG, JPEG, TIFF, BMP, PPM, WebP) or larger than " +
+                              "2^30 pixels, or truncated" + why);
     double scale = 1.0;
     switch (raw.depth()) {
         case CV_8U: scale = 1.0 / 255.0; break;

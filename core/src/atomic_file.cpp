@@ -1,48 +1,113 @@
 #include "foldcast/core/atomic_file.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 
 #include "foldcast/core/error.hpp"
+#include "foldcast/core/interrupt_cleanup.hpp"
 
 namespace foldcast {
 namespace fs = std::filesystem;
 
 namespace {
-fs::path temporary_beside(const fs::path& path) {
+// NAME.tmp-PID-N: unique per process and per output, so concurrent runs never share one.
+// With keep_extension, NAME.tmp-PID-N.EXT for writers that choose a format by extension.
+fs::path temporary_beside(const fs::path& path, bool keep_extension) {
     static std::atomic<unsigned> counter{0};
     fs::path temp = path;
     temp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    if (keep_extension) temp += path.extension();
     return temp;
 }
 }  // namespace
 
-AtomicFile::AtomicFile(fs::path path) : path_(std::move(path)), temp_(temporary_beside(path_)) {
-    check_writable(path_);
-    out_.open(temp_, std::ios::binary | std::ios::trunc);
-    if (!out_) throw InputError("cannot write '" + path_.string() + "': cannot create a file there");
-}
+struct OutputTransaction::Entry {
+    fs::path target, temp;
+    std::unique_ptr<InterruptCleanup> cleanup;  // registered before the file exists
+    std::ofstream out;
+    bool is_stream = false;
+};
 
-AtomicFile::~AtomicFile() {
+OutputTransaction::OutputTransaction() = default;
+
+OutputTransaction::~OutputTransaction() {
     if (committed_) return;
-    out_.close();
-    std::error_code ignored;
-    fs::remove(temp_, ignored);
+    for (auto& e : entries_) {
+        e->out.close();
+        std::error_code ignored;
+        fs::remove(e->temp, ignored);
+        e->cleanup->release();
+    }
 }
 
-void AtomicFile::commit() {
-    out_.flush();
-    const bool ok = static_cast<bool>(out_);
-    out_.close();
-    if (!ok || out_.fail()) throw std::runtime_error("writing '" + path_.string() + "' failed (disk full?)");
-    std::error_code ec;
-    fs::rename(temp_, path_, ec);
-    if (ec) throw std::runtime_error("cannot rename into '" + path_.string() + "': " + ec.message());
+OutputTransaction::Entry& OutputTransaction::add(const fs::path& path, bool keep_extension) {
+    check_writable(path);
+    const std::lock_guard lock(mutex_);
+    if (committed_) throw std::logic_error("OutputTransaction: stage() after commit()");
+    for (const auto& e : entries_)
+        if (e->target == path) throw InputError("cannot write '" + path.string() + "' twice in one command");
+    auto entry = std::make_unique<Entry>();
+    entry->target = path;
+    entry->temp = temporary_beside(path, keep_extension);
+    entry->cleanup = std::make_unique<InterruptCleanup>(entry->temp);
+    entries_.push_back(std::move(entry));
+    return *entries_.back();
+}
+
+std::ofstream& OutputTransaction::stage(const fs::path& path) {
+    Entry& e = add(path, false);
+    e.is_stream = true;
+    e.out.open(e.temp, std::ios::binary | std::ios::trunc);
+    e.cleanup->created();
+    if (!e.out) throw InputError("cannot write '" + path.string() + "': cannot create a file there");
+    return e.out;
+}
+
+fs::path OutputTransaction::stage_file(const fs::path& path) { return add(path, true).temp; }
+
+fs::path OutputTransaction::staged(const fs::path& path) {
+    const std::lock_guard lock(mutex_);
+    for (const auto& e : entries_)
+        if (e->target == path) {
+            if (e->is_stream) e->out.flush();  // readable by name from here on
+            return e->temp;
+        }
+    return {};
+}
+
+void OutputTransaction::commit() {
+    const std::lock_guard lock(mutex_);
+    for (auto& e : entries_) {
+        if (!e->is_stream) {
+            std::error_code ec;
+            if (!fs::is_regular_file(e->temp, ec))
+                throw std::runtime_error("writing '" + e->target.string() + "' failed: nothing was written");
+            e->cleanup->created();
+            continue;
+        }
+        e->out.flush();
+        const bool ok = static_cast<bool>(e->out);
+        e->out.close();
+        if (!ok || e->out.fail())
+            throw std::runtime_error("writing '" + e->target.string() + "' failed (disk full?)");
+    }
+    // Every file or none: an interrupt from here on waits for the last rename.
+    const InterruptDeferral hold;
+    for (auto& e : entries_) {
+        std::error_code ec;
+        fs::rename(e->temp, e->target, ec);
+        if (ec) throw std::runtime_error("cannot rename into '" + e->target.string() + "': " + ec.message());
+        e->cleanup->release();
+    }
     committed_ = true;
 }
+
+AtomicFile::AtomicFile(fs::path path) : stream_(transaction_.stage(path)) {}
 
 void write_file_atomically(const fs::path& path, std::string_view bytes) {
     AtomicFile file(path);
@@ -62,6 +127,13 @@ void check_writable(const fs::path& path) {
     if (::access(dir.c_str(), W_OK) != 0)
         throw InputError("cannot write '" + path.string() + "': directory '" + dir.string() +
                          "' is not writable");
+}
+
+void check_not_input(const fs::path& output, const fs::path& input, std::string_view flag) {
+    std::error_code ec;
+    if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
+        throw InputError(std::string(flag) + " '" + output.string() + "' is the input '" + input.string() +
+                         "': choose another output file");
 }
 
 }  // namespace foldcast

@@ -1,6 +1,9 @@
 #include <tiny_obj_loader.h>
 
+#include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "foldcast/core/atomic_file.hpp"
@@ -10,10 +13,38 @@
 namespace foldcast {
 namespace fs = std::filesystem;
 
+namespace {
+// tinyobjloader reads a coordinate it cannot parse ("nan", "x") as 0 and one out of range as
+// inf, silently: a garment would render with a vertex moved to the origin.  Each `v` line's
+// x y z must be finite numbers.
+void reject_unreadable_positions(const fs::path& path) {
+    std::ifstream in(path);
+    std::string line;
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+        const char* at = line.c_str() + 2;
+        for (int k = 0; k < 3; ++k) {
+            while (*at == ' ' || *at == '\t') ++at;
+            const char* begin = at;
+            while (*at != '\0' && *at != ' ' && *at != '\t' && *at != '\r') ++at;
+            double value = 0.0;
+            const auto [end, ec] = std::from_chars(begin, at, value);
+            if (begin == at || ec != std::errc() || end != at || !std::isfinite(value))
+                throw InputError("'" + path.string() + "' line " + std::to_string(number) + ": vertex coordinate '" +
+                                 std::string(begin, at) + "' is not a finite number");
+        }
+    }
+}
+}  // namespace
+
 void write_obj(const fs::path& path, const Mesh& mesh) {
     validate(mesh, path.string());
     AtomicFile file(path);
-    std::ofstream& out = file.stream();
+    write_obj(file.stream(), mesh);
+    file.commit();
+}
+
+void write_obj(std::ostream& out, const Mesh& mesh) {
     char line[160];
     out << "# foldcast mesh: " << mesh.positions.size() << " vertices, "
         << mesh.topology.triangles.size() << " triangles\n";
@@ -42,13 +73,13 @@ void write_obj(const fs::path& path, const Mesh& mesh) {
         }
         out << '\n';
     }
-    file.commit();
 }
 
 Mesh read_obj(const fs::path& path) {
     const std::string name = path.string();
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) throw InputError("cannot read '" + name + "': no such file");
+    reject_unreadable_positions(path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;

@@ -33,7 +33,12 @@ void write_pc2(const fs::path& path, const std::vector<std::vector<Vec3f>>& fram
     for (const auto& f : frames)
         if (f.size() != n) throw InputError("cannot write '" + path.string() + "': frames differ in vertex count");
     AtomicFile file(path);
-    std::ofstream& out = file.stream();
+    write_pc2(file.stream(), frames, info);
+    file.commit();
+}
+
+void write_pc2(std::ostream& out, const std::vector<std::vector<Vec3f>>& frames, Pc2Info info) {
+    const std::size_t n = frames.empty() ? 0 : frames.front().size();
     out.write(kSignature, sizeof kSignature);
     put<std::int32_t>(out, 1);
     put<std::int32_t>(out, static_cast<std::int32_t>(n));
@@ -42,7 +47,6 @@ void write_pc2(const fs::path& path, const std::vector<std::vector<Vec3f>>& fram
     put<std::int32_t>(out, static_cast<std::int32_t>(frames.size()));
     for (const auto& f : frames)
         out.write(reinterpret_cast<const char*>(f.data()), static_cast<std::streamsize>(n * sizeof(Vec3f)));
-    file.commit();
 }
 
 std::vector<std::vector<Vec3f>> read_pc2(const fs::path& path, Pc2Info* info) {
@@ -100,9 +104,13 @@ void write_pc2_animation(const fs::path& pc2, const Animation& anim) {
     if (anim.frames.empty()) throw InputError("cannot write '" + pc2.string() + "': no frames");
     fs::path obj = pc2;
     obj.replace_extension(".obj");
-    check_writable(obj);
-    write_pc2(pc2, anim.frames);
-    write_obj(obj, anim.frame_mesh(0));
+    // Both or neither: a PC2 beside the OBJ of another animation cannot be read back.
+    OutputTransaction outputs;
+    write_pc2(outputs.stage(pc2), anim.frames);
+    const Mesh topology = anim.frame_mesh(0);
+    validate(topology, obj.string());
+    write_obj(outputs.stage(obj), topology);
+    outputs.commit();
 }
 
 }  // namespace foldcast

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "foldcast/core/error.hpp"
+#include "foldcast/core/quiet_stderr.hpp"
 #include "foldcast/looks/weave.hpp"
 #include "foldcast/core/colour.hpp"
 
@@ -31,9 +33,23 @@ V3 sample_tiled(const cv::Mat& img, float s, float t) {
 }
 
 cv::Mat load_image(const std::filesystem::path& path, bool srgb) {
-    cv::Mat raw = cv::imread(path.string(), cv::IMREAD_COLOR);
+    cv::Mat raw;
+    std::string why, library_said;
+    {
+        const QuietStderr quiet;  // libpng/libjpeg warnings become part of our one line
+        try {
+            raw = cv::imread(path.string(), cv::IMREAD_COLOR);
+        } catch (const cv::Exception& e) {  // e.g. a header claiming more than 2^30 pixels
+            raw.release();
+            why = ": " + e.err;
+        }
+        library_said = quiet.first_line();
+        if (raw.empty() && why.empty() && !library_said.empty()) why = ": " + library_said;
+    }
+    if (!raw.empty() && !library_said.empty())
+        std::fprintf(stderr, "foldcast: warning: look texture %s: %s\n", path.c_str(), library_said.c_str());
     if (raw.empty())
-        throw InputError("look texture " + path.string() + ": cannot be read as an image (PNG, JPEG, EXR...)");
+        throw InputError("look texture " + path.string() + ": cannot be read as an image (PNG, JPEG, EXR...)" + why);
     cv::Mat f;
     raw.convertTo(f, CV_32FC3, 1.0 / 255.0);
     if (srgb)

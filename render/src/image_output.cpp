@@ -21,15 +21,15 @@ namespace foldcast::render {
 namespace fs = std::filesystem;
 namespace {
 
-void write_png(const fs::path& path, const cv::Mat& bgr_or_bgra) {
+void write_png(OutputTransaction& outputs, const fs::path& path, const cv::Mat& bgr_or_bgra) {
     std::vector<std::uint8_t> bytes;
     if (!cv::imencode(".png", bgr_or_bgra, bytes)) throw std::runtime_error("PNG encoding failed for " + path.string());
-    write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    outputs.stage(path).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 
 // Channels named e.g. {"R","G","B","A"} or {"Y"}, interleaved float pixels.
-void write_exr(const fs::path& path, const Image& img, const std::vector<std::string>& names) {
-    AtomicFile file(path);
+void write_exr(OutputTransaction& outputs, const fs::path& path, const Image& img, const std::vector<std::string>& names) {
+    std::ofstream& file = outputs.stage(path);
     {
         Imf::Header header(img.width, img.height);
         Imf::FrameBuffer fb;
@@ -40,12 +40,11 @@ void write_exr(const fs::path& path, const Image& img, const std::vector<std::st
             // OpenEXR's Slice takes a non-const base pointer but only reads when writing.
             fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(img.pixels.data()) + c), xs, ys));
         }
-        Imf::StdOFStream stream(file.stream(), path.c_str());
+        Imf::StdOFStream stream(file, path.c_str());
         Imf::OutputFile out(stream, header);
         out.setFrameBuffer(fb);
         out.writePixels(img.height);
     }
-    file.commit();
 }
 
 cv::Mat aov_to_png(Aov aov, const Image& img) {
@@ -114,6 +113,14 @@ std::vector<std::uint8_t> to_srgb8(const Image& rgba, double exposure_ev, bool k
 }
 
 std::vector<fs::path> write_render(const fs::path& out, const RenderResult& result, const SceneSpec& scene) {
+    OutputTransaction outputs;  // the beauty and its AOVs: all new or all old
+    std::vector<fs::path> written = write_render(outputs, out, result, scene);
+    outputs.commit();
+    return written;
+}
+
+std::vector<fs::path> write_render(OutputTransaction& outputs, const fs::path& out, const RenderResult& result,
+                                   const SceneSpec& scene) {
     std::string ext = out.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".png" && ext != ".exr")
@@ -127,24 +134,24 @@ std::vector<fs::path> write_render(const fs::path& out, const RenderResult& resu
         cv::Mat rgb(img.height, img.width, alpha ? CV_8UC4 : CV_8UC3, px.data());
         cv::Mat bgr;
         cv::cvtColor(rgb, bgr, alpha ? cv::COLOR_RGBA2BGRA : cv::COLOR_RGB2BGR);
-        write_png(out, bgr);
+        write_png(outputs, out, bgr);
     } else {
         Image scaled = img;
         const float gain = static_cast<float>(std::exp2(scene.exposure_ev));
         for (std::size_t i = 0; i < scaled.pixels.size(); ++i)
             if (i % 4 != 3) scaled.pixels[i] *= gain;
-        write_exr(out, scaled, {"R", "G", "B", "A"});
+        write_exr(outputs, out, scaled, {"R", "G", "B", "A"});
     }
     written.push_back(out);
     for (const AovImage& aov : result.aovs) {
         fs::path path = out;
         path.replace_extension(std::string(".") + aov_name(aov.aov) + ext);
         if (ext == ".png") {
-            write_png(path, aov_to_png(aov.aov, aov.image));
+            write_png(outputs, path, aov_to_png(aov.aov, aov.image));
         } else if (aov.image.channels == 3) {
-            write_exr(path, aov.image, {"R", "G", "B"});
+            write_exr(outputs, path, aov.image, {"R", "G", "B"});
         } else {
-            write_exr(path, aov.image, {"Y"});
+            write_exr(outputs, path, aov.image, {"Y"});
         }
         written.push_back(path);
     }

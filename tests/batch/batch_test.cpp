@@ -123,7 +123,44 @@ TEST(BatchRun, ResumeSkipsVerifiedOutputsAndRedoesDamagedOnes) {
     rendered = 0;
     run_batch(m, {0, 1}, counting);
     EXPECT_EQ(rendered, 2);
-    EXPECT_TRUE(is_finished(all_jobs(m)[4].output));
+    EXPECT_TRUE(is_finished(all_jobs(m)[4].output, job_identity(all_jobs(m)[4], m)));
+}
+
+// Issue #17 item 8: a resumed batch must not keep images of another spp, seed, size, view
+// or scene; each of these changes the job's identity and so re-renders every image.
+TEST(BatchRun, ResumeRedoesJobsWhoseSettingsChanged) {
+    const auto dir = test::temp_dir();
+    std::ofstream(dir / "shirt.toml") << "[garment]\nwidth_m = 0.5\n";
+    std::ofstream(dir / "scarf.toml") << "[garment]\nwidth_m = 0.3\n";
+    const BatchManifest base = load_manifest(write_manifest(dir, kManifest));
+    int rendered = 0;
+    auto counting = [&](const BatchJob& job, const BatchManifest& manifest) {
+        ++rendered;
+        fake_render(job, manifest);
+    };
+    run_batch(base, {0, 1}, counting);
+    ASSERT_EQ(rendered, 12);
+    auto rerun = [&](const BatchManifest& changed) {
+        rendered = 0;
+        run_batch(changed, {0, 1}, counting);
+        return rendered;
+    };
+    EXPECT_EQ(rerun(base), 0);
+    BatchManifest m = base;
+    m.spp += 1;
+    EXPECT_EQ(rerun(m), 12) << "spp";
+    m.seed += 1;
+    EXPECT_EQ(rerun(m), 12) << "seed";
+    m.width += 8;
+    EXPECT_EQ(rerun(m), 12) << "width";
+    EXPECT_EQ(rerun(m), 0);
+    std::ofstream(dir / "scarf.toml") << "[garment]\nwidth_m = 0.35\n";
+    EXPECT_EQ(rerun(m), 6) << "the scarf's scene file";
+    // The sidecar stays a sha256sum file: its identity line is a comment.
+    std::ifstream sidecar(all_jobs(m)[0].output.string() + ".sha256");
+    std::string first;
+    std::getline(sidecar, first);
+    EXPECT_EQ(first.rfind("# foldcast-job ", 0), 0u) << first;
 }
 
 TEST(BatchRun, Sha256OfKnownBytes) {

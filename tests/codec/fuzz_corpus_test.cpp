@@ -9,6 +9,7 @@
 #include <string>
 
 #include "foldcast/codec.hpp"
+#include "paper_container.hpp"
 
 namespace foldcast {
 namespace {
@@ -31,6 +32,33 @@ TEST(FuzzCorpus, EverySeedDecodesInTheCurrentFormat) {
         ++seeds;
     }
     EXPECT_GE(seeds, 4);
+}
+
+}  // namespace
+}  // namespace foldcast
+
+namespace foldcast {
+namespace {
+
+// fuzz_fca_paper's seeds (codec/fuzz/corpus_paper) must reach the paper profile's packets:
+// wrapped in the harness's container they decode completely.
+TEST(FuzzCorpus, EveryPaperSeedDecodesInsideTheHarnessContainer) {
+    const std::filesystem::path dir = std::filesystem::path(FOLDCAST_SOURCE_DIR) / "codec/fuzz/corpus_paper";
+    int seeds = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        const std::string seed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        ASSERT_GT(seed.size(), 3u) << entry.path();
+        const std::string file = codec::fuzz::paper_container(reinterpret_cast<const std::uint8_t*>(seed.data()), seed.size());
+        const std::string name = entry.path().filename().string();
+        codec::StreamingDecoder decoder(name, file.size());
+        ASSERT_NO_THROW(decoder.feed(file)) << name;
+        EXPECT_EQ(decoder.profile(), codec::Profile::paper) << name;
+        EXPECT_TRUE(decoder.status().complete) << name;
+        ASSERT_NO_THROW((void)decoder.animation()) << name;
+        ++seeds;
+    }
+    EXPECT_GE(seeds, 2);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <cstring>
 #include <random>
 
 #include "bspline_wavelet.hpp"
@@ -95,6 +96,35 @@ TEST(BSplineWavelet, SupportsCoverTheSignalAndNest) {
     // A finest-level wavelet's support is narrower than a coarse one's.
     const auto fine = w.support(w.length() - 40), coarse = w.support(12);
     EXPECT_LT(fine.second - fine.first, coarse.second - coarse.first);
+}
+
+}  // namespace
+}  // namespace foldcast::codec
+
+namespace foldcast::codec {
+namespace {
+
+// The windowed energy replaces f.dot(gram * f) over the whole vector (O(rows) per wavelet,
+// O(T^2) per animation); the wavelets, and so the codec's bytes, depend on it being the
+// same double to the last bit, for windows at the start, the middle and every end phase.
+TEST(BSplineWavelet, WindowEnergyIsBitIdenticalToTheWholeVectorProduct) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> d(-1.0, 1.0);
+    for (int level = 4; level <= 9; ++level) {
+        const Eigen::SparseMatrix<double> gram = gram_matrix(level);
+        const long rows = static_cast<long>(level_size(level));
+        for (long width : {4L, 5L, 11L})
+            for (long first = 0; first + width <= rows; ++first) {
+                Eigen::VectorXd q(width);
+                for (Eigen::Index k = 0; k < q.size(); ++k) q(k) = d(rng);
+                Eigen::VectorXd full = Eigen::VectorXd::Zero(rows);
+                full.segment(first, width) = q;
+                const double whole = full.dot(gram * full);
+                const double windowed = window_energy(gram, rows, first, q);
+                ASSERT_EQ(std::memcmp(&whole, &windowed, sizeof whole), 0)
+                    << "level " << level << " first " << first << " width " << width << ": " << whole << " vs " << windowed;
+            }
+    }
 }
 
 }  // namespace

@@ -53,3 +53,86 @@ TEST(AtomicFile, MissingDirectoryIsInputError) {
 
 }  // namespace
 }  // namespace foldcast
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+
+#include "foldcast/core/interrupt_cleanup.hpp"
+
+namespace foldcast {
+namespace {
+
+std::string read_all(const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::string s;
+    in >> s;
+    return s;
+}
+
+TEST(OutputTransaction, AllFilesOrNone) {
+    const auto dir = test::temp_dir();
+    write_file_atomically(dir / "a.txt", "old-a");
+    write_file_atomically(dir / "b.txt", "old-b");
+    {
+        OutputTransaction t;
+        t.stage(dir / "a.txt") << "new-a";
+        t.stage(dir / "b.txt") << "new-b";
+        EXPECT_EQ(entries(dir), 4u);  // two targets, two temporaries
+    }  // abandoned
+    EXPECT_EQ(read_all(dir / "a.txt"), "old-a");
+    EXPECT_EQ(read_all(dir / "b.txt"), "old-b");
+    EXPECT_EQ(entries(dir), 2u);
+    OutputTransaction t;
+    t.stage(dir / "a.txt") << "new-a";
+    t.stage(dir / "b.txt") << "new-b";
+    EXPECT_THROW(t.stage(dir / "a.txt"), InputError);
+    t.commit();
+    EXPECT_EQ(read_all(dir / "a.txt"), "new-a");
+    EXPECT_EQ(read_all(dir / "b.txt"), "new-b");
+    EXPECT_EQ(entries(dir), 2u);
+}
+
+// Runs `body` in a child process and returns its wait status.
+template <typename Body>
+int in_child(Body body) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        body();
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return status;
+}
+
+TEST(InterruptCleanup, SignalRemovesLiveTemporariesAndStillKills) {
+    const auto dir = test::temp_dir();
+    for (int sig : {SIGINT, SIGTERM}) {
+        const int status = in_child([&] {
+            OutputTransaction t;
+            t.stage(dir / "out.txt") << "half";
+            t.stage_file(dir / "video.mp4");
+            std::ofstream(t.staged(dir / "video.mp4")) << "x";
+            ::raise(sig);
+        });
+        EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << status;
+        EXPECT_EQ(entries(dir), 0u) << "a temporary survived signal " << sig;
+    }
+}
+
+// A signal during a commit waits for the last rename: the process dies with every new file in place.
+TEST(InterruptCleanup, DeferralHoldsTheSignalUntilItEnds) {
+    const auto dir = test::temp_dir();
+    const int status = in_child([&] {
+        const InterruptDeferral hold;
+        ::raise(SIGTERM);
+        std::ofstream(dir / "after-signal.txt") << "written";
+    });
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
+    EXPECT_EQ(read_all(dir / "after-signal.txt"), "written");
+}
+
+}  // namespace
+}  // namespace foldcast

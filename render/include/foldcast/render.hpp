@@ -17,6 +17,10 @@
 #include "foldcast/core/progress.hpp"
 #include "foldcast/looks.hpp"
 
+namespace foldcast {
+class OutputTransaction;  // foldcast/core/atomic_file.hpp
+}
+
 namespace foldcast::render {
 
 struct CameraSpec {
@@ -177,6 +181,9 @@ RenderResult render_still(const SceneSpec& scene, const RenderOptions& options,
 // float RGBA) and each AOV beside it as OUT.<aov>.png / OUT.<aov>.exr.  Atomic writes.
 // Returns the paths written.
 std::vector<std::filesystem::path> write_render(const std::filesystem::path& out,
+                                                const RenderResult& result, const SceneSpec& scene);
+// The same files staged in `outputs`, replaced when the caller commits it.
+std::vector<std::filesystem::path> write_render(OutputTransaction& outputs, const std::filesystem::path& out,
                                                 const RenderResult& result, const SceneSpec& scene);
 // sRGB 8-bit encoding used for PNG output (exposure applied, clamped).
 std::vector<std::uint8_t> to_srgb8(const Image& rgba, double exposure_ev, bool keep_alpha);

@@ -62,9 +62,15 @@ std::vector<BatchJob> shard_jobs(const BatchManifest& manifest, Shard shard);
 // Hex SHA-256 of a file's bytes.
 std::string sha256_file(const std::filesystem::path& path);
 
-// True when `output` exists with a sidecar `<output>.sha256` (sha256sum format) that
-// matches its bytes: a finished, verified output a resumed run may skip.
-bool is_finished(const std::filesystem::path& output);
+// What decides a job's pixels, hashed (hex SHA-256): the scene file's bytes and those of the
+// garment files it names, the look, the view's angles and the manifest's width, height, spp
+// and seed.  A resumed run re-renders an output whose recorded identity differs.
+std::string job_identity(const BatchJob& job, const BatchManifest& manifest);
+
+// True when `output` exists with a sidecar `<output>.sha256` (sha256sum format, its first
+// line a "# foldcast-job IDENTITY" comment that sha256sum -c skips) that matches its bytes
+// and `identity`: a finished, verified output of the same job a resumed run may skip.
+bool is_finished(const std::filesystem::path& output, const std::string& identity);
 
 struct BatchOutput {
     BatchJob job;

@@ -7,6 +7,7 @@
 //   3. more than warn_percent % warn, or the largest difference > hard_warn -> WARNING
 //   4. otherwise                                                         -> PASS
 // Rule 1 is idiff's: with no failing pixel, warnings and the hard limits do not matter.
+// Before all of them, ours: a NaN in either image is a FAILURE (a gate fails closed).
 #include <limits>
 
 #include "foldcast/compare/image.hpp"
@@ -46,6 +47,7 @@ struct DiffReport {
     double flip_max = 0.0;
     long long warn_pixels = 0;
     long long fail_pixels = 0;
+    long long nan_values = 0;    // channels where either image holds NaN: always FAILURE
     double warn_percent = 0.0;   // 100 * warn_pixels / pixels
     double fail_percent = 0.0;
     DiffVerdict verdict = DiffVerdict::pass;
@@ -56,7 +58,12 @@ enum class HeatMapKind {
     abs_error,  // max over channels of |A-B|, scaled so that the largest error is full scale
 };
 
-// Compares `test` against `reference`.  Throws SizeMismatch when sizes or channel counts
+// Throws InputError naming the flag when a threshold is NaN or negative, or a percentage is
+// over 100.
+void validate(const DiffThresholds& thresholds);
+
+// Compares `test` against `reference` (validating the thresholds first).  A channel where
+// either image holds NaN counts as an infinite difference, so it fails at any threshold.  Throws SizeMismatch when sizes or channel counts
 // differ.  When `heat_map` is given it receives an RGB picture of the differences.
 DiffReport diff_images(const Image& reference, const Image& test, const DiffThresholds& thresholds,
                        Image* heat_map = nullptr, HeatMapKind kind = HeatMapKind::flip);

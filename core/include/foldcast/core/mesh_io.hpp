@@ -3,6 +3,7 @@
 // Blender's PC2 point cache.  Writers are atomic (temporary file + rename); readers
 // validate and throw InputError naming the file and what is wrong.
 #include <filesystem>
+#include <ostream>
 
 #include "foldcast/core/mesh.hpp"
 
@@ -12,6 +13,7 @@ namespace foldcast {
 // UV per vertex (the first one a face gives it): fixed-topology animation needs per-vertex
 // attributes, so UV seams are not preserved.
 void write_obj(const std::filesystem::path& path, const Mesh& mesh);
+void write_obj(std::ostream& out, const Mesh& mesh);  // no validation: for staged outputs
 Mesh read_obj(const std::filesystem::path& path);
 
 // Binary little-endian PLY with x y z nx ny nz s t and triangle faces.
@@ -25,13 +27,15 @@ struct Pc2Info {
 };
 void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<Vec3f>>& frames,
                Pc2Info info = {});
+void write_pc2(std::ostream& out, const std::vector<std::vector<Vec3f>>& frames, Pc2Info info = {});
 // Frames only: PC2 carries no topology.  Rejects files whose header disagrees with their size.
 std::vector<std::vector<Vec3f>> read_pc2(const std::filesystem::path& path, Pc2Info* info = nullptr);
 
 // PC2 frames + topology from an OBJ with the same vertex order.
 Animation read_pc2_animation(const std::filesystem::path& pc2, const std::filesystem::path& obj,
                              double fps = 30.0);
-// Writes `path` (.pc2) and the topology (first frame) as the .obj of the same stem beside it.
+// Writes `path` (.pc2) and the topology (first frame) as the .obj of the same stem beside it,
+// both or neither (one OutputTransaction).
 void write_pc2_animation(const std::filesystem::path& pc2, const Animation& anim);
 
 }  // namespace foldcast
