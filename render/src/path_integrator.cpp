@@ -24,7 +24,7 @@ void add(V3& radiance, const V3& contribution, int depth) {
 }  // namespace
 
 PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0,
-                                 const RTCHit& hit0, float pixel_angle, RandomStream& rng, std::uint64_t& rays) const {
+                                 const RTCHit& hit0, float pixel_angle, PixelSampler& sampler, std::uint64_t& rays) const {
     PathSample out;
     V3 beta = V3::Ones();
     Vec3f o = cam_o, d = cam_d;
@@ -70,6 +70,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         if (depth == 0) {
             out.albedo = bsdf.albedo();
             out.normal = hit.ns;
+            out.shading_normal = frame.n;
             out.depth = hit.t;
             out.fold = hit.material == MaterialId::garment ? hit.fold : 0.0f;
             if (transparent_ && hit.material == MaterialId::backdrop) out.foreground = false;
@@ -77,21 +78,24 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         if (depth + 1 >= max_depth_) break;
 
         const LightChoice choice = lights_.choose(hit.p, hit.ns);
-        const float u_pick = rng.next(), u_a = rng.next(), u_b = rng.next();
-        if (const auto direct = direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_pick, u_a, u_b, rays))
+        const float u_pick = sampler.get1d();
+        const Eigen::Vector2f u_light = sampler.get2d();
+        if (const auto direct = direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_pick, u_light.x(),
+                                                u_light.y(), rays))
             add(out.radiance, beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
                 depth + 1);
 
         // Continue the path by sampling the BSDF.
-        const float u_lobe = rng.next(), u1 = rng.next(), u2 = rng.next();
-        const std::optional<BsdfSample> bs = bsdf.sample(u_lobe, u1, u2);
+        const float u_lobe = sampler.get1d();
+        const Eigen::Vector2f u_dir = sampler.get2d();
+        const std::optional<BsdfSample> bs = bsdf.sample(u_lobe, u_dir.x(), u_dir.y());
         if (!bs) break;
         const Vec3f wi = frame.to_world(bs->wi);
         if (wi.dot(hit.ng) <= 0.0f) break;
         beta = beta.cwiseProduct(bs->weight);
         if (depth >= 2) {  // Russian roulette
             const float q = std::min(0.95f, beta.maxCoeff());
-            if (rng.next() >= q) break;
+            if (sampler.get1d() >= q) break;
             beta /= q;
         }
         prev_bsdf_pdf = bs->pdf;

@@ -6,7 +6,7 @@
 
 #include "embree_scene.hpp"
 #include "light_sampler.hpp"
-#include "random_stream.hpp"
+#include "sobol_sampler.hpp"
 #include "shading.hpp"
 
 namespace foldcast::render {
@@ -15,7 +15,8 @@ struct PathSample {
     V3 radiance = V3::Zero();
     bool foreground = true;  // false: the camera saw the backdrop or the sky
     V3 albedo = V3::Zero();
-    Vec3f normal = Vec3f::Zero();
+    Vec3f normal = Vec3f::Zero();          // interpolated (the normal AOV)
+    Vec3f shading_normal = Vec3f::Zero();  // with the weave's bump (guides the denoiser)
     float depth = 0.0f;
     float fold = 0.0f;
 };
@@ -29,7 +30,7 @@ public:
     // `first_hit`: whether the camera ray (ray0, hit0) hit anything; pixel_angle: the
     // camera's cone spread per pixel, for texture footprints.
     PathSample trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0,
-                     const RTCHit& hit0, float pixel_angle, RandomStream& rng, std::uint64_t& rays) const;
+                     const RTCHit& hit0, float pixel_angle, PixelSampler& sampler, std::uint64_t& rays) const;
 
 private:
     const EmbreeScene& scene_;

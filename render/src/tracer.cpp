@@ -13,13 +13,16 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "camera_model.hpp"
 #include "embree_scene.hpp"
 #include "foldcast/core/error.hpp"
 #include "light_sampler.hpp"
 #include "path_integrator.hpp"
-#include "random_stream.hpp"
+#include "sobol_sampler.hpp"
+#include "denoise.hpp"
+#include "foldcast/core/colour.hpp"
 #include "shading.hpp"
 
 namespace foldcast::render {
@@ -27,6 +30,53 @@ namespace {
 
 constexpr int kTile = 32;   // tile side in pixels (16-32 px: no false sharing between tiles)
 constexpr int kBlock = 4;   // 4x4 pixel packets for camera rays
+// Adaptive sampling trusts a pixel's own variance estimate only from this many samples on
+// (fewer can miss a rare bright path entirely), and checks it at powers of two, where the
+// Sobol' points of the pixel are a complete stratification.
+constexpr int kMinAdaptiveSpp = 16;
+
+// Display units (sRGB, 0-1) per unit of linear radiance at `linear`: the slope of the
+// transfer curve, so noise is judged as it will be seen.
+float srgb_slope(float linear) {
+    if (linear <= 0.0031308f) return 12.92f;
+    return 1.055f / 2.4f * std::pow(linear, 1.0f / 2.4f - 1.0f);
+}
+
+// What one pixel has gathered so far.
+struct PixelSums {
+    V3 all = V3::Zero(), fg = V3::Zero();
+    int fg_count = 0, n = 0;
+    double lum = 0.0, lum2 = 0.0;  // luminance sums for the variance
+    V3 albedo = V3::Zero(), normal = V3::Zero(), shading_normal = V3::Zero();
+    float depth = 0.0f, fold = 0.0f;
+    bool done = false;
+
+    void add(const PathSample& s) {
+        ++n;
+        all += s.radiance;
+        if (s.foreground) {
+            fg += s.radiance;
+            ++fg_count;
+        }
+        const double l = luminance(s.radiance);
+        lum += l;
+        lum2 += l * l;
+        albedo += s.albedo;
+        normal += V3(s.normal.x(), s.normal.y(), s.normal.z());
+        shading_normal += V3(s.shading_normal.x(), s.shading_normal.y(), s.shading_normal.z());
+        depth += s.depth;
+        fold += s.fold;
+    }
+    float variance_of_mean() const {
+        if (n < 2) return 0.0f;
+        const double mean = lum / n;
+        return static_cast<float>(std::max(0.0, (lum2 - lum * mean) / (n - 1)) / n);
+    }
+    float standard_error_display(float gain) const {
+        const float mean = static_cast<float>(lum / n) * gain;
+        return std::sqrt(variance_of_mean()) * gain * srgb_slope(mean);
+    }
+};
 
 GeometryData garment_geometry(FrameGeometry& geometry) {
     GeometryData garment;
@@ -92,111 +142,132 @@ Tracer::~Tracer() = default;
 
 void* Tracer::embree_scene() const { return impl_->scene.handle(); }
 
+TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& options) {
+    TraceSettings settings;
+    settings.width = options.width > 0 ? options.width : scene.width;
+    settings.height = options.height > 0 ? options.height : scene.height;
+    settings.spp = options.spp > 0 ? options.spp : scene.spp;
+    settings.seed = options.seed.value_or(scene.seed);
+    settings.threads = options.threads;
+    settings.aovs = options.aovs;
+    settings.denoise = options.denoise;
+    settings.keep_raw = options.keep_raw;
+    settings.noise_threshold = options.noise_threshold;
+    settings.exposure_ev = scene.exposure_ev;
+    return settings;
+}
+
 RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings, const ProgressFn& progress) const {
     const auto start = std::chrono::steady_clock::now();
     const Impl& m = *impl_;
     const int width = settings.width, height = settings.height, spp = std::max(1, settings.spp);
+    const std::size_t pixel_count = static_cast<std::size_t>(width) * height;
     const CameraModel cam(camera, width, height);
     const float pixel_angle = cam.pixel_angle();
+    const float threshold = static_cast<float>(settings.noise_threshold);
+    const float gain = static_cast<float>(std::exp2(settings.exposure_ev));
     RenderResult result;
-    result.beauty = Image{width, height, 4, std::vector<float>(static_cast<std::size_t>(width) * height * 4, 0.0f)};
+    result.beauty = Image{width, height, 4, std::vector<float>(pixel_count * 4, 0.0f)};
     bool want[4] = {false, false, false, false};
     for (Aov a : settings.aovs) want[static_cast<int>(a)] = true;
     const int aov_channels[4] = {3, 3, 1, 1};
     Image aov_img[4];
     for (int a = 0; a < 4; ++a)
-        if (want[a])
-            aov_img[a] = Image{width, height, aov_channels[a],
-                               std::vector<float>(static_cast<std::size_t>(width) * height * aov_channels[a], 0.0f)};
+        if (want[a]) aov_img[a] = Image{width, height, aov_channels[a], std::vector<float>(pixel_count * aov_channels[a], 0.0f)};
+    DenoiseFeatures features;
+    if (settings.denoise) {
+        features.albedo.resize(pixel_count);
+        features.normal.resize(pixel_count);
+        features.depth.resize(pixel_count);
+        features.variance.resize(pixel_count);
+    }
 
     const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
     const int tile_count = tiles_x * tiles_y;
-    std::atomic<std::uint64_t> total_rays{0};
+    std::atomic<std::uint64_t> total_rays{0}, total_samples{0};
     std::atomic<int> tiles_done{0};
 
     auto render_tile = [&](int tile) {
         set_ftz_daz();
         const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
         const int x1 = std::min(width, x0 + kTile), y1 = std::min(height, y0 + kTile);
-        std::uint64_t rays = 0;
+        std::uint64_t rays = 0, samples = 0;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         for (int by = y0; by < y1; by += kBlock)
             for (int bx = x0; bx < x1; bx += kBlock) {
-                // Per-pixel accumulators for the 4x4 block.
-                std::array<V3, 16> fg_sum{}, all_sum{};
-                std::array<int, 16> fg_count{};
-                std::array<V3, 16> albedo{}, normal{};
-                std::array<float, 16> depth{}, fold{};
-                for (int k = 0; k < 16; ++k) {
-                    fg_sum[k] = all_sum[k] = albedo[k] = normal[k] = V3::Zero();
-                    depth[k] = fold[k] = 0.0f;
-                }
+                std::array<PixelSums, 16> sums{};
+                std::array<bool, 16> inside{};
+                for (int k = 0; k < 16; ++k) inside[k] = bx + k % kBlock < x1 && by + k / kBlock < y1;
                 for (int s = 0; s < spp; ++s) {
                     alignas(64) RTCRayHit16 packet;
                     alignas(64) int valid[16];
-                    std::array<RandomStream, 16> rng{RandomStream(0, 0, 0), RandomStream(0, 0, 0), RandomStream(0, 0, 0),
-                                                     RandomStream(0, 0, 0), RandomStream(0, 0, 0), RandomStream(0, 0, 0),
-                                                     RandomStream(0, 0, 0), RandomStream(0, 0, 0), RandomStream(0, 0, 0),
-                                                     RandomStream(0, 0, 0), RandomStream(0, 0, 0), RandomStream(0, 0, 0),
-                                                     RandomStream(0, 0, 0), RandomStream(0, 0, 0), RandomStream(0, 0, 0),
-                                                     RandomStream(0, 0, 0)};
                     std::array<Vec3f, 16> origin, dir;
+                    std::array<std::optional<PixelSampler>, 16> sampler;
+                    bool any = false;
                     for (int k = 0; k < 16; ++k) {
                         const int x = bx + k % kBlock, y = by + k / kBlock;
-                        valid[k] = (x < x1 && y < y1) ? -1 : 0;
-                        rng[k] = RandomStream(settings.seed, static_cast<std::uint64_t>(y) * width + x,
-                                              static_cast<std::uint32_t>(s));
+                        valid[k] = inside[k] && !sums[k].done ? -1 : 0;
                         Vec3f o = Vec3f::Zero(), d = Vec3f::UnitZ();
                         if (valid[k]) {
-                            const float jx = rng[k].next(), jy = rng[k].next(), lu = rng[k].next(), lv = rng[k].next();
-                            cam.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy, lu, lv, &o, &d);
+                            any = true;
+                            sampler[k].emplace(settings.seed, static_cast<std::uint64_t>(y) * width + x,
+                                               static_cast<std::uint32_t>(s));
+                            const Eigen::Vector2f jitter = sampler[k]->get2d(), lens = sampler[k]->get2d();
+                            cam.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y(), lens.x(),
+                                    lens.y(), &o, &d);
                         }
                         origin[k] = o;
                         dir[k] = d;
                         set_packet_ray(packet, k, o, d);
                     }
+                    if (!any) break;
                     rtcIntersect16(valid, m.scene.handle(), &ctx, &packet);
                     for (int k = 0; k < 16; ++k) {
                         if (!valid[k]) continue;
                         ++rays;
+                        ++samples;
                         RTCRay r;
                         RTCHit h;
                         unpack_lane(packet, k, &r, &h);
-                        const PathSample o = m.integrator.trace(origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID,
-                                                                r, h, pixel_angle, rng[k], rays);
-                        all_sum[k] += o.radiance;
-                        if (o.foreground) {
-                            fg_sum[k] += o.radiance;
-                            ++fg_count[k];
-                        }
-                        albedo[k] += o.albedo;
-                        normal[k] += V3(o.normal.x(), o.normal.y(), o.normal.z());
-                        depth[k] += o.depth;
-                        fold[k] += o.fold;
+                        sums[k].add(m.integrator.trace(origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h,
+                                                       pixel_angle, *sampler[k], rays));
                     }
+                    const int taken = s + 1;
+                    if (threshold > 0.0f && taken >= kMinAdaptiveSpp && (taken & (taken - 1)) == 0)
+                        for (PixelSums& p : sums)
+                            if (!p.done) p.done = p.standard_error_display(gain) < threshold;
                 }
-                const float inv = 1.0f / static_cast<float>(spp);
                 for (int k = 0; k < 16; ++k) {
+                    if (!inside[k]) continue;
                     const int x = bx + k % kBlock, y = by + k / kBlock;
-                    if (x >= x1 || y >= y1) continue;
+                    const PixelSums& p = sums[k];
+                    const float inv = 1.0f / static_cast<float>(p.n);
                     float* px = result.beauty.at(x, y);
-                    const V3 c = m.transparent ? (fg_count[k] > 0 ? V3(fg_sum[k] / static_cast<float>(fg_count[k])) : V3::Zero())
-                                               : V3(all_sum[k] * inv);
+                    const V3 c = m.transparent ? (p.fg_count > 0 ? V3(p.fg / static_cast<float>(p.fg_count)) : V3::Zero())
+                                               : V3(p.all * inv);
                     px[0] = c.x(); px[1] = c.y(); px[2] = c.z();
-                    px[3] = m.transparent ? static_cast<float>(fg_count[k]) * inv : 1.0f;
-                    if (want[0]) { float* a = aov_img[0].at(x, y); for (int i = 0; i < 3; ++i) a[i] = albedo[k][i] * inv; }
+                    px[3] = m.transparent ? static_cast<float>(p.fg_count) * inv : 1.0f;
+                    if (want[0]) { float* a = aov_img[0].at(x, y); for (int i = 0; i < 3; ++i) a[i] = p.albedo[i] * inv; }
                     if (want[1]) {
-                        const V3 n = normal[k].squaredNorm() > 0.0f ? V3(normal[k].normalized()) : V3::Zero();
+                        const V3 n = p.normal.squaredNorm() > 0.0f ? V3(p.normal.normalized()) : V3::Zero();
                         float* a = aov_img[1].at(x, y);
                         for (int i = 0; i < 3; ++i) a[i] = n[i];
                     }
-                    if (want[2]) *aov_img[2].at(x, y) = depth[k] * inv;
-                    if (want[3]) *aov_img[3].at(x, y) = fold[k] * inv;
+                    if (want[2]) *aov_img[2].at(x, y) = p.depth * inv;
+                    if (want[3]) *aov_img[3].at(x, y) = p.fold * inv;
+                    if (settings.denoise) {
+                        const std::size_t i = static_cast<std::size_t>(y) * width + x;
+                        features.albedo[i] = p.albedo * inv;
+                        features.normal[i] = p.shading_normal;
+                        features.depth[i] = p.depth * inv;
+                        features.variance[i] = p.variance_of_mean();
+                    }
                 }
             }
         total_rays += rays;
+        total_samples += samples;
         const int done = ++tiles_done;
         if (progress) progress("render", static_cast<double>(done) / tile_count);
     };
@@ -207,12 +278,17 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
             for (int t = r.begin(); t != r.end(); ++t) render_tile(t);
         });
     });
+    if (settings.denoise) {
+        if (settings.keep_raw) result.raw = result.beauty;
+        denoise(result.beauty, features, settings.threads);
+    }
 
     for (int a = 0; a < 4; ++a)
         if (want[a]) result.aovs.push_back({static_cast<Aov>(a), std::move(aov_img[a])});
     result.stats.width = width;
     result.stats.height = height;
     result.stats.spp = spp;
+    result.stats.mean_spp = static_cast<double>(total_samples.load()) / static_cast<double>(pixel_count);
     result.stats.rays = total_rays.load();
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

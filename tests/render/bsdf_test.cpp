@@ -113,8 +113,8 @@ double chi2_p_value(const ClothBsdf& bsdf, int samples, std::uint64_t seed) {
         const int pi = std::min(kPhiBins - 1, static_cast<int>(phi / (2.0 * kPi) * kPhiBins));
         observed[ti * kPhiBins + pi] += 1.0;
     }
-    // Solid angle is dz dphi: integrate the pdf over each bin on an 8x8 midpoint grid.
-    constexpr int kSub = 8;
+    // Solid angle is dz dphi: integrate the pdf over each bin on a 12x12 midpoint grid.
+    constexpr int kSub = 12;
     const double dz = 1.0 / kThetaBins, dphi = 2.0 * kPi / kPhiBins;
     for (int ti = 0; ti < kThetaBins; ++ti)
         for (int pi = 0; pi < kPhiBins; ++pi) {
