@@ -67,8 +67,32 @@ void denoise(Image& rgba, const DenoiseFeatures& features, int threads) {
 
     static constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    std::vector<float> sigma(count);
     for (int pass = 0; pass < kPasses; ++pass) {
         const int stride = 1 << pass;
+        // The colour weight's scale from the variance blurred over 3x3 pixels (SVGF): a
+        // pixel whose few samples happened to agree would otherwise refuse every neighbour
+        // and stay a dark or bright speck.
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+                for (int y = rows.begin(); y != rows.end(); ++y)
+                    for (int x = 0; x < w; ++x) {
+                        float sum = 0.0f, sum_w = 0.0f;
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dx = -1; dx <= 1; ++dx) {
+                                const int qx = x + dx, qy = y + dy;
+                                if (qx < 0 || qx >= w || qy < 0 || qy >= h) continue;
+                                const std::size_t j = static_cast<std::size_t>(qy) * w + qx;
+                                if (!px[j].covered) continue;
+                                const float k = kKernel[dx + 1] * kKernel[dy + 1];
+                                sum += k * variance[j];
+                                sum_w += k;
+                            }
+                        const float v = sum_w > 0.0f ? sum / sum_w : 0.0f;
+                        sigma[static_cast<std::size_t>(y) * w + x] = kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f;
+                    }
+            });
+        });
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
                 for (int y = rows.begin(); y != rows.end(); ++y)
@@ -81,7 +105,6 @@ void denoise(Image& rgba, const DenoiseFeatures& features, int threads) {
                             continue;
                         }
                         const float lum_p = luminance(light[i]);
-                        const float sigma = kSigmaLuminance * std::sqrt(std::max(0.0f, variance[i])) + 1e-4f;
                         V3 sum = V3::Zero();
                         float sum_w = 0.0f, sum_v = 0.0f;
                         for (int dy = -1; dy <= 1; ++dy) {
@@ -94,7 +117,7 @@ void denoise(Image& rgba, const DenoiseFeatures& features, int threads) {
                                 const Pixel& q = px[j];
                                 if (!q.covered) continue;
                                 const float distance = static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy));
-                                const float e = std::abs(luminance(light[j]) - lum_p) / sigma +
+                                const float e = std::abs(luminance(light[j]) - lum_p) / sigma[i] +
                                                 std::abs(q.depth - p.depth) / (kSigmaDepth * p.depth_step * std::max(1.0f, distance));
                                 const float wt = kKernel[dx + 1] * kKernel[dy + 1] * normal_weight(p.n, q.n) * std::exp(-e);
                                 sum += wt * light[j];
