@@ -9,6 +9,7 @@
 //   bench_cycles [SCENE.toml] [--width 320] [--height 180] [--spp 4,16,64,256]
 //                [--ref-spp 2048] [--threads 2] [--out bench-cycles/]
 // References are kept in --out and reused when present (delete them to re-render).
+//   bench_cycles --rmse REF.exr TEST.exr...   prints the RMSE of each TEST against REF.
 #include <OpenEXR/ImfRgbaFile.h>
 #include <OpenEXR/ImfArray.h>
 
@@ -113,6 +114,10 @@ double time_for(const std::vector<Point>& pts, double target) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc >= 4 && std::string(argv[1]) == "--rmse") {
+        for (int i = 3; i < argc; ++i) std::printf("%s %.4f\n", argv[i], rmse(argv[2], argv[i]));
+        return 0;
+    }
     Args args;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
