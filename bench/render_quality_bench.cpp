@@ -4,7 +4,7 @@
 //            sRGB-encoded RGB against a --ref-spp reference;
 //   twill:   a 5 cm close-up of denim's 3/1 twill (bench/scenes/twill_closeup.toml), SSIM
 //            of the luma and RMSE against the reference for plain 256 spp and 16 spp + denoise;
-//   flicker: frames 0-5 of the default scene's 36-frame turntable at 128x128: RMSE against
+//   flicker: frames 0-4 of the default scene's 36-frame turntable at 96x96: RMSE against
 //            reference frames, and flicker = RMS over pixels and frame pairs of the change
 //            from frame to frame minus the reference's change (0 = the noise does not move);
 //   adaptive: the default scene at 320x180 with --noise-threshold, mean spp, RMSE and where
@@ -150,7 +150,7 @@ void part_twill(const Args& args) {
 
 void part_flicker(const Args& args) {
     const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
-    constexpr int kFirst = 0, kLast = 6, kSize = 128;
+    constexpr int kFirst = 0, kLast = 5, kSize = 96;
     auto frames = [&](const std::string& name, int spp, bool denoise) {
         const fs::path dir = args.out / ("turntable_" + name);
         bool cached = true;
