@@ -16,7 +16,8 @@ Command render_command(CLI::App& app) {
         std::string scene, out, aovs;
         int width = 0, height = 0, spp = 0, threads = 0;
         std::uint64_t seed = 0;
-        bool json = false, quiet = false;
+        double noise_threshold = 0.0;
+        bool json = false, quiet = false, denoise = false, keep_raw = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand("render", "Path-trace a still of a scene file (PNG or EXR, optional AOVs)");
@@ -30,7 +31,16 @@ Command render_command(CLI::App& app) {
         ->check(CLI::Range(1, 1024));
     sub->add_option("--aov", args->aovs, "Extra images beside OUT: albedo,normal,depth,fold (OUT.<aov>.png|exr)")
         ->check(library_validator([](const std::string& v) { render::parse_aovs(v); }, "AOV,..."));
-    sub->add_flag("--json", args->json, "Print width, height, spp, seconds, rays, rays_per_second as JSON");
+    sub->add_flag("--denoise", args->denoise,
+                  "Denoise, guided by the first hit's albedo, normal and depth (keeps the weave)");
+    sub->add_flag("--keep-raw", args->keep_raw, "With --denoise: also write the image before it as OUT.raw.png|exr")
+        ->needs("--denoise");
+    sub->add_option("--noise-threshold", args->noise_threshold,
+                    "Adaptive sampling: a pixel stops once the standard error of its mean is below this, in sRGB "
+                    "display units (e.g. 0.01); --spp is then the most a pixel takes")
+        ->check(finite_in(0.0, 1.0));
+    sub->add_flag("--json", args->json,
+                  "Print width, height, spp, mean_spp, seconds, rays, rays_per_second and the files as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args, seed] {
                 render::RenderOptions options;
@@ -39,6 +49,9 @@ Command render_command(CLI::App& app) {
                 options.spp = args->spp;
                 if (seed->count() > 0) options.seed = args->seed;
                 options.threads = args->threads;
+                options.denoise = args->denoise;
+                options.keep_raw = args->keep_raw;
+                options.noise_threshold = args->noise_threshold;
                 if (!args->aovs.empty()) options.aovs = render::parse_aovs(args->aovs);
                 const render::SceneSpec scene = render::load_scene(args->scene);
                 check_writable(args->out);
@@ -51,13 +64,13 @@ Command render_command(CLI::App& app) {
                 const render::RenderStats& s = result.stats;
                 if (args->json) {
                     nlohmann::json j = {{"width", s.width}, {"height", s.height}, {"spp", s.spp},
-                                        {"seconds", s.seconds}, {"rays", s.rays},
+                                        {"mean_spp", s.mean_spp}, {"seconds", s.seconds}, {"rays", s.rays},
                                         {"rays_per_second", s.rays_per_second()}};
                     for (const auto& p : written) j["files"].push_back(p.string());
                     std::printf("%s\n", j.dump().c_str());
                 } else if (!args->quiet) {
-                    std::fprintf(stderr, "wrote %s (%dx%d, %d spp) in %.1f s, %.2f Mrays/s\n", args->out.c_str(), s.width,
-                                 s.height, s.spp, s.seconds, s.rays_per_second() / 1e6);
+                    std::fprintf(stderr, "wrote %s (%dx%d, %.1f spp) in %.1f s, %.2f Mrays/s\n", args->out.c_str(),
+                                 s.width, s.height, s.mean_spp, s.seconds, s.rays_per_second() / 1e6);
                 }
                 return 0;
             }};

@@ -47,7 +47,8 @@ Command turntable_command(CLI::App& app) {
     struct Args {
         std::string scene, out, frames, join;
         int width = 0, height = 0, spp = 0, threads = 0;
-        bool quiet = false, json = false, preview = false;
+        double noise_threshold = 0.0;
+        bool quiet = false, json = false, preview = false, denoise = false, keep_raw = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand(
@@ -65,9 +66,17 @@ Command turntable_command(CLI::App& app) {
     sub->add_option("--join", args->join,
                     "Encode an already rendered, complete PNG sequence from this directory into -o OUT.mp4 "
                     "(no rendering)");
+    sub->add_flag("--denoise", args->denoise,
+                  "Denoise each frame, guided by the first hit's albedo, normal and depth");
+    sub->add_flag("--keep-raw", args->keep_raw, "With --denoise: also write each frame before it (frame_NNNN.raw.png)")
+        ->needs("--denoise");
+    sub->add_option("--noise-threshold", args->noise_threshold,
+                    "Adaptive sampling: a pixel stops once the standard error of its mean is below this, in sRGB "
+                    "display units; --spp is then the most a pixel takes")
+        ->check(CLI::Range(0.0, 1.0));
     sub->add_flag("--preview", args->preview,
                   "Rasterise the frames with OpenGL through EGL (fast preview) instead of path tracing");
-    sub->add_flag("--json", args->json, "Print frames, seconds, rays, rays_per_second as JSON");
+    sub->add_flag("--json", args->json, "Print frames, width, height, spp, mean_spp, seconds, rays, rays_per_second as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args] {
                 const render::SceneSpec scene = render::load_scene(args->scene);
@@ -83,6 +92,9 @@ Command turntable_command(CLI::App& app) {
                 options.render.height = args->height;
                 options.render.spp = args->spp;
                 options.render.threads = args->threads;
+                options.render.denoise = args->denoise;
+                options.render.keep_raw = args->keep_raw;
+                options.render.noise_threshold = args->noise_threshold;
                 options.preview = args->preview;
                 batch::TurntableResult result;
                 {
@@ -91,9 +103,9 @@ Command turntable_command(CLI::App& app) {
                 }
                 const render::RenderStats& s = result.stats;
                 if (args->json) {
-                    std::printf("{\"frames\": %d, \"width\": %d, \"height\": %d, \"spp\": %d, \"seconds\": %.3f, "
-                                "\"rays\": %llu, \"rays_per_second\": %.0f}\n",
-                                result.frames_rendered, s.width, s.height, s.spp, s.seconds,
+                    std::printf("{\"frames\": %d, \"width\": %d, \"height\": %d, \"spp\": %d, \"mean_spp\": %.3f, "
+                                "\"seconds\": %.3f, \"rays\": %llu, \"rays_per_second\": %.0f}\n",
+                                result.frames_rendered, s.width, s.height, s.spp, s.mean_spp, s.seconds,
                                 static_cast<unsigned long long>(s.rays), s.rays_per_second());
                 } else if (!args->quiet) {
                     std::fprintf(stderr, "rendered %d frames (%dx%d, %d spp) in %.1f s; last written: %s\n",

@@ -75,7 +75,7 @@ std::string job_identity(const BatchJob& job, const BatchManifest& manifest) {
     // The garment files a scene names change the pixels as much as the scene itself.
     std::error_code ec;
     if (fs::is_regular_file(job.garment.scene, ec)) {
-        const SceneSpec scene = load_scene(job.garment.scene);
+        const render::SceneSpec scene = render::load_scene(job.garment.scene);
         fs::path topology = scene.garment.topology;
         if (topology.empty() && !scene.garment.path.empty()) topology = fs::path(scene.garment.path).replace_extension(".obj");
         text << "garment " << hash_if_file(scene.garment.path) << " " << hash_if_file(topology) << "\n";

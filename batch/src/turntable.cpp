@@ -94,12 +94,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const StudioSetup setup(scene, load_garment(scene));
     const int width = options.render.width > 0 ? options.render.width : scene.width;
     const int height = options.render.height > 0 ? options.render.height : scene.height;
-    TraceSettings settings;
-    settings.width = width;
-    settings.height = height;
-    settings.spp = options.render.spp > 0 ? options.render.spp : scene.spp;
-    settings.seed = options.render.seed.value_or(scene.seed);
-    settings.threads = options.render.threads;
+    const TraceSettings settings = trace_settings(scene, options.render);
     const bool animated = setup.frame_count() > 1;
     auto garment_frame = [&](int f) { return animated ? f % setup.frame_count() : std::min(scene.garment.frame, setup.frame_count() - 1); };
     auto turn = [&](int f) { return -360.0 * f / total; };  // garment turns back = rig orbits forward
@@ -131,8 +126,10 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
                                           : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
         if (rasteriser && progress) progress("turntable", (done + 1.0) / count);
         result.stats.rays += r.stats.rays;
+        result.stats.mean_spp += r.stats.mean_spp / (last - first);
         auto beauty_only = std::make_shared<RenderResult>();
         beauty_only->beauty = std::move(r.beauty);
+        beauty_only->raw = std::move(r.raw);
         const fs::path p = turntable_frame_path(dir, f);
         if (writing.valid()) writing.get();
         writing = std::async(std::launch::async,

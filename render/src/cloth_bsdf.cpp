@@ -208,8 +208,8 @@ V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
     return f * wi.z();
 }
 
-bool ClothBsdf::sample(float u_lobe, float u1, float u2, BsdfSample* out) const {
-    if (wo_.z() <= 0.0f) return false;
+std::optional<BsdfSample> ClothBsdf::sample(float u_lobe, float u1, float u2) const {
+    if (wo_.z() <= 0.0f) return std::nullopt;
     V3 wi;
     if (u_lobe < p_spec_) {
         wi = reflect(wo_, sample_vndf(wo_, ax_, ay_, u1, u2));
@@ -218,14 +218,11 @@ bool ClothBsdf::sample(float u_lobe, float u1, float u2, BsdfSample* out) const 
     } else {
         wi = sample_cosine_hemisphere(u1, u2);
     }
-    if (wi.z() <= 1e-6f) return false;
+    if (wi.z() <= 1e-6f) return std::nullopt;
     float pdf = 0.0f;
     const V3 fc = eval(wi, &pdf);
-    if (!(pdf > 0.0f)) return false;
-    out->wi = wi;
-    out->pdf = pdf;
-    out->weight = fc / pdf;
-    return true;
+    if (!(pdf > 0.0f)) return std::nullopt;
+    return BsdfSample{wi, fc / pdf, pdf};
 }
 
 V3 ClothBsdf::albedo() const {

@@ -9,6 +9,7 @@
 // albedo is exactly 1 for every view direction (up to the tables' accuracy): the white
 // furnace test checks that.  All vectors are in the local shading frame (n = +z).
 #include <Eigen/Core>
+#include <optional>
 
 namespace foldcast::render {
 
@@ -35,8 +36,8 @@ public:
 
     // f(wo, wi) * cos(wi) and the sampling pdf of wi (solid angle).  Zero below the horizon.
     V3 eval(const V3& wi, float* pdf) const;
-    // Samples wi from the lobe mixture with three uniforms; false if no direction.
-    bool sample(float u_lobe, float u1, float u2, BsdfSample* out) const;
+    // Samples wi from the lobe mixture with three uniforms; nothing if no direction.
+    std::optional<BsdfSample> sample(float u_lobe, float u1, float u2) const;
     // Directional albedo estimate (for Russian roulette and the albedo AOV).
     V3 albedo() const;
 

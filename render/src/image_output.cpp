@@ -96,6 +96,25 @@ cv::Mat aov_to_png(Aov aov, const Image& img) {
     return {};
 }
 
+// The beauty image (or the image before denoising) as PNG or EXR.
+void write_beauty(OutputTransaction& outputs, const fs::path& path, const std::string& ext, const Image& img,
+                  const SceneSpec& scene) {
+    if (ext == ".png") {
+        const bool alpha = scene.transparent;
+        std::vector<std::uint8_t> px = to_srgb8(img, scene.exposure_ev, alpha);
+        cv::Mat rgb(img.height, img.width, alpha ? CV_8UC4 : CV_8UC3, px.data());
+        cv::Mat bgr;
+        cv::cvtColor(rgb, bgr, alpha ? cv::COLOR_RGBA2BGRA : cv::COLOR_RGB2BGR);
+        write_png(outputs, path, bgr);
+    } else {
+        Image scaled = img;
+        const float gain = static_cast<float>(std::exp2(scene.exposure_ev));
+        for (std::size_t i = 0; i < scaled.pixels.size(); ++i)
+            if (i % 4 != 3) scaled.pixels[i] *= gain;
+        write_exr(outputs, path, scaled, {"R", "G", "B", "A"});
+    }
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> to_srgb8(const Image& rgba, double exposure_ev, bool keep_alpha) {
@@ -127,22 +146,14 @@ std::vector<fs::path> write_render(OutputTransaction& outputs, const fs::path& o
         throw InputError("render output '" + out.string() + "': the file name must end in .png or .exr");
     check_writable(out);
     std::vector<fs::path> written;
-    const Image& img = result.beauty;
-    if (ext == ".png") {
-        const bool alpha = scene.transparent;
-        std::vector<std::uint8_t> px = to_srgb8(img, scene.exposure_ev, alpha);
-        cv::Mat rgb(img.height, img.width, alpha ? CV_8UC4 : CV_8UC3, px.data());
-        cv::Mat bgr;
-        cv::cvtColor(rgb, bgr, alpha ? cv::COLOR_RGBA2BGRA : cv::COLOR_RGB2BGR);
-        write_png(outputs, out, bgr);
-    } else {
-        Image scaled = img;
-        const float gain = static_cast<float>(std::exp2(scene.exposure_ev));
-        for (std::size_t i = 0; i < scaled.pixels.size(); ++i)
-            if (i % 4 != 3) scaled.pixels[i] *= gain;
-        write_exr(outputs, out, scaled, {"R", "G", "B", "A"});
-    }
+    write_beauty(outputs, out, ext, result.beauty, scene);
     written.push_back(out);
+    if (result.raw) {
+        fs::path path = out;
+        path.replace_extension(".raw" + ext);
+        write_beauty(outputs, path, ext, *result.raw, scene);
+        written.push_back(path);
+    }
     for (const AovImage& aov : result.aovs) {
         fs::path path = out;
         path.replace_extension(std::string(".") + aov_name(aov.aov) + ext);

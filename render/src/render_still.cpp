@@ -45,13 +45,7 @@ RenderResult render_still(const SceneSpec& scene, const RenderOptions& options, 
         throw InputError("garment.frame = " + std::to_string(frame) + ": the garment has " +
                          std::to_string(setup.frame_count()) + " frame(s) (allowed 0.." +
                          std::to_string(setup.frame_count() - 1) + ")");
-    TraceSettings settings;
-    settings.width = options.width > 0 ? options.width : scene.width;
-    settings.height = options.height > 0 ? options.height : scene.height;
-    settings.spp = options.spp > 0 ? options.spp : scene.spp;
-    settings.seed = options.seed.value_or(scene.seed);
-    settings.threads = options.threads;
-    settings.aovs = options.aovs;
+    const TraceSettings settings = trace_settings(scene, options);
     const Camera camera = frame_camera(scene.camera, {setup.framing_points(frame, 0.0)},
                                        static_cast<double>(settings.width) / settings.height);
     const Tracer tracer(setup.lit_scene(), setup.geometry(frame, 0.0));

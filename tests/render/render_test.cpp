@@ -4,6 +4,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 
@@ -34,6 +37,62 @@ TEST(Render, ByteIdenticalForAnyThreadCount) {
     RenderOptions other = one;
     other.seed = 12345;
     EXPECT_NE(render_still(s, other).beauty.pixels, a.beauty.pixels);
+}
+
+TEST(Render, DenoisedAndAdaptiveRendersAreByteIdenticalForAnyThreadCount) {
+    const SceneSpec s = test::cloth_scene(45, 29, 32);  // odd sizes: partial tiles and packets
+    RenderOptions one, three;
+    one.threads = 1;
+    three.threads = 3;
+    one.denoise = three.denoise = true;
+    one.noise_threshold = three.noise_threshold = 0.03;
+    const RenderResult a = render_still(s, one), b = render_still(s, three);
+    EXPECT_EQ(0, std::memcmp(a.beauty.pixels.data(), b.beauty.pixels.data(), a.beauty.pixels.size() * sizeof(float)));
+    EXPECT_EQ(a.stats.mean_spp, b.stats.mean_spp);
+    EXPECT_EQ(a.stats.rays, b.stats.rays);
+}
+
+TEST(Render, AdaptiveSamplingStopsPixelsByTheirNoise) {
+    const SceneSpec s = test::cloth_scene(40, 30, 64);
+    RenderOptions o;
+    o.threads = 2;
+    o.noise_threshold = 1e-6;  // nothing is that clean: every pixel takes all 64
+    EXPECT_EQ(render_still(s, o).stats.mean_spp, 64.0);
+    o.noise_threshold = 0.9;  // everything is: every pixel stops at the first check, 16
+    EXPECT_EQ(render_still(s, o).stats.mean_spp, 16.0);
+    o.noise_threshold = 0.02;  // in between: some pixels stop early, some do not
+    const RenderResult r = render_still(s, o);
+    EXPECT_GT(r.stats.mean_spp, 16.0);
+    EXPECT_LT(r.stats.mean_spp, 64.0);
+    o.noise_threshold = 0.0;
+    EXPECT_EQ(render_still(s, o).stats.mean_spp, 64.0);
+}
+
+TEST(Render, DenoisingBringsFewSamplesCloserToTheReference) {
+    const SceneSpec s = test::cloth_scene(40, 30, 8);
+    RenderOptions o;
+    o.threads = 2;
+    o.denoise = true;
+    o.keep_raw = true;
+    const RenderResult r = render_still(s, o);
+    ASSERT_TRUE(r.raw.has_value());
+    RenderOptions ref_options;
+    ref_options.threads = 2;
+    ref_options.spp = 128;
+    const RenderResult ref = render_still(s, ref_options);
+    auto rmse = [&](const Image& img) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < img.pixels.size(); ++i)
+            if (i % 4 != 3) {
+                const double d = std::min(1.0f, img.pixels[i]) - std::min(1.0f, ref.beauty.pixels[i]);
+                sum += d * d;
+            }
+        return std::sqrt(sum / static_cast<double>(img.pixels.size()));
+    };
+    EXPECT_LT(rmse(r.beauty), 0.6 * rmse(*r.raw)) << "denoised " << rmse(r.beauty) << ", raw " << rmse(*r.raw);
+    // Without keep_raw nothing extra is kept.
+    o.keep_raw = false;
+    EXPECT_FALSE(render_still(s, o).raw.has_value());
 }
 
 // Embree turns a thread count in its device configuration into a process-wide

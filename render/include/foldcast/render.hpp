@@ -138,6 +138,14 @@ struct RenderOptions {
     std::optional<std::uint64_t> seed;
     int threads = 0;  // 0 = all cores
     std::vector<Aov> aovs;
+    // Feature-guided denoising (albedo, normal and depth of the first hit guide it; the
+    // weave and prints are kept by filtering only the light they receive).
+    bool denoise = false;
+    bool keep_raw = false;  // with denoise: RenderResult::raw keeps the image before it
+    // Adaptive sampling when > 0: a pixel stops once the standard error of its mean, in
+    // sRGB display units (0-1, exposure applied), is below this; spp is then the most any
+    // pixel takes.  Checked after 16, 32, 64 ... samples.
+    double noise_threshold = 0.0;
 };
 
 // Linear float image, row-major from the top, `channels` floats per pixel.
@@ -160,7 +168,8 @@ struct AovImage {
 struct RenderStats {
     int width = 0;
     int height = 0;
-    int spp = 0;
+    int spp = 0;             // samples per pixel asked for (the most, when adaptive)
+    double mean_spp = 0.0;   // samples per pixel taken, on average
     double seconds = 0.0;
     std::uint64_t rays = 0;  // every ray traced: camera, bounce and shadow
     double rays_per_second() const { return seconds > 0.0 ? static_cast<double>(rays) / seconds : 0.0; }
@@ -168,6 +177,7 @@ struct RenderStats {
 
 struct RenderResult {
     Image beauty;  // RGBA, linear, straight (not premultiplied) alpha
+    std::optional<Image> raw;  // before denoising, when asked to keep it
     std::vector<AovImage> aovs;
     RenderStats stats;
 };
@@ -178,7 +188,8 @@ RenderResult render_still(const SceneSpec& scene, const RenderOptions& options,
                           const ProgressFn& progress = {});
 
 // Writes OUT.png (8-bit sRGB; with alpha when the scene is transparent) or OUT.exr (linear
-// float RGBA) and each AOV beside it as OUT.<aov>.png / OUT.<aov>.exr.  Atomic writes.
+// float RGBA), each AOV beside it as OUT.<aov>.png / OUT.<aov>.exr and the image before
+// denoising, when kept, as OUT.raw.png / OUT.raw.exr.  Atomic writes.
 // Returns the paths written.
 std::vector<std::filesystem::path> write_render(const std::filesystem::path& out,
                                                 const RenderResult& result, const SceneSpec& scene);

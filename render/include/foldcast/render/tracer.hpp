@@ -20,7 +20,13 @@ struct TraceSettings {
     std::uint64_t seed = 1;
     int threads = 0;
     std::vector<Aov> aovs;
+    bool denoise = false;
+    bool keep_raw = false;
+    double noise_threshold = 0.0;  // RenderOptions::noise_threshold
+    double exposure_ev = 0.0;      // for the threshold's display units
 };
+// The settings a still or turntable frame renders with: the options over the scene's.
+TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& options);
 
 class Tracer {
 public:

@@ -1,0 +1,227 @@
+// bench_render_quality: what the denoiser and the sampler buy, against high-spp references
+// (docs/benchmarks.md, "render: noise, denoiser, adaptive sampling").  Prints
+//   rmse:    the default scene at 320x180, plain and --denoise at several spp, RMSE of the
+//            sRGB-encoded RGB against a --ref-spp reference;
+//   twill:   a 5 cm close-up of denim's 3/1 twill (bench/scenes/twill_closeup.toml), SSIM
+//            of the luma and RMSE against the reference for plain 256 spp and 16 spp + denoise;
+//   flicker: frames 0-4 of the default scene's 36-frame turntable at 96x96: RMSE against
+//            reference frames, and flicker = RMS over pixels and frame pairs of the change
+//            from frame to frame minus the reference's change (0 = the noise does not move);
+//   adaptive: the default scene at 320x180 with --noise-threshold, mean spp, RMSE and where
+//            the samples went (backdrop vs garment, by the first hit's depth).
+// References are rendered once and kept in --out.  Timed figures are wall clock on whatever
+// load the machine has; never asserts anything.
+//   bench_render_quality [rmse|twill|flicker|adaptive|all] [--out DIR] [--threads N] [--ref-spp N]
+#include <OpenEXR/ImfArray.h>
+#include <OpenEXR/ImfRgbaFile.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "foldcast/compare/diff.hpp"
+#include "foldcast/core/colour.hpp"
+#include "foldcast/render.hpp"
+
+using namespace foldcast;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Args {
+    std::string part = "all";
+    fs::path out = "bench-quality";
+    int threads = 2;
+    int ref_spp = 2048;
+};
+
+std::string source(const std::string& relative) { return std::string(FOLDCAST_SOURCE_DIR) + "/" + relative; }
+
+// sRGB-encoded RGB in [0,1], as the PNG shows it.
+compare::Image display(const render::Image& linear) {
+    compare::Image out(linear.width, linear.height, 3);
+    for (int y = 0; y < linear.height; ++y)
+        for (int x = 0; x < linear.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                out.at(x, y, c) = std::clamp(linear_to_srgb(std::max(0.0f, linear.at(x, y)[c])), 0.0f, 1.0f);
+    return out;
+}
+
+compare::Image luma(const compare::Image& rgb) {
+    compare::Image out(rgb.width, rgb.height, 1);
+    for (int y = 0; y < rgb.height; ++y)
+        for (int x = 0; x < rgb.width; ++x)
+            out.at(x, y, 0) = 0.2126f * rgb.at(x, y, 0) + 0.7152f * rgb.at(x, y, 1) + 0.0722f * rgb.at(x, y, 2);
+    return out;
+}
+
+double rmse(const compare::Image& a, const compare::Image& b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.values.size(); ++i) sum += (a.values[i] - b.values[i]) * double(a.values[i] - b.values[i]);
+    return std::sqrt(sum / static_cast<double>(a.values.size()));
+}
+
+struct Rendered {
+    render::RenderResult result;
+    double seconds = 0.0;
+};
+
+Rendered render(const render::SceneSpec& scene, int w, int h, int spp, bool denoise, const Args& args,
+                double threshold = 0.0, std::vector<render::Aov> aovs = {}) {
+    render::RenderOptions o;
+    o.width = w;
+    o.height = h;
+    o.spp = spp;
+    o.threads = args.threads;
+    o.denoise = denoise;
+    o.noise_threshold = threshold;
+    o.aovs = std::move(aovs);
+    const auto t0 = std::chrono::steady_clock::now();
+    Rendered r{render::render_still(scene, o), 0.0};
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+// The reference's display image, kept as raw floats in --out so that reruns skip it (or
+// taken from NAME_refSPP.exr there, e.g. bench_cycles' foldcast reference).
+compare::Image reference(const std::string& name, const render::SceneSpec& scene, int w, int h, const Args& args) {
+    const fs::path file = args.out / (name + "_ref" + std::to_string(args.ref_spp) + ".f32");
+    const fs::path exr = args.out / (name + "_ref" + std::to_string(args.ref_spp) + ".exr");
+    compare::Image img(w, h, 3);
+    if (fs::exists(exr)) {
+        Imf::RgbaInputFile in(exr.c_str());
+        Imf::Array2D<Imf::Rgba> px(h, w);
+        in.setFrameBuffer(&px[0][0], 1, w);
+        in.readPixels(0, h - 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float rgb[3] = {px[y][x].r, px[y][x].g, px[y][x].b};
+                for (int c = 0; c < 3; ++c) img.at(x, y, c) = std::clamp(linear_to_srgb(std::max(0.0f, rgb[c])), 0.0f, 1.0f);
+            }
+        return img;
+    }
+    if (FILE* f = std::fopen(file.c_str(), "rb")) {
+        const std::size_t n = std::fread(img.values.data(), sizeof(float), img.values.size(), f);
+        std::fclose(f);
+        if (n == img.values.size()) return img;
+    }
+    const Rendered r = render(scene, w, h, args.ref_spp, false, args);
+    std::printf("  (%s reference, %d spp: %.1f s)\n", name.c_str(), args.ref_spp, r.seconds);
+    img = display(r.result.beauty);
+    FILE* f = std::fopen(file.c_str(), "wb");
+    std::fwrite(img.values.data(), sizeof(float), img.values.size(), f);
+    std::fclose(f);
+    return img;
+}
+
+void part_rmse(const Args& args) {
+    const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
+    const compare::Image ref = reference("default_320x180", scene, 320, 180, args);
+    std::printf("default scene 320x180, RMSE (sRGB) against %d spp\n%6s %10s %8s %10s %8s\n", args.ref_spp, "spp",
+                "plain s", "RMSE", "denoise s", "RMSE");
+    for (const int spp : {4, 16, 64, 256}) {
+        const Rendered p = render(scene, 320, 180, spp, false, args);
+        const Rendered d = render(scene, 320, 180, spp, true, args);
+        std::printf("%6d %10.2f %8.4f %10.2f %8.4f\n", spp, p.seconds, rmse(ref, display(p.result.beauty)), d.seconds,
+                    rmse(ref, display(d.result.beauty)));
+        std::fflush(stdout);
+    }
+}
+
+void part_twill(const Args& args) {
+    const render::SceneSpec scene = render::load_scene(source("bench/scenes/twill_closeup.toml"));
+    const compare::Image ref = reference("twill_192", scene, 192, 192, args);
+    const compare::Image ref_luma = luma(ref);
+    std::printf("twill close-up 192x192 against %d spp\n%-22s %8s %8s %8s\n", args.ref_spp, "image", "seconds", "SSIM",
+                "RMSE");
+    struct Row { const char* name; int spp; bool denoise; };
+    for (const Row row : {Row{"plain 16 spp", 16, false}, Row{"plain 64 spp", 64, false}, Row{"plain 256 spp", 256, false},
+                          Row{"16 spp + denoise", 16, true}, Row{"64 spp + denoise", 64, true}}) {
+        const Rendered r = render(scene, 192, 192, row.spp, row.denoise, args);
+        const compare::Image img = display(r.result.beauty);
+        std::printf("%-22s %8.2f %8.4f %8.4f\n", row.name, r.seconds, compare::ssim_luma(ref_luma, luma(img)), rmse(ref, img));
+        std::fflush(stdout);
+    }
+}
+
+void part_flicker(const Args& args) {
+    const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
+    constexpr int kFirst = 0, kLast = 5, kSize = 96;
+    auto frames = [&](const std::string& name, int spp, bool denoise) {
+        const fs::path dir = args.out / ("turntable_" + name);
+        bool cached = true;
+        for (int f = kFirst; f < kLast; ++f) cached = cached && fs::exists(render::turntable_frame_path(dir, f));
+        double seconds = 0.0;
+        if (!cached || name.rfind("ref", 0) != 0) {
+            render::TurntableOptions o;
+            o.render.width = o.render.height = kSize;
+            o.render.spp = spp;
+            o.render.threads = args.threads;
+            o.render.denoise = denoise;
+            o.total_frames = 36;
+            o.first_frame = kFirst;
+            o.last_frame = kLast;
+            seconds = render::render_turntable(scene, dir.string() + "/", o).stats.seconds;
+        }
+        std::vector<compare::Image> out;
+        for (int f = kFirst; f < kLast; ++f) out.push_back(compare::read_image(render::turntable_frame_path(dir, f)));
+        return std::make_pair(out, seconds);
+    };
+    const auto ref = frames("ref" + std::to_string(args.ref_spp), args.ref_spp, false).first;
+    std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames\n%-18s %8s %10s %10s\n", kFirst, kLast - 1,
+                kSize, kSize, args.ref_spp, "frames", "seconds", "RMSE", "flicker");
+    struct Row { const char* name; int spp; bool denoise; };
+    for (const Row row : {Row{"plain_16", 16, false}, Row{"plain_64", 64, false}, Row{"denoise_4", 4, true},
+                          Row{"denoise_16", 16, true}}) {
+        const auto [test, seconds] = frames(row.name, row.spp, row.denoise);
+        double err = 0.0, flick = 0.0;
+        for (std::size_t f = 0; f < test.size(); ++f) err += rmse(ref[f], test[f]) / test.size();
+        double sum = 0.0;
+        std::size_t n = 0;
+        for (std::size_t f = 0; f + 1 < test.size(); ++f)
+            for (std::size_t i = 0; i < test[f].values.size(); ++i) {
+                const double d = (test[f + 1].values[i] - test[f].values[i]) - (ref[f + 1].values[i] - ref[f].values[i]);
+                sum += d * d;
+                ++n;
+            }
+        flick = std::sqrt(sum / static_cast<double>(n));
+        std::printf("%-18s %8.2f %10.4f %10.4f\n", row.name, seconds, err, flick);
+        std::fflush(stdout);
+    }
+}
+
+void part_adaptive(const Args& args) {
+    const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
+    const compare::Image ref = reference("default_320x180", scene, 320, 180, args);
+    std::printf("adaptive sampling, default scene 320x180 (max 256 spp)\n%10s %8s %8s %8s\n", "threshold", "seconds",
+                "mean spp", "RMSE");
+    for (const double t : {0.0, 0.005, 0.01, 0.02}) {
+        const Rendered r = render(scene, 320, 180, t > 0.0 ? 256 : 64, false, args, t);
+        std::printf("%10.3f %8.2f %8.1f %8.4f%s\n", t, r.seconds, r.result.stats.mean_spp,
+                    rmse(ref, display(r.result.beauty)), t > 0.0 ? "" : "  (plain 64 spp)");
+        std::fflush(stdout);
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args args;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--out" && i + 1 < argc) args.out = argv[++i];
+        else if (a == "--threads" && i + 1 < argc) args.threads = std::stoi(argv[++i]);
+        else if (a == "--ref-spp" && i + 1 < argc) args.ref_spp = std::stoi(argv[++i]);
+        else args.part = a;
+    }
+    fs::create_directories(args.out);
+    if (args.part == "rmse" || args.part == "all") part_rmse(args);
+    if (args.part == "twill" || args.part == "all") part_twill(args);
+    if (args.part == "flicker" || args.part == "all") part_flicker(args);
+    if (args.part == "adaptive" || args.part == "all") part_adaptive(args);
+    return 0;
+}

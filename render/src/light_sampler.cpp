@@ -1,0 +1,106 @@
+#include "light_sampler.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "foldcast/core/colour.hpp"
+#include "foldcast/core/math.hpp"
+#include "foldcast/core/sampling.hpp"
+#include "shading.hpp"
+
+namespace foldcast::render {
+
+LightSampler::LightSampler(const std::vector<AreaLight>& lights, const V3& environment) : environment_(environment) {
+    for (const AreaLight& a : lights) {
+        Light l;
+        l.centre = a.position;
+        l.normal = (a.target - a.position).normalized();
+        const Vec3f helper = std::abs(l.normal.y()) < 0.95f ? Vec3f::UnitY() : Vec3f::UnitX();
+        l.ex = helper.cross(l.normal).normalized();
+        l.ey = l.normal.cross(l.ex);
+        l.half_w = 0.5f * a.width_m;
+        l.half_h = 0.5f * a.height_m;
+        l.area = a.width_m * a.height_m;
+        l.radiance = a.radiance;
+        lights_.push_back(l);
+    }
+}
+
+LightChoice LightSampler::choose(const Vec3f& p, const Vec3f& n) const {
+    LightChoice c;
+    const int count = static_cast<int>(lights_.size());
+    float sum = 0.0f;
+    for (int i = 0; i < count; ++i) {
+        const Light& l = lights_[i];
+        const Vec3f d = l.centre - p;
+        const float dist2 = std::max(1e-4f, d.squaredNorm());
+        const Vec3f dn = d / std::sqrt(dist2);
+        const float facing = std::max(0.0f, -dn.dot(l.normal));
+        const float receive = std::max(0.0f, dn.dot(n)) + 0.05f;
+        c.prob[i] = facing > 0.0f ? luminance(l.radiance) * l.area * facing * receive / dist2 : 0.0f;
+        sum += c.prob[i];
+    }
+    c.prob[count] = luminance(environment_) * kPiF;
+    sum += c.prob[count];
+    if (sum > 0.0f)
+        for (int i = 0; i <= count; ++i) c.prob[i] /= sum;
+    c.options = count + 1;
+    return c;
+}
+
+std::optional<LightSample> LightSampler::sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n,
+                                                const Vec3f& tangent, float u_pick, float u_a, float u_b) const {
+    int pick = 0;
+    float acc = choice.prob[0];
+    while (pick + 1 < choice.options && u_pick >= acc) acc += choice.prob[++pick];
+    if (!(choice.prob[pick] > 0.0f)) return std::nullopt;
+    LightSample s;
+    if (pick < count()) {
+        const Light& l = lights_[pick];
+        const Vec3f q = l.centre + (2.0f * u_a - 1.0f) * l.half_w * l.ex + (2.0f * u_b - 1.0f) * l.half_h * l.ey;
+        const Vec3f to = q - p;
+        s.distance = to.norm();
+        s.wi = to / s.distance;
+        const float cos_l = -s.wi.dot(l.normal);
+        if (!(cos_l > 0.0f)) return std::nullopt;
+        s.pdf = choice.prob[pick] * s.distance * s.distance / (l.area * cos_l);
+        s.radiance = l.radiance;
+    } else {
+        const V3 local = sample_cosine_hemisphere(u_a, u_b);
+        s.wi = Frame(n, tangent).to_world(local);
+        s.distance = kInf;
+        s.pdf = choice.prob[pick] * local.z() / kPiF;
+        s.radiance = environment_;
+    }
+    if (!(s.pdf > 0.0f)) return std::nullopt;
+    return s;
+}
+
+LightHit LightSampler::hit(const Vec3f& o, const Vec3f& d, float tmax) const {
+    LightHit best;
+    best.t = tmax;
+    for (std::size_t i = 0; i < lights_.size(); ++i) {
+        const Light& l = lights_[i];
+        const float dn = d.dot(l.normal);
+        if (dn >= 0.0f) continue;
+        const float t = (l.centre - o).dot(l.normal) / dn;
+        if (t <= 0.0f || t >= best.t) continue;
+        const Vec3f q = o + t * d - l.centre;
+        if (std::abs(q.dot(l.ex)) > l.half_w || std::abs(q.dot(l.ey)) > l.half_h) continue;
+        best.index = static_cast<int>(i);
+        best.t = t;
+    }
+    return best;
+}
+
+float LightSampler::pdf(const LightChoice& choice, int index, const Vec3f& d, float t) const {
+    const Light& l = lights_[index];
+    const float cos_l = -d.dot(l.normal);
+    return choice.prob[index] * t * t / (l.area * cos_l);
+}
+
+float LightSampler::environment_pdf(const LightChoice& choice, const Vec3f& d, const Vec3f& n) const {
+    return choice.prob[lights_.size()] * std::max(0.0f, d.dot(n)) / kPiF;
+}
+
+}  // namespace foldcast::render

@@ -1,0 +1,69 @@
+#pragma once
+// Light selection for next-event estimation: the scene's one-sided rectangular area lights
+// and the uniform environment, one of them picked per path vertex in proportion to its
+// expected unoccluded contribution there, and the pdfs MIS needs when a BSDF-sampled ray
+// reaches a light or the sky instead.
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "cloth_bsdf.hpp"
+#include "foldcast/render.hpp"
+
+namespace foldcast::render {
+
+constexpr int kMaxLights = 16;
+
+struct Light {
+    Vec3f centre, normal, ex, ey;  // ex, ey: unit axes
+    float half_w = 0, half_h = 0, area = 0;
+    V3 radiance;
+};
+
+// Probabilities of picking each light (and the environment, last) at one path vertex.
+struct LightChoice {
+    std::array<float, kMaxLights + 1> prob{};
+    int options = 0;  // lights + 1
+};
+
+struct LightSample {
+    Vec3f wi;             // towards the light
+    float distance = 0;   // infinite for the environment
+    float pdf = 0;        // solid angle, including the choice probability
+    V3 radiance = V3::Zero();
+};
+
+struct LightHit {
+    int index = -1;  // -1: none
+    float t = 0.0f;
+};
+
+class LightSampler {
+public:
+    LightSampler(const std::vector<AreaLight>& lights, const V3& environment);
+
+    bool empty() const { return lights_.empty(); }
+    int count() const { return static_cast<int>(lights_.size()); }
+    const V3& environment() const { return environment_; }
+
+    LightChoice choose(const Vec3f& p, const Vec3f& n) const;
+    // Picks by u_pick and samples a point on it (or a cosine direction about `n` for the
+    // environment) with (u_a, u_b); nothing when the pick has no probability or the light
+    // faces away.
+    std::optional<LightSample> sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n,
+                                      const Vec3f& tangent, float u_pick, float u_a, float u_b) const;
+    // The nearest light's front face along o + t d, t < tmax.
+    LightHit hit(const Vec3f& o, const Vec3f& d, float tmax) const;
+    // What sample() would have given for light `index` hit at distance t along d.
+    float pdf(const LightChoice& choice, int index, const Vec3f& d, float t) const;
+    const V3& radiance(int index) const { return lights_[index].radiance; }
+    // What sample() would have given for the environment in direction d, with n the normal
+    // the choice was made for.
+    float environment_pdf(const LightChoice& choice, const Vec3f& d, const Vec3f& n) const;
+
+private:
+    std::vector<Light> lights_;
+    V3 environment_;
+};
+
+}  // namespace foldcast::render

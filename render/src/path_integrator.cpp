@@ -1,0 +1,115 @@
+#include "path_integrator.hpp"
+
+#include <algorithm>
+
+#include "direct_lighting.hpp"
+
+namespace foldcast::render {
+namespace {
+
+constexpr float kIndirectClamp = 20.0f;  // caps rare caustic fireflies off the metal rod
+
+void add(V3& radiance, const V3& contribution, int depth) {
+    if (!contribution.allFinite()) return;
+    if (depth >= 2) {
+        const float m = contribution.maxCoeff();
+        if (m > kIndirectClamp) {
+            radiance += contribution * (kIndirectClamp / m);
+            return;
+        }
+    }
+    radiance += contribution;
+}
+
+}  // namespace
+
+PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0,
+                                 const RTCHit& hit0, float pixel_angle, PixelSampler& sampler, std::uint64_t& rays) const {
+    PathSample out;
+    V3 beta = V3::Ones();
+    Vec3f o = cam_o, d = cam_d;
+    bool have_hit = first_hit;
+    RTCRay cur_ray = ray0;
+    RTCHit cur_hit = hit0;
+    RTCRayHit rh;
+    float prev_bsdf_pdf = 0.0f;
+    bool prev_specular_only = true;  // camera ray: lights are not seen directly
+    LightChoice prev_choice;
+    Vec3f prev_n = Vec3f::UnitY();
+    float cone = 0.0f, spread = pixel_angle;
+    for (int depth = 0;; ++depth) {
+        // Emission seen along the ray: lights (not for camera rays) and the environment.
+        const float t_surface = have_hit ? cur_ray.tfar : kInf;
+        if (depth > 0 && !lights_.empty()) {
+            const LightHit lh = lights_.hit(o, d, t_surface);
+            if (lh.index >= 0) {
+                const float pdf_light = lights_.pdf(prev_choice, lh.index, d, lh.t);
+                const float w = prev_specular_only ? 1.0f : power_heuristic(prev_bsdf_pdf, pdf_light);
+                add(out.radiance, beta.cwiseProduct(lights_.radiance(lh.index)) * w, depth);
+                break;
+            }
+        }
+        if (!have_hit) {
+            if (depth == 0) {
+                out.foreground = !transparent_;
+                out.radiance = lights_.environment();
+            } else {
+                const float pdf_env = lights_.environment_pdf(prev_choice, d, prev_n);
+                const float w = power_heuristic(prev_bsdf_pdf, pdf_env);
+                add(out.radiance, beta.cwiseProduct(lights_.environment()) * w, depth);
+            }
+            break;
+        }
+        Hit hit = scene_.surface(cur_ray, cur_hit);
+        cone += hit.t * spread;
+        const Vec3f wo = -d;
+        Frame frame(hit.ns, hit.tangent);
+        const float cos_view = std::max(0.2f, std::abs(wo.dot(hit.ng)));
+        const BsdfParams params = materials_.at(hit, wo, cone / cos_view, &frame);
+        const ClothBsdf bsdf(params, frame.to_local(wo));
+        if (depth == 0) {
+            out.albedo = bsdf.albedo();
+            out.normal = hit.ns;
+            out.shading_normal = frame.n;
+            out.depth = hit.t;
+            out.fold = hit.material == MaterialId::garment ? hit.fold : 0.0f;
+            if (transparent_ && hit.material == MaterialId::backdrop) out.foreground = false;
+        }
+        if (depth + 1 >= max_depth_) break;
+
+        const LightChoice choice = lights_.choose(hit.p, hit.ns);
+        const float u_pick = sampler.get1d();
+        const Eigen::Vector2f u_light = sampler.get2d();
+        if (const auto direct = direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_pick, u_light.x(),
+                                                u_light.y(), rays))
+            add(out.radiance, beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
+                depth + 1);
+
+        // Continue the path by sampling the BSDF.
+        const float u_lobe = sampler.get1d();
+        const Eigen::Vector2f u_dir = sampler.get2d();
+        const std::optional<BsdfSample> bs = bsdf.sample(u_lobe, u_dir.x(), u_dir.y());
+        if (!bs) break;
+        const Vec3f wi = frame.to_world(bs->wi);
+        if (wi.dot(hit.ng) <= 0.0f) break;
+        beta = beta.cwiseProduct(bs->weight);
+        if (depth >= 2) {  // Russian roulette
+            const float q = std::min(0.95f, beta.maxCoeff());
+            if (sampler.get1d() >= q) break;
+            beta /= q;
+        }
+        prev_bsdf_pdf = bs->pdf;
+        prev_specular_only = false;
+        prev_choice = choice;
+        prev_n = hit.ns;
+        spread += 0.2f;  // a rough bounce widens the footprint cone
+        o = offset_origin(hit.p, hit.ng, wi);
+        d = wi;
+        have_hit = scene_.intersect(o, d, rh, rays);
+        cur_ray = rh.ray;
+        cur_hit = rh.hit;
+    }
+    return out;
+}
+
+}  // namespace foldcast::render

@@ -1,0 +1,82 @@
+#pragma once
+// Low-discrepancy samples for the path tracer: Owen-scrambled Sobol' points, padded per pair
+// of dimensions (pbrt-v4's PaddedSobolSampler, with Burley's hash-based Owen scrambling,
+// "Practical Hash-based Owen Scrambling", JCGT 2020).
+//
+// Sample i of a pixel is point shuffle(i) of a 2D Sobol' (0,2)-sequence whose bits are
+// Owen-scrambled, with the shuffle and the scramble seeded by (seed, pixel, dimension).  So
+// the first 2^k samples of every pixel form a stratified (0,k,2)-net in every pair of
+// dimensions, successive pairs are decorrelated, and each value depends only on (seed,
+// pixel, sample, dimension): the image is the same whatever thread renders which pixel.
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "random_stream.hpp"
+
+namespace foldcast::render {
+
+inline std::uint32_t reverse_bits(std::uint32_t x) {
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+    return (x >> 16) | (x << 16);
+}
+
+// Laine and Karras' hash: a random permutation of x that only lets each bit depend on the
+// bits below it; on bit-reversed values that is a nested uniform (Owen) scramble.
+inline std::uint32_t laine_karras_permutation(std::uint32_t x, std::uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// Owen scrambling of a 32-bit fixed-point value in [0, 1).
+inline std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
+    return reverse_bits(laine_karras_permutation(reverse_bits(x), seed));
+}
+
+// The first two dimensions of Sobol's sequence as 32-bit fixed point: van der Corput and
+// the (0,2)-sequence's second dimension.
+inline std::uint32_t sobol_dim0(std::uint32_t index) { return reverse_bits(index); }
+inline std::uint32_t sobol_dim1(std::uint32_t index) {
+    std::uint32_t v = 1u << 31, x = 0;
+    for (; index != 0; index >>= 1, v ^= v >> 1)
+        if (index & 1u) x ^= v;
+    return x;
+}
+
+inline float to_unit_float(std::uint32_t x) { return static_cast<float>(x >> 8) * 0x1.0p-24f; }
+
+class PixelSampler {
+public:
+    PixelSampler(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
+        : key_(mix64(mix64(seed ^ 0x2545f4914f6cdd1dULL) + pixel)), sample_(sample) {}
+
+    // The next dimension in [0, 1).
+    float get1d() {
+        const std::uint64_t h = next_hash();
+        const std::uint32_t i = owen_scramble(sample_, static_cast<std::uint32_t>(h));
+        return to_unit_float(owen_scramble(sobol_dim0(i), static_cast<std::uint32_t>(h >> 32)));
+    }
+    // The next two dimensions in [0, 1)^2, stratified together.
+    Eigen::Vector2f get2d() {
+        const std::uint64_t h = next_hash();
+        const std::uint64_t h2 = mix64(h);
+        const std::uint32_t i = owen_scramble(sample_, static_cast<std::uint32_t>(h));
+        return {to_unit_float(owen_scramble(sobol_dim0(i), static_cast<std::uint32_t>(h >> 32))),
+                to_unit_float(owen_scramble(sobol_dim1(i), static_cast<std::uint32_t>(h2)))};
+    }
+
+private:
+    std::uint64_t next_hash() { return mix64(key_ + 0x9e3779b97f4a7c15ULL * ++dimension_); }
+
+    std::uint64_t key_;
+    std::uint32_t sample_;
+    std::uint32_t dimension_ = 0;
+};
+
+}  // namespace foldcast::render
