@@ -25,6 +25,7 @@
 
 #include "foldcast/compare/diff.hpp"
 #include "foldcast/core/colour.hpp"
+#include "foldcast/batch/turntable.hpp"
 #include "foldcast/render.hpp"
 
 using namespace foldcast;
@@ -157,7 +158,7 @@ void part_flicker(const Args& args) {
         for (int f = kFirst; f < kLast; ++f) cached = cached && fs::exists(render::turntable_frame_path(dir, f));
         double seconds = 0.0;
         if (!cached || name.rfind("ref", 0) != 0) {
-            render::TurntableOptions o;
+            batch::TurntableOptions o;
             o.render.width = o.render.height = kSize;
             o.render.spp = spp;
             o.render.threads = args.threads;
@@ -165,7 +166,7 @@ void part_flicker(const Args& args) {
             o.total_frames = 36;
             o.first_frame = kFirst;
             o.last_frame = kLast;
-            seconds = render::render_turntable(scene, dir.string() + "/", o).stats.seconds;
+            seconds = batch::render_turntable(scene, dir.string() + "/", o).stats.seconds;
         }
         std::vector<compare::Image> out;
         for (int f = kFirst; f < kLast; ++f) out.push_back(compare::read_image(render::turntable_frame_path(dir, f)));
