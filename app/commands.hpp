@@ -5,16 +5,9 @@
 #include <functional>
 #include <string>
 
-namespace foldcast::app {
+#include "validators.hpp"
 
-// For unsigned options: CLI11 would read "-1" into an unsigned integer as its largest value.
-inline const CLI::Validator non_negative_integer(
-    [](std::string& text) {
-        return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos
-                   ? std::string()
-                   : std::string("'" + text + "' must be a whole number >= 0");
-    },
-    "UINT");
+namespace foldcast::app {
 
 struct Command {
     CLI::App* sub = nullptr;

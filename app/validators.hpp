@@ -28,6 +28,15 @@ inline CLI::Validator finite_in(double lo, double hi, std::string allowed = {}) 
         allowed, "FINITE");
 }
 
+// For unsigned options: CLI11 would read "-1" into an unsigned integer as its largest value.
+inline const CLI::Validator non_negative_integer(
+    [](std::string& text) {
+        return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos
+                   ? std::string()
+                   : std::string("'" + text + "' must be a whole number >= 0");
+    },
+    "UINT");
+
 // A library's own parser as a validator: the library reports what is wrong with the value in
 // its own terms, CLI11 puts the flag's name in front ("--aov: AOV list ..."), and the value is
 // rejected at parse time with exit 2 like every other bad flag.
