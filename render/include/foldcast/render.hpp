@@ -1,5 +1,5 @@
 #pragma once
-// render: an Embree path tracer for garment stills and turntables (DESIGN.md, "render").
+// render: scene files, the studio and an Embree path tracer for garment stills (docs/render.md).
 //
 // A scene file (TOML) names the garment (inline drape parameters, or an .obj / .pc2 / .fca
 // file and frame), the look, the camera, the lights, the backdrop and the output settings.
