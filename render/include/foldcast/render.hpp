@@ -3,7 +3,7 @@
 //
 // A scene file (TOML) names the garment (inline drape parameters, or an .obj / .pc2 / .fca
 // file and frame), the look, the camera, the lights, the backdrop and the output settings.
-// load_scene() reads it; render_still() and render_turntable() do the work.
+// load_scene() reads it; render_still() does the work (turntables: foldcast/batch/turntable.hpp).
 //
 // World frame: y up, the garment hangs in the x-y plane facing +z (drape's frame), the
 // cyclorama floor and wall sit below and behind it.  Lengths in metres, colours linear RGB.
