@@ -12,8 +12,6 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 
 #include "foldcast/core/error.hpp"
@@ -30,6 +28,7 @@ struct GridRelaxer::Impl {
     std::vector<int> free_index;  // per vertex: row in the system, or -1 when pinned
     std::vector<int> free_vertices;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> coupling;  // free rows x all vertices: pinned columns only
 };
 
 namespace {
@@ -68,21 +67,40 @@ GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<i
             m.free_index[std::size_t(k)] = int(m.free_vertices.size());
             m.free_vertices.push_back(k);
         }
-    const int free = int(m.free_vertices.size());
+    // The whole system over every vertex: edges (graph Laplacian) and the anchor on the
+    // diagonal; then split into the free block (factored) and the free-pinned coupling.
     std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(std::size_t(free) * 5);
-    for (int row = 0; row < free; ++row) {
-        const int k = m.free_vertices[std::size_t(row)];
-        double diagonal = m.anchor;
-        for_each_neighbour(grid, k % grid.nu, k / grid.nu, 0.0, 0.0, [&](int other, double) {
-            diagonal += 1.0;
-            const int col = m.free_index[std::size_t(other)];
-            if (col >= 0) entries.emplace_back(row, col, -1.0);
-        });
-        entries.emplace_back(row, row, diagonal);
+    entries.reserve(std::size_t(n) * 9);
+    const auto edge = [&](int a, int b) {
+        entries.emplace_back(a, a, 1.0), entries.emplace_back(b, b, 1.0);
+        entries.emplace_back(a, b, -1.0), entries.emplace_back(b, a, -1.0);
+    };
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const int k = j * grid.nu + i;
+            entries.emplace_back(k, k, m.anchor);
+            if (i + 1 < grid.nu) edge(k, k + 1);
+            if (j + 1 < grid.nv) edge(k, k + grid.nu);
+        }
+    Eigen::SparseMatrix<double, Eigen::RowMajor> whole(n, n);
+    whole.setFromTriplets(entries.begin(), entries.end());
+    const int free = int(m.free_vertices.size());
+    std::vector<Eigen::Triplet<double>> free_entries, pinned_entries;
+    for (int r = 0; r < n; ++r) {
+        const int row = m.free_index[std::size_t(r)];
+        if (row < 0) continue;
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(whole, r); it; ++it) {
+            const int col = m.free_index[std::size_t(it.col())];
+            if (col >= 0)
+                free_entries.emplace_back(row, col, it.value());
+            else
+                pinned_entries.emplace_back(row, int(it.col()), it.value());
+        }
     }
     Eigen::SparseMatrix<double> a(free, free);
-    a.setFromTriplets(entries.begin(), entries.end());
+    a.setFromTriplets(free_entries.begin(), free_entries.end());
+    m.coupling.resize(free, n);
+    m.coupling.setFromTriplets(pinned_entries.begin(), pinned_entries.end());
     m.solver.compute(a);
     if (m.solver.info() != Eigen::Success)
         throw std::runtime_error("relaxation: the grid's system could not be factored (is every part pinned?)");
@@ -97,12 +115,18 @@ namespace {
 // Vertices where the model's fold lines cross each column: local extrema of |z| going down
 // the column (the first vertex of a plateau, where the fibre hangs straight below the
 // lowest fold line).  These carry the soft targets; the rest of the cloth is free.
-std::vector<double> fold_line_vertices(const std::vector<Vec3f>& model, GridSize grid) {
+std::vector<double> fold_line_vertices(const std::vector<Vec3f>& model, GridSize grid, double rest_v) {
     std::vector<double> crest(model.size(), 0.0);
     double deepest = 0.0;
     for (const Vec3f& p : model) deepest = std::max(deepest, std::abs(double(p.z())));
     if (deepest <= 0.0) return crest;
     const double floor = 1e-3 * deepest;  // ignore the flat ends of the fold lines near the supports
+    // A target on one vertex of a fine column would pull a spike out of the cloth: each
+    // crest's pull is spread over the rows within kSpread_m of it (tapering), and scaled
+    // with the row spacing so that the pull per length of fibre does not depend on nv.
+    constexpr double kSpread_m = 0.01;
+    const int reach = std::max(1, int(std::lround(kSpread_m / rest_v)));
+    const double per_row = std::min(1.0, rest_v * 63.0 / 0.7);
     for (int i = 0; i < grid.nu; ++i)
         for (int j = 0; j < grid.nv; ++j) {
             const auto z = [&](int row) { return std::abs(double(model[std::size_t(row * grid.nu + i)].z())); };
@@ -110,9 +134,16 @@ std::vector<double> fold_line_vertices(const std::vector<Vec3f>& model, GridSize
             if (here <= floor) continue;
             const bool above = j == 0 || here > z(j - 1);
             const bool below = j + 1 == grid.nv || here >= z(j + 1);
+            if (!above || !below) continue;
             // Full weight on the centre fibre, fading towards the supports where the
             // model's fold lines converge and cannot all be kept.
-            if (above && below) crest[std::size_t(j * grid.nu + i)] = std::pow(here / deepest, 8);
+            const double w = std::pow(here / deepest, 8);
+            for (int d = -reach; d <= reach; ++d) {
+                const int row = j + d;
+                if (row < 0 || row >= grid.nv) continue;
+                double& c = crest[std::size_t(row * grid.nu + i)];
+                c = std::max(c, w * per_row * double(reach + 1 - std::abs(d)) / (reach + 1));
+            }
         }
     return crest;
 }
@@ -133,7 +164,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     }();
     RelaxReport report;
     report.before = detail::grid_stretch(targets, rest_params, grid);
-    const std::vector<double> crest = fold_line_vertices(targets, grid);
+    const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
 
     std::vector<Eigen::Vector3d> x(n);
     for (std::size_t k = 0; k < n; ++k)
@@ -153,6 +184,10 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // is pulled to its target, any other to where it is (a proximal term: the same fixed
     // points, and the matrix stays the same for every frame).  Gathered per row, summed in
     // row order: the result does not depend on the thread count.
+    // The pinned vertices' share of the system: fixed for the whole relaxation.
+    Eigen::MatrixXd pinned_positions(Eigen::Index(n), 3);
+    for (std::size_t k = 0; k < n; ++k) pinned_positions.row(Eigen::Index(k)) = x[k].transpose();
+    const Eigen::MatrixXd pinned_rhs = m.coupling * pinned_positions;
     double anchor_scale = 1.0;
     constexpr int kSoftenEvery = 30;
     Eigen::MatrixXd rhs(free, 3);
@@ -196,9 +231,8 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                     const Eigen::Vector3d d = xk - xo;
                     const double len = d.norm();
                     if (len > 0.0) b += d * (rest / len);
-                    if (m.free_index[std::size_t(other)] < 0) b += xo;
                 });
-                rhs.row(row) = b.transpose();
+                rhs.row(row) = b.transpose() - pinned_rhs.row(row);
             }
             row_sum[std::size_t(j)] = sum, row_max[std::size_t(j)] = max, row_energy[std::size_t(j)] = energy;
         });
@@ -265,7 +299,6 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         }
         accepted_energy = state.energy;
         current = next;
-        if (std::getenv("RELAX_TRACE") && (iteration % 10 == 0)) std::fprintf(stderr, "it %d mean %.5f max %.5f E %.3g\n", iteration, state.mean, state.max, state.energy);
     }
     for (std::size_t k = 0; k < n; ++k) positions[k] = x[k].cast<float>();
     report.iterations = iteration;
