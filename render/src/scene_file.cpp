@@ -187,6 +187,7 @@ void read_garment(Section& s, GarmentSpec& g, const fs::path& dir) {
     }
     g.animation_frames = s.integer("animation_frames", g.animation_frames, 0, 100000);
     g.sway_amplitude_m = s.number("sway_amplitude_m", g.sway_amplitude_m, 0.0, 10.0);
+    g.relax = s.boolean("relax", g.relax);
     s.finish();
 }
 
