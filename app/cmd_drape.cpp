@@ -35,7 +35,7 @@ struct DrapeOptions {
     std::string look, grid = "64x64", output;
     int frames = 60;
     double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0;
-    bool json = false, verbose = false, quiet = false;
+    bool json = false, verbose = false, quiet = false, no_relax = false;
 };
 
 struct Flags {  // which options the user gave (they override a look)
@@ -144,6 +144,9 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
         {"residual", s.residual},
         {"stretch_mean", g.stretch.mean},
         {"stretch_max", g.stretch.max},
+        {"stretch_before_relax", {{"mean", g.stretch_analytical.mean}, {"max", g.stretch_analytical.max}}},
+        {"relaxed", !o.no_relax},
+        {"relax_iterations", g.relax_iterations},
         {"regime", regime_name(s.regime)},
         {"explanation", s.explanation},
         {"stress_ratio", s.stress_ratio},
@@ -186,8 +189,14 @@ void print_text(const drape::ClothParams& p, const drape::FoldSolution& s, const
     for (double a : s.amplitudes_m) std::printf(" %.4g", a);
     std::printf("\nfeasible fold counts:");
     for (int n : s.feasible_folds) std::printf(" %d", n);
-    std::printf("%s\ngrid stretch: mean %.3g, max %.3g\n", s.feasible_folds.empty() ? " none" : "",
-                g.stretch.mean, g.stretch.max);
+    std::printf("%s\n", s.feasible_folds.empty() ? " none" : "");
+    if (o.no_relax)
+        std::printf("grid stretch: mean %.3g, max %.3g (the model's surface, not relaxed)\n", g.stretch.mean,
+                    g.stretch.max);
+    else
+        std::printf("grid stretch: mean %.3g, max %.3g after relaxation (%d iterations); model's surface: mean %.3g, max %.3g\n",
+                    g.stretch.mean, g.stretch.max, g.relax_iterations, g.stretch_analytical.mean,
+                    g.stretch_analytical.max);
     if (o.verbose)
         for (const auto& c : s.candidates)
             std::printf("  n=%-3d %-10s a_0 %.4g a_n %.4g zmax %.4g zig-zag %.4g residual %.2g %s\n", c.folds,
@@ -209,13 +218,14 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     }
 
     const drape::FoldSolution solution = drape::solve_folds(params);
-    drape::Garment garment = drape::build_garment(params, solution, grid);
+    drape::Garment garment = drape::build_garment(params, solution, grid, !o.no_relax);
 
     drape::AnimationOptions anim_options;
     anim_options.frames = o.frames;
     anim_options.fps = o.fps;
     anim_options.sway_amplitude_m = o.sway_m;
     anim_options.sway_period_s = o.sway_period_s;
+    anim_options.relax = !o.no_relax;
     const bool animated = kind == OutputKind::pc2 || kind == OutputKind::fca || o.sway_m > 0.0;
     std::optional<Animation> animation;
     if (animated) {
@@ -299,6 +309,9 @@ Command drape_command(CLI::App& app) {
     sub->add_option("--sway-m", o->sway_m, "Sway amplitude at the hem on top of the animation (m)")
         ->capture_default_str();
     sub->add_option("--sway-period-s", o->sway_period_s, "Sway period (s)")->capture_default_str();
+    sub->add_flag("--no-relax", o->no_relax,
+                  "Keep the model's surface as it is (by default the grid is relaxed towards "
+                  "isometry so that the cloth keeps its length)");
     sub->add_flag("--json", o->json, "Print the result as one JSON object");
     sub->add_flag("--verbose", o->verbose, "Also report every fold count tried");
     sub->add_flag("-q,--quiet", o->quiet, "No progress bar");

@@ -94,7 +94,7 @@ GarmentData load_garment(const SceneSpec& scene, const ProgressFn& progress) {
             params.support_drop_m = spec.support_drop_m;
             const drape::FoldSolution solution = drape::solve_folds(params);
             const drape::GridSize grid{spec.grid_nu, spec.grid_nv};
-            drape::Garment garment = drape::build_garment(params, solution, grid);
+            drape::Garment garment = drape::build_garment(params, solution, grid, spec.relax);
             GarmentData g;
             for (int v : garment.support_vertices) g.support_vertices.push_back(static_cast<std::uint32_t>(v));
             if (spec.animation_frames > 0) {
@@ -102,6 +102,7 @@ GarmentData load_garment(const SceneSpec& scene, const ProgressFn& progress) {
                 options.frames = spec.animation_frames;
                 options.fps = scene.turntable_fps;
                 options.sway_amplitude_m = spec.sway_amplitude_m;
+                options.relax = spec.relax;
                 g.animation = drape::animate(params, grid, options, progress);
                 for (std::size_t f = 0; f < g.animation.frame_count(); ++f)
                     g.fold_sign.push_back(fold_sign_from_geometry(g.animation.frame_mesh(f)));

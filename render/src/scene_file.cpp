@@ -77,6 +77,7 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
                          " (the bays), so that every support is a grid vertex");
     g.animation_frames = integer(s, "animation_frames", g.animation_frames, 0, 100000);
     g.sway_amplitude_m = number(s, "sway_amplitude_m", g.sway_amplitude_m, range(0.0, 10.0));
+    g.relax = s.boolean("relax").value_or(g.relax);
     s.finish();
 }
 

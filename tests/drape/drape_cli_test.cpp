@@ -64,6 +64,33 @@ TEST(DrapeCli, JsonReportMatchesTheLibrary) {
     EXPECT_EQ(file_count(dir), 0u);  // no -o: nothing written
 }
 
+// The report gives the stretch of the model's surface and of the relaxed grid; --no-relax
+// writes the model's surface itself (the library's garment with relax = false).
+TEST(DrapeCli, ReportsStretchBeforeAndAfterRelaxationAndNoRelaxKeepsTheModel) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const Result relaxed = run("--json --grid 32x32", dir);
+    ASSERT_EQ(relaxed.status, 0) << relaxed.err;
+    const auto j = nlohmann::json::parse(relaxed.out);
+    EXPECT_TRUE(j["relaxed"].get<bool>());
+    EXPECT_LE(j["stretch_mean"].get<double>(), 0.005);
+    EXPECT_LE(j["stretch_max"].get<double>(), 0.03);
+    EXPECT_GT(j["stretch_before_relax"]["mean"].get<double>(), 0.05);  // the model's rows are too long
+    EXPECT_GT(j["relax_iterations"].get<int>(), 0);
+
+    const Result kept = run("--json --grid 32x32 --no-relax -o model.obj", dir);
+    ASSERT_EQ(kept.status, 0) << kept.err;
+    const auto k = nlohmann::json::parse(kept.out);
+    EXPECT_FALSE(k["relaxed"].get<bool>());
+    EXPECT_EQ(k["stretch_mean"], j["stretch_before_relax"]["mean"]);
+    EXPECT_EQ(k["relax_iterations"].get<int>(), 0);
+    const auto p = foldcast::drape::cloth_from_look(foldcast::looks::Mechanics{}, 0.5, 0.7, 0.1);  // the CLI's defaults
+    const auto model = foldcast::drape::build_garment(p, foldcast::drape::solve_folds(p), {32, 32}, false);
+    const foldcast::Mesh obj = foldcast::read_obj(dir / "model.obj");
+    ASSERT_EQ(obj.positions.size(), model.mesh.positions.size());
+    for (std::size_t v = 0; v < obj.positions.size(); ++v)
+        EXPECT_LT((obj.positions[v] - model.mesh.positions[v]).norm(), 1e-6f) << v;  // OBJ's 7 digits
+}
+
 TEST(DrapeCli, DefaultsWriteAGarmentObjAndPly) {
     const fs::path dir = foldcast::test::temp_dir();
     ASSERT_EQ(run("-o garment.obj", dir).status, 0);

@@ -24,7 +24,7 @@ TEST(Garment, SupportsAtTheSupportPointsAndTopEdgeOnTheTopFoldLine) {
     const FoldSolution s = solve_folds(p);
     ASSERT_GT(s.folds, 0);
     const GridSize grid{49, 41};
-    const Garment g = build_garment(p, s, grid);
+    const Garment g = build_garment(p, s, grid, false);  // the model's surface
     ASSERT_EQ(g.support_vertices, (std::vector<int>{0, grid.nu - 1}));
     const double half = 0.5 * p.support_span_m();
     EXPECT_TRUE(g.mesh.positions[0].isApprox(Vec3f(float(-half), 0, 0), 1e-6f));
@@ -61,6 +61,7 @@ TEST(Garment, MeshIsCompleteFiniteAndInUnitsOfCloth) {
     const ClothParams p;
     const GridSize grid{33, 21};
     const Garment g = build_garment(p, solve_folds(p), grid);
+    const Garment model = build_garment(p, solve_folds(p), grid, false);
     EXPECT_NO_THROW(validate(g.mesh, "garment"));
     EXPECT_TRUE(all_finite(g.mesh));
     EXPECT_EQ(g.mesh.positions.size(), std::size_t(33 * 21));
@@ -80,8 +81,8 @@ TEST(Garment, MeshIsCompleteFiniteAndInUnitsOfCloth) {
     // UVs in metres: (0,0) at the left support, (L, h) at the right end of the hem.
     EXPECT_TRUE(g.mesh.topology.uvs.front().isApprox(Vec2f(0, 0)));
     EXPECT_TRUE(g.mesh.topology.uvs.back().isApprox(Vec2f(float(p.width_m), float(p.height_m))));
-    // The side edges hang straight down from the supports.
-    const Vec3f& bottom_left = g.mesh.positions[std::size_t(20 * 33)];
+    // On the model's surface the side edges hang straight down from the supports.
+    const Vec3f& bottom_left = model.mesh.positions[std::size_t(20 * 33)];
     EXPECT_NEAR(bottom_left.y(), -p.height_m, 1e-6);
     EXPECT_NEAR(bottom_left.z(), 0.0, 1e-6);
 }
@@ -98,7 +99,8 @@ TEST(Garment, SmoothSagIsNearlyIsometric) {
 
 // Stretch of grid edges against rest length.  The fold surface is a kinematic construction,
 // not an isometry (docs/drape.md): rows crossing the folds come out longer than the cloth.
-// Bound achieved over realistic fabrics: mean < 0.35, max < 1.0.
+// Bound achieved over realistic fabrics: mean < 0.35, max < 1.0; the relaxed grid keeps the
+// issue's bounds (mean <= 0.5 %, max <= 3 %) over the same fabrics.
 TEST(Garment, StretchIsBoundedAcrossFabrics) {
     for (double t_mm : {0.15, 0.3})
         for (double gsm : {80.0, 150.0, 300.0})
@@ -109,9 +111,11 @@ TEST(Garment, StretchIsBoundedAcrossFabrics) {
                 const ClothParams p = cloth_from_look(m, 0.5, h, 0.1);
                 const Garment g = build_garment(p, solve_folds(p), {64, 64});
                 EXPECT_TRUE(all_finite(g.mesh));
-                EXPECT_LT(g.stretch.mean, 0.35) << t_mm << " " << gsm << " " << h;
-                EXPECT_LT(g.stretch.max, 1.0) << t_mm << " " << gsm << " " << h;
-                EXPECT_GT(g.stretch.max, 0.0);
+                EXPECT_LT(g.stretch_analytical.mean, 0.35) << t_mm << " " << gsm << " " << h;
+                EXPECT_LT(g.stretch_analytical.max, 1.0) << t_mm << " " << gsm << " " << h;
+                EXPECT_GT(g.stretch_analytical.max, 0.0);
+                EXPECT_LE(g.stretch.mean, 0.005) << t_mm << " " << gsm << " " << h;
+                EXPECT_LE(g.stretch.max, 0.03) << t_mm << " " << gsm << " " << h;
             }
 }
 
@@ -119,16 +123,20 @@ TEST(Garment, SmoothAtGridResolution) {
     // No kinks: along the centre fibre a fold crest turns the fibre round over several rows
     // of a fine grid.  A piecewise-linear zig-zag would turn by ~2.5 rad at a single vertex;
     // the smooth profile's tightest crest (radius a few mm here) turns < 0.6 rad per row.
+    // The relaxed grid keeps the crests round too (its crest targets are spread over a
+    // centimetre of fibre): measured 0.86 rad at its tightest row, bound 1.0.
     const ClothParams p;
     const GridSize grid{65, 257};
-    const Garment g = build_garment(p, solve_folds(p), grid);
-    double worst = 0.0;
-    for (int j = 1; j + 1 < grid.nv; ++j) {
-        const auto at = [&](int row) { return g.mesh.positions[std::size_t(row * grid.nu + grid.nu / 2)].cast<double>(); };
-        const Eigen::Vector3d a = at(j) - at(j - 1), b = at(j + 1) - at(j);
-        worst = std::max(worst, std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+    for (bool relax : {false, true}) {
+        const Garment g = build_garment(p, solve_folds(p), grid, relax);
+        double worst = 0.0;
+        for (int j = 1; j + 1 < grid.nv; ++j) {
+            const auto at = [&](int row) { return g.mesh.positions[std::size_t(row * grid.nu + grid.nu / 2)].cast<double>(); };
+            const Eigen::Vector3d a = at(j) - at(j - 1), b = at(j + 1) - at(j);
+            worst = std::max(worst, std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+        }
+        EXPECT_LT(worst, relax ? 1.0 : 0.6) << (relax ? "relaxed" : "model");  // radians between consecutive edges
     }
-    EXPECT_LT(worst, 0.6);  // radians between consecutive edges
 }
 
 TEST(Garment, FoldLinesMatchTheSolution) {

@@ -116,17 +116,23 @@ struct Garment {
     Mesh mesh;                        // positions, triangles, UVs in metres, normals
     std::vector<float> fold_sign;     // per vertex in [-1,1]: which way the local fold bulges
     std::vector<int> support_vertices;  // fixed points: every support, inner ones too (row 0)
-    Stretch stretch;
+    Stretch stretch;                  // of the grid returned (relaxed unless relax = false)
+    Stretch stretch_analytical;       // of the model's surface before relaxation
+    int relax_iterations = 0;
 };
 
 // Needs (grid.nu - 1) divisible by the bays, so that every support is a grid vertex.
-Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid);
+// relax: bring the analytical grid towards isometry (drape_relax.hpp), every support pinned;
+// false keeps the model's surface as it is.
+Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid,
+                      bool relax = true);
 
 struct AnimationOptions {
     int frames = 60;
     double fps = 30.0;
     double sway_amplitude_m = 0.0;  // optional sway added on top; 0 = none
     double sway_period_s = 2.0;
+    bool relax = true;  // each frame relaxed towards isometry, warm-started from the last
 };
 
 // Inset of the supports in frame `frame`: 0 in the first frame, params.inset_m in the last,

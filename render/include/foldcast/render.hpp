@@ -58,6 +58,7 @@ struct GarmentSpec {
     int grid_nv = 128;
     int animation_frames = 0;        // > 0: turntables sway the drape over this many frames
     double sway_amplitude_m = 0.0;
+    bool relax = true;               // relax the drape towards isometry (docs/drape.md)
     // Files: .obj (a mesh), .pc2 (+ the .obj topology of the same stem, or `topology`), .fca.
     std::filesystem::path path;
     std::filesystem::path topology;

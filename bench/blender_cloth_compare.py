@@ -1,0 +1,143 @@
+# Hangs one cloth in Blender's cloth solver and counts its folds along the centre fibre, for
+# the comparison with foldcast's fold model (bench/blender_cloth_compare.sh runs the sweep,
+# bench/blender_cloth_table.py compares; docs/benchmarks.md has the table).
+#
+#   blender -b --factory-startup -P bench/blender_cloth_compare.py -- \
+#       NAME WIDTH_M HEIGHT_M INSET_M THICKNESS_MM YOUNG_MPA GSM POISSON NU NV
+#
+# Prints one line "RESULT,<csv row>" (see FIELDS).  Blender only: never part of the build
+# or the tests.
+#
+# The cloth: an NU x NV quad grid of the flat panel in Blender's XZ plane (x across, z up,
+# y out of the cloth), a 0.3 mm random out-of-plane jitter (fixed seed) so it can buckle.
+# Mass per vertex from the weight per area; bending stiffness from the plate's bending
+# rigidity D = E t^3 / (12 (1 - nu^2)) as bending = 20 D: Blender's angular bending springs
+# use k = bending / (20 l) (l the mean spring length, SIM_mass_spring.cc) and a hinge of
+# length l and width l carries the moment D dtheta, so k l = D.  Tension and compression
+# are stiff (the cloth barely stretches).  The two top corners are pinned and moved in by
+# the inset over the first 1.5 s (a shape key), then the cloth settles for 2.5 s more.
+import math
+import random
+import sys
+import time
+
+import bpy
+
+FIELDS = ["name", "width_m", "height_m", "inset_m", "thickness_mm", "young_mpa", "gsm", "poisson",
+          "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s"]
+
+
+def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.fps = 24
+    rng = random.Random(1)
+    verts = []
+    for j in range(nv):
+        for i in range(nu):
+            x = -0.5 * width + width * i / (nu - 1)
+            z = -height * j / (nv - 1)
+            verts.append((x, 3e-4 * (2.0 * rng.random() - 1.0) if j > 0 else 0.0, z))
+    faces = [(j * nu + i, j * nu + i + 1, (j + 1) * nu + i + 1, (j + 1) * nu + i)
+             for j in range(nv - 1) for i in range(nu - 1)]
+    mesh = bpy.data.meshes.new("cloth")
+    mesh.from_pydata(verts, [], faces)
+    mesh.update()
+    obj = bpy.data.objects.new("cloth", mesh)
+    scene.collection.objects.link(obj)
+    corners = [0, nu - 1]
+    pin = obj.vertex_groups.new(name="pin")
+    pin.add(corners, 1.0, "REPLACE")
+    # Corners moved in by the inset with a shape key, animated over the first 2 s.
+    obj.shape_key_add(name="Basis")
+    key = obj.shape_key_add(name="in")
+    key.data[0].co.x += inset
+    key.data[nu - 1].co.x -= inset
+    move_frames, settle_frames = 36, 60
+    key.value = 0.0
+    key.keyframe_insert("value", frame=1)
+    key.value = 1.0
+    key.keyframe_insert("value", frame=1 + move_frames)
+    cloth = obj.modifiers.new("cloth", "CLOTH")
+    s = cloth.settings
+    area = width * height
+    s.quality = 5
+    s.mass = gsm * 1e-3 * area / (nu * nv)  # kg per vertex
+    s.air_damping = 1.0
+    s.bending_model = "ANGULAR"
+    s.tension_stiffness = s.compression_stiffness = 80.0
+    s.shear_stiffness = 5.0
+    d = e_mpa * 1e6 * (t_mm * 1e-3) ** 3 / (12.0 * (1.0 - poisson ** 2))
+    s.bending_stiffness = 20.0 * d
+    s.vertex_group_mass = "pin"
+    cloth.collision_settings.use_collision = False
+    cloth.collision_settings.use_self_collision = False
+    cloth.point_cache.frame_start = 1
+    cloth.point_cache.frame_end = 1 + move_frames + settle_frames
+    scene.frame_start = 1
+    scene.frame_end = cloth.point_cache.frame_end
+    return scene, obj
+
+
+def positions(scene, obj):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = obj.evaluated_get(depsgraph)
+    return [tuple(v.co) for v in evaluated.data.vertices]
+
+
+def centre_fibre_folds(column_y, column_z):
+    """Sign changes of the out-of-plane displacement down the fibre and the height of each
+    crest (largest |y| between two sign changes, parabola-refined): as foldcast's
+    centre_fibre_folds, with Blender's y as foldcast's z and Blender's z as foldcast's y."""
+    plane = 1e-4
+    sign, start, segments, changes = 0, 0, [], 0
+    for j, v in enumerate(column_y):
+        s = 1 if v > plane else (-1 if v < -plane else 0)
+        if s == 0:
+            continue
+        if sign != 0 and s != sign:
+            changes += 1
+            segments.append((start, j))
+            start = j
+        sign = s
+    segments.append((start, len(column_y)))
+    crests = []
+    for begin, end in segments:
+        best = max(range(begin, end), key=lambda j: abs(column_y[j]))
+        height = column_z[best]
+        if 0 < best < len(column_y) - 1:
+            zm, z0, zp = (abs(column_y[best - 1]), abs(column_y[best]), abs(column_y[best + 1]))
+            curvature = zm - 2.0 * z0 + zp
+            if curvature < 0.0:
+                offset = max(-0.5, min(0.5, 0.5 * (zm - zp) / curvature))
+                other = column_z[best - 1 if offset < 0 else best + 1]
+                height += abs(offset) * (other - height)
+        crests.append(height)
+    return changes, crests
+
+
+def main():
+    args = sys.argv[sys.argv.index("--") + 1:]
+    name = args[0]
+    width, height, inset, t_mm, e_mpa, gsm, poisson = map(float, args[1:8])
+    nu, nv = int(args[8]), int(args[9])
+    scene, obj = build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv)
+    started = time.perf_counter()
+    previous = None
+    for frame in range(scene.frame_start, scene.frame_end + 1):
+        scene.frame_set(frame)
+        if frame == scene.frame_end - 1:
+            previous = positions(scene, obj)
+    final = positions(scene, obj)
+    elapsed = time.perf_counter() - started
+    speed = max(math.dist(a, b) for a, b in zip(final, previous)) * scene.render.fps
+    centre = (nu - 1) // 2
+    column = [final[j * nu + centre] for j in range(nv)]
+    # Out-of-plane displacement and height; the supports sit at z = 0 in both tools.
+    changes, crests = centre_fibre_folds([p[1] for p in column], [p[2] for p in column])
+    row = [name, width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv, changes,
+           ";".join(f"{c:.4f}" for c in crests), f"{speed:.4g}", f"{elapsed:.2f}"]
+    print("RESULT," + ",".join(str(v) for v in row), flush=True)
+
+
+main()

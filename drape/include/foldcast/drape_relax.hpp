@@ -1,0 +1,58 @@
+#pragma once
+// Relaxation of a garment grid towards isometry (docs/drape.md, "Relaxation"): the
+// analytical fold surface stretches the cloth; a local/global projection (projective
+// dynamics with a prefactored sparse Cholesky) brings every warp and weft edge back to its
+// rest length while the support vertices stay pinned and every vertex is pulled softly
+// towards the model's surface, so the fold layout survives.
+#include <memory>
+#include <vector>
+
+#include "foldcast/drape.hpp"
+
+namespace foldcast::drape {
+
+struct RelaxSettings {
+    double target_mean = 0.004;  // stop once mean |len/rest - 1| <= this ...
+    double target_max = 0.025;   // ... and max <= this (docs/drape.md has the measured values)
+    int max_iterations = 300;
+    // Pull of a centre-fibre crest towards the model's height and depth, relative to an
+    // edge's pull towards its rest length, for a 64-column grid (scaled as 1/nu).
+    double anchor_weight = 0.1;
+};
+
+struct RelaxReport {
+    Stretch before, after;
+    int iterations = 0;
+};
+
+// Prefactored for one grid, its rest lengths (from params' width and height) and its pinned
+// vertices; relax() may be called for many frames of that grid (the animation does).
+class GridRelaxer {
+public:
+    GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned,
+                RelaxSettings settings = {});
+    ~GridRelaxer();
+    GridRelaxer(GridRelaxer&&) noexcept;
+    GridRelaxer& operator=(GridRelaxer&&) noexcept;
+
+    // positions: the start (the analytical grid, or the previous frame moved by the change
+    // of the model); targets: the model's surface for this frame.  Pinned vertices are set
+    // to their targets exactly.  Deterministic whatever the thread count.
+    RelaxReport relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// What a grid's centre fibre (the middle column, or the mean of the two middle ones) shows
+// of its folds: how often the out-of-plane displacement z changes sign going down, and the
+// height y of each crest (the vertex of largest |z| between two sign changes, refined by a
+// parabola), top first.  The same analysis runs on Blender's cloth (bench/).
+struct CentreFibreFolds {
+    int sign_changes = 0;
+    std::vector<double> crest_heights_m;  // y of each crest, from the top edge down
+};
+CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSize grid);
+
+}  // namespace foldcast::drape

@@ -1,0 +1,360 @@
+// Relaxation towards isometry by local/global projection (projective dynamics, Bouaziz et
+// al. 2014, without inertia): minimise
+//   sum_edges |x_i - x_j - p_e|^2 + anchor sum_vertices |x_k - t_k|^2
+// over the free vertices, alternating the local step (p_e = the edge's current direction at
+// its rest length) with the global step, a linear solve whose matrix (graph Laplacian +
+// anchor) depends only on the grid and the pinned set: it is factored once (sparse
+// Cholesky) and reused for every iteration and every frame.
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "foldcast/core/error.hpp"
+#include "foldcast/drape_relax.hpp"
+#include "fold_surface.hpp"
+
+namespace foldcast::drape {
+
+struct GridRelaxer::Impl {
+    GridSize grid;
+    double rest_u = 0.0, rest_v = 0.0;
+    RelaxSettings settings;
+    double anchor = 0.0;  // the matrix's anchor term, scaled so that it does not grow with nu
+    std::vector<int> free_index;  // per vertex: row in the system, or -1 when pinned
+    std::vector<int> free_vertices;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> coupling;  // free rows x all vertices: pinned columns only
+};
+
+namespace {
+
+// The up to four warp/weft neighbours of vertex (i, j) and the rest length to each.
+template <typename F>
+void for_each_neighbour(GridSize grid, int i, int j, double rest_u, double rest_v, F&& f) {
+    if (i > 0) f(j * grid.nu + i - 1, rest_u);
+    if (i + 1 < grid.nu) f(j * grid.nu + i + 1, rest_u);
+    if (j > 0) f((j - 1) * grid.nu + i, rest_v);
+    if (j + 1 < grid.nv) f((j + 1) * grid.nu + i, rest_v);
+}
+
+}  // namespace
+
+GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned,
+                         RelaxSettings settings)
+    : impl_(std::make_unique<Impl>()) {
+    detail::validate_grid(grid);
+    Impl& m = *impl_;
+    m.grid = grid;
+    m.rest_u = params.width_m / (grid.nu - 1);
+    m.rest_v = params.height_m / (grid.nv - 1);
+    m.settings = settings;
+    // Fold-line vertices per fold line grow with nu while the edge energy of the sheet
+    // does not: per-vertex weights scale as 1/nu (set for 64 columns).
+    m.anchor = settings.anchor_weight * 63.0 / (grid.nu - 1);
+    const int n = grid.nu * grid.nv;
+    m.free_index.assign(std::size_t(n), 0);
+    for (int p : pinned) {
+        if (p < 0 || p >= n) throw InputError("pinned vertex " + std::to_string(p) + " is not in the grid");
+        m.free_index[std::size_t(p)] = -1;
+    }
+    for (int k = 0; k < n; ++k)
+        if (m.free_index[std::size_t(k)] >= 0) {
+            m.free_index[std::size_t(k)] = int(m.free_vertices.size());
+            m.free_vertices.push_back(k);
+        }
+    // The whole system over every vertex: edges (graph Laplacian) and the anchor on the
+    // diagonal; then split into the free block (factored) and the free-pinned coupling.
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(std::size_t(n) * 9);
+    const auto edge = [&](int a, int b) {
+        entries.emplace_back(a, a, 1.0), entries.emplace_back(b, b, 1.0);
+        entries.emplace_back(a, b, -1.0), entries.emplace_back(b, a, -1.0);
+    };
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const int k = j * grid.nu + i;
+            entries.emplace_back(k, k, m.anchor);
+            if (i + 1 < grid.nu) edge(k, k + 1);
+            if (j + 1 < grid.nv) edge(k, k + grid.nu);
+        }
+    Eigen::SparseMatrix<double, Eigen::RowMajor> whole(n, n);
+    whole.setFromTriplets(entries.begin(), entries.end());
+    const int free = int(m.free_vertices.size());
+    std::vector<Eigen::Triplet<double>> free_entries, pinned_entries;
+    for (int r = 0; r < n; ++r) {
+        const int row = m.free_index[std::size_t(r)];
+        if (row < 0) continue;
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(whole, r); it; ++it) {
+            const int col = m.free_index[std::size_t(it.col())];
+            if (col >= 0)
+                free_entries.emplace_back(row, col, it.value());
+            else
+                pinned_entries.emplace_back(row, int(it.col()), it.value());
+        }
+    }
+    Eigen::SparseMatrix<double> a(free, free);
+    a.setFromTriplets(free_entries.begin(), free_entries.end());
+    m.coupling.resize(free, n);
+    m.coupling.setFromTriplets(pinned_entries.begin(), pinned_entries.end());
+    m.solver.compute(a);
+    if (m.solver.info() != Eigen::Success)
+        throw std::runtime_error("relaxation: the grid's system could not be factored (is every part pinned?)");
+}
+
+GridRelaxer::~GridRelaxer() = default;
+GridRelaxer::GridRelaxer(GridRelaxer&&) noexcept = default;
+GridRelaxer& GridRelaxer::operator=(GridRelaxer&&) noexcept = default;
+
+namespace {
+
+// Vertices where the model's fold lines cross each column: local extrema of |z| going down
+// the column (the first vertex of a plateau, where the fibre hangs straight below the
+// lowest fold line).  These carry the soft targets; the rest of the cloth is free.
+std::vector<double> fold_line_vertices(const std::vector<Vec3f>& model, GridSize grid, double rest_v) {
+    std::vector<double> crest(model.size(), 0.0);
+    double deepest = 0.0;
+    for (const Vec3f& p : model) deepest = std::max(deepest, std::abs(double(p.z())));
+    if (deepest <= 0.0) return crest;
+    const double floor = 1e-3 * deepest;  // ignore the flat ends of the fold lines near the supports
+    // A target on one vertex of a fine column would pull a spike out of the cloth: each
+    // crest's pull is spread over the rows within kSpread_m of it (tapering), and scaled
+    // with the row spacing so that the pull per length of fibre does not depend on nv.
+    constexpr double kSpread_m = 0.01;
+    const int reach = std::max(1, int(std::lround(kSpread_m / rest_v)));
+    const double per_row = std::min(1.0, rest_v * 63.0 / 0.7);
+    for (int i = 0; i < grid.nu; ++i)
+        for (int j = 0; j < grid.nv; ++j) {
+            const auto z = [&](int row) { return std::abs(double(model[std::size_t(row * grid.nu + i)].z())); };
+            const double here = z(j);
+            if (here <= floor) continue;
+            const bool above = j == 0 || here > z(j - 1);
+            const bool below = j + 1 == grid.nv || here >= z(j + 1);
+            if (!above || !below) continue;
+            // Full weight on the centre fibre, fading towards the supports where the
+            // model's fold lines converge and cannot all be kept.
+            const double w = std::pow(here / deepest, 8);
+            for (int d = -reach; d <= reach; ++d) {
+                const int row = j + d;
+                if (row < 0 || row >= grid.nv) continue;
+                double& c = crest[std::size_t(row * grid.nu + i)];
+                c = std::max(c, w * per_row * double(reach + 1 - std::abs(d)) / (reach + 1));
+            }
+        }
+    return crest;
+}
+
+}  // namespace
+
+RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const {
+    const Impl& m = *impl_;
+    const GridSize grid = m.grid;
+    const std::size_t n = std::size_t(grid.nu) * std::size_t(grid.nv);
+    if (positions.size() != n || targets.size() != n)
+        throw InputError("relaxation: positions and targets must have one entry per grid vertex");
+    const ClothParams rest_params = [&] {
+        ClothParams p;
+        p.width_m = m.rest_u * (grid.nu - 1);
+        p.height_m = m.rest_v * (grid.nv - 1);
+        return p;
+    }();
+    RelaxReport report;
+    report.before = detail::grid_stretch(targets, rest_params, grid);
+    const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
+
+    std::vector<Eigen::Vector3d> x(n);
+    for (std::size_t k = 0; k < n; ++k)
+        x[k] = (m.free_index[k] < 0 ? targets[k] : positions[k]).cast<double>();
+    const int free = int(m.free_vertices.size());
+    const double anchor = m.anchor;
+    const auto gather = [&](Eigen::MatrixXd& out) {
+        for (int row = 0; row < free; ++row) out.row(row) = x[std::size_t(m.free_vertices[std::size_t(row)])].transpose();
+    };
+    const auto scatter = [&](const Eigen::MatrixXd& in) {
+        for (int row = 0; row < free; ++row) x[std::size_t(m.free_vertices[std::size_t(row)])] = in.row(row).transpose();
+    };
+
+    // Local step at x: the right-hand side of the global step, the energy
+    //   sum_edges (len - rest)^2 + anchor sum_fold-line vertices |x - target|^2
+    // and the stretch.  Every vertex has the anchor term in the matrix: a fold-line vertex
+    // is pulled to its target, any other to where it is (a proximal term: the same fixed
+    // points, and the matrix stays the same for every frame).  Gathered per row, summed in
+    // row order: the result does not depend on the thread count.
+    // The pinned vertices' share of the system: fixed for the whole relaxation.
+    Eigen::MatrixXd pinned_positions(Eigen::Index(n), 3);
+    for (std::size_t k = 0; k < n; ++k) pinned_positions.row(Eigen::Index(k)) = x[k].transpose();
+    const Eigen::MatrixXd pinned_rhs = m.coupling * pinned_positions;
+    double anchor_scale = 1.0;
+    constexpr int kSoftenEvery = 30;
+    Eigen::MatrixXd rhs(free, 3);
+    std::vector<double> row_sum(std::size_t(grid.nv)), row_max(std::size_t(grid.nv)), row_energy(std::size_t(grid.nv));
+    struct Local { double energy, mean, max; };
+    const auto local = [&]() -> Local {
+        tbb::parallel_for(0, grid.nv, [&](int j) {
+            double sum = 0.0, max = 0.0, energy = 0.0;
+            for (int i = 0; i < grid.nu; ++i) {
+                const int k = j * grid.nu + i;
+                const Eigen::Vector3d& xk = x[std::size_t(k)];
+                // Each edge once: to the right and below.
+                if (i + 1 < grid.nu) {
+                    const double len = (x[std::size_t(k + 1)] - xk).norm();
+                    sum += std::abs(len / m.rest_u - 1.0), max = std::max(max, std::abs(len / m.rest_u - 1.0));
+                    energy += (len - m.rest_u) * (len - m.rest_u);
+                }
+                if (j + 1 < grid.nv) {
+                    const double len = (x[std::size_t(k + grid.nu)] - xk).norm();
+                    sum += std::abs(len / m.rest_v - 1.0), max = std::max(max, std::abs(len / m.rest_v - 1.0));
+                    energy += (len - m.rest_v) * (len - m.rest_v);
+                }
+                const int row = m.free_index[std::size_t(k)];
+                if (row < 0) continue;
+                Eigen::Vector3d b = xk;
+                if (const double w = crest[std::size_t(k)]; w > 0.0) {
+                    // Towards the fold line's height and depth, by the fraction w; the
+                    // position across stays free (the model's rows are too long).
+                    const Eigen::Vector3d t = targets[std::size_t(k)].cast<double>();
+                    const double pull = w * anchor_scale;
+                    for (int c = 1; c < 3; ++c) {
+                        b(c) += pull * (t(c) - xk(c));
+                        energy += anchor * pull * (xk(c) - t(c)) * (xk(c) - t(c));
+                    }
+                }
+                b *= anchor;
+                for_each_neighbour(grid, i, j, m.rest_u, m.rest_v, [&](int other, double rest) {
+                    // Edge term |x_k - x_o - p|^2, p the edge at its rest length: a free
+                    // neighbour sits in the matrix, a pinned one moves to this side.
+                    const Eigen::Vector3d& xo = x[std::size_t(other)];
+                    const Eigen::Vector3d d = xk - xo;
+                    const double len = d.norm();
+                    if (len > 0.0) b += d * (rest / len);
+                });
+                rhs.row(row) = b.transpose() - pinned_rhs.row(row);
+            }
+            row_sum[std::size_t(j)] = sum, row_max[std::size_t(j)] = max, row_energy[std::size_t(j)] = energy;
+        });
+        Local out{0.0, 0.0, 0.0};
+        for (int j = 0; j < grid.nv; ++j)
+            out.energy += row_energy[std::size_t(j)], out.mean += row_sum[std::size_t(j)],
+                out.max = std::max(out.max, row_max[std::size_t(j)]);
+        const double edges = double(grid.nu - 1) * grid.nv + double(grid.nv - 1) * grid.nu;
+        out.mean /= edges;
+        return out;
+    };
+
+    // Anderson acceleration of the local/global fixed-point map (Peng et al. 2018), with
+    // the plain step whenever the accelerated one would raise the energy.
+    constexpr int kHistory = 5;
+    Eigen::MatrixXd current(free, 3), g(free, 3), f(free, 3), g_prev(free, 3), f_prev(free, 3);
+    std::vector<Eigen::MatrixXd> dg, df;
+    gather(current);
+    Local state = local();
+    double accepted_energy = state.energy;
+    int iteration = 0;
+    while (!(state.mean <= m.settings.target_mean && state.max <= m.settings.target_max) &&
+           iteration < m.settings.max_iterations) {
+        if (iteration > 0 && iteration % kSoftenEvery == 0) {
+            // Not there yet: the targets ask for more than the cloth can give; soften them
+            // (a new fixed-point map, so the history goes).
+            anchor_scale *= 0.5;
+            dg.clear(), df.clear();
+            state = local();
+            accepted_energy = state.energy;
+        }
+        ++iteration;
+        tbb::parallel_for(0, 3, [&](int c) { g.col(c) = m.solver.solve(rhs.col(c)); });
+        f = g - current;
+        if (iteration > 1) {
+            if (int(dg.size()) == kHistory) dg.erase(dg.begin()), df.erase(df.begin());
+            dg.push_back(g - g_prev);
+            df.push_back(f - f_prev);
+        }
+        g_prev = g;
+        f_prev = f;
+        Eigen::MatrixXd next = g;
+        const int h = int(df.size());
+        if (h > 0) {
+            Eigen::MatrixXd normal(h, h);
+            Eigen::VectorXd right(h);
+            for (int a = 0; a < h; ++a) {
+                right(a) = (df[std::size_t(a)].array() * f.array()).sum();
+                for (int b = 0; b <= a; ++b)
+                    normal(a, b) = normal(b, a) = (df[std::size_t(a)].array() * df[std::size_t(b)].array()).sum();
+            }
+            normal.diagonal() *= 1.0 + 1e-10;
+            const Eigen::VectorXd theta = normal.ldlt().solve(right);
+            if (theta.allFinite())
+                for (int a = 0; a < h; ++a) next -= theta(a) * dg[std::size_t(a)];
+        }
+        scatter(next);
+        state = local();
+        if (h > 0 && !(state.energy <= accepted_energy)) {  // fall back to the plain step
+            scatter(g);
+            state = local();
+            dg.clear(), df.clear();
+            next = g;
+        }
+        accepted_energy = state.energy;
+        current = next;
+    }
+    for (std::size_t k = 0; k < n; ++k) positions[k] = x[k].cast<float>();
+    report.iterations = iteration;
+    report.after = detail::grid_stretch(positions, rest_params, grid);
+    return report;
+}
+
+CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSize grid) {
+    detail::validate_grid(grid);
+    if (positions.size() != std::size_t(grid.nu) * std::size_t(grid.nv))
+        throw InputError("centre fibre: positions must have one entry per grid vertex");
+    // The middle column, or the mean of the two middle ones of an even grid.
+    const int left = (grid.nu - 1) / 2, right = grid.nu / 2;
+    std::vector<double> y(std::size_t(grid.nv)), z(std::size_t(grid.nv));
+    for (int j = 0; j < grid.nv; ++j) {
+        const Vec3f& a = positions[std::size_t(j * grid.nu + left)];
+        const Vec3f& b = positions[std::size_t(j * grid.nu + right)];
+        y[std::size_t(j)] = 0.5 * (double(a.y()) + double(b.y()));
+        z[std::size_t(j)] = 0.5 * (double(a.z()) + double(b.z()));
+    }
+    // Sign changes of z, ignoring values within a tenth of a millimetre of the plane.
+    constexpr double kPlane_m = 1e-4;
+    CentreFibreFolds out;
+    int sign = 0, segment_start = 0;
+    std::vector<std::pair<int, int>> segments;
+    for (int j = 0; j < grid.nv; ++j) {
+        const double v = z[std::size_t(j)];
+        const int s = v > kPlane_m ? 1 : (v < -kPlane_m ? -1 : 0);
+        if (s == 0) continue;
+        if (sign != 0 && s != sign) {
+            ++out.sign_changes;
+            segments.emplace_back(segment_start, j);
+            segment_start = j;
+        }
+        sign = s;
+    }
+    segments.emplace_back(segment_start, grid.nv);
+    for (const auto& [begin, end] : segments) {
+        int best = begin;
+        for (int j = begin; j < end; ++j)
+            if (std::abs(z[std::size_t(j)]) > std::abs(z[std::size_t(best)])) best = j;
+        double height = y[std::size_t(best)];
+        if (best > 0 && best + 1 < grid.nv) {
+            // Vertex of the parabola through |z| at best-1, best, best+1, then y interpolated.
+            const double zm = std::abs(z[std::size_t(best - 1)]), z0 = std::abs(z[std::size_t(best)]),
+                         zp = std::abs(z[std::size_t(best + 1)]);
+            const double curvature = zm - 2.0 * z0 + zp;
+            if (curvature < 0.0) {
+                const double offset = std::clamp(0.5 * (zm - zp) / curvature, -0.5, 0.5);
+                const double other = y[std::size_t(offset < 0.0 ? best - 1 : best + 1)];
+                height += std::abs(offset) * (other - height);
+            }
+        }
+        out.crest_heights_m.push_back(height);
+    }
+    return out;
+}
+
+}  // namespace foldcast::drape

@@ -1,0 +1,119 @@
+// Relaxation towards isometry (drape_relax.hpp): the cloth keeps its length, the model's
+// fold layout survives, the supports stay exactly where the model puts them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "foldcast/core/error.hpp"
+#include "foldcast/core/math.hpp"
+#include "foldcast/drape.hpp"
+#include "foldcast/drape_relax.hpp"
+#include "foldcast/looks.hpp"
+
+namespace foldcast::drape {
+namespace {
+
+// Every shipped look draped the default way (0.5 x 0.7 m, supports 0.1 m in).
+std::vector<std::pair<std::string, ClothParams>> shipped_looks() {
+    std::vector<std::pair<std::string, ClothParams>> out;
+    const looks::Library library = looks::Library::load_default();
+    for (const std::string& name : library.names())
+        out.emplace_back(name, cloth_from_look(library.get(name).mechanics, 0.5, 0.7, 0.1));
+    return out;
+}
+
+void expect_keeps_length(GridSize grid) {
+    for (const auto& [name, p] : shipped_looks()) {
+        const Garment g = build_garment(p, solve_folds(p), grid);
+        EXPECT_LE(g.stretch.mean, 0.005) << name;
+        EXPECT_LE(g.stretch.max, 0.03) << name;
+        EXPECT_GT(g.stretch_analytical.mean, 0.05) << name;  // there was something to do
+    }
+}
+
+TEST(Relax, EveryLookKeepsItsLengthAt64) { expect_keeps_length({64, 64}); }
+TEST(Relax, EveryLookKeepsItsLengthAt128) { expect_keeps_length({128, 128}); }
+
+// The same n (sign changes of z down the centre fibre) and every crest's height within
+// 1.5 cm of the model's a_i, for every look; the model's own grid shows the same layout.
+TEST(Relax, FoldLayoutSurvives) {
+    for (const auto& [name, p] : shipped_looks()) {
+        const FoldSolution s = solve_folds(p);
+        ASSERT_GT(s.folds, 0) << name;
+        const GridSize grid{64, 64};
+        for (bool relax : {false, true}) {
+            const Garment g = build_garment(p, s, grid, relax);
+            const CentreFibreFolds folds = centre_fibre_folds(g.mesh.positions, grid);
+            const std::string what = name + (relax ? " relaxed" : " model");
+            EXPECT_EQ(folds.sign_changes, s.folds) << what;
+            ASSERT_EQ(folds.crest_heights_m.size(), s.amplitudes_m.size()) << what;
+            for (std::size_t k = 0; k < folds.crest_heights_m.size(); ++k) {
+                const double model = -s.amplitudes_m[s.amplitudes_m.size() - 1 - k];  // top first
+                EXPECT_NEAR(folds.crest_heights_m[k], model, 0.015) << what << " crest " << k;
+            }
+        }
+    }
+}
+
+TEST(Relax, SupportsStayExactlyPinned) {
+    const ClothParams p;
+    const GridSize grid{40, 50};
+    const Garment model = build_garment(p, solve_folds(p), grid, false);
+    const Garment relaxed = build_garment(p, solve_folds(p), grid);
+    ASSERT_EQ(relaxed.support_vertices, model.support_vertices);
+    for (int v : relaxed.support_vertices)
+        EXPECT_EQ(relaxed.mesh.positions[std::size_t(v)], model.mesh.positions[std::size_t(v)]);
+    EXPECT_GT(relaxed.relax_iterations, 0);
+}
+
+// Any set of pinned vertices (multi-bay garments pin more than two): each stays exactly at
+// its target, the rest relaxes.
+TEST(Relax, AnyPinnedSetStaysExact) {
+    const ClothParams p;
+    const GridSize grid{31, 25};
+    const Garment model = build_garment(p, solve_folds(p), grid, false);
+    const std::vector<int> pinned = {0, 10, 20, 30, 24 * 31 + 15};
+    std::vector<Vec3f> targets = model.mesh.positions;
+    targets[10] += Vec3f(0.0f, 0.01f, 0.0f);  // pinned targets are honoured even off the model
+    std::vector<Vec3f> positions = model.mesh.positions;
+    const RelaxReport report = GridRelaxer(p, grid, pinned).relax(positions, targets);
+    for (int v : pinned) EXPECT_EQ(positions[std::size_t(v)], targets[std::size_t(v)]) << v;
+    EXPECT_LT(report.after.mean, report.before.mean);
+}
+
+TEST(Relax, FlatClothIsLeftAlone) {
+    ClothParams p;
+    p.inset_m = 0.0;  // no slack: the flat sheet is already isometric
+    const Garment g = build_garment(p, solve_folds(p), {16, 16});
+    const Garment model = build_garment(p, solve_folds(p), {16, 16}, false);
+    EXPECT_EQ(g.relax_iterations, 0);
+    EXPECT_EQ(g.mesh.positions, model.mesh.positions);
+}
+
+TEST(Relax, CentreFibreAnalysisCountsSignChanges) {
+    // A column whose z follows cos(3 pi v / h): three sign changes, crests at v = 0, h/3,
+    // 2h/3, h (y = -v here).
+    const GridSize grid{3, 61};
+    std::vector<Vec3f> positions;
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const double v = double(j) / (grid.nv - 1);
+            positions.emplace_back(float(i), float(-v), float(0.05 * std::cos(3.0 * kPi * v)));
+        }
+    const CentreFibreFolds folds = centre_fibre_folds(positions, grid);
+    EXPECT_EQ(folds.sign_changes, 3);
+    ASSERT_EQ(folds.crest_heights_m.size(), 4u);
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(folds.crest_heights_m[std::size_t(k)], -k / 3.0, 1e-3) << k;
+}
+
+TEST(Relax, RejectsMismatchedInput) {
+    const ClothParams p;
+    EXPECT_THROW(GridRelaxer(p, {8, 8}, {64}), InputError);
+    const GridRelaxer relaxer(p, {8, 8}, {0, 7});
+    std::vector<Vec3f> positions(10), targets(64);
+    EXPECT_THROW(relaxer.relax(positions, targets), InputError);
+}
+
+}  // namespace
+}  // namespace foldcast::drape
