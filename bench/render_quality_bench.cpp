@@ -155,7 +155,7 @@ void part_flicker(const Args& args) {
     auto frames = [&](const std::string& name, int spp, bool denoise) {
         const fs::path dir = args.out / ("turntable_" + name);
         bool cached = true;
-        for (int f = kFirst; f < kLast; ++f) cached = cached && fs::exists(render::turntable_frame_path(dir, f));
+        for (int f = kFirst; f < kLast; ++f) cached = cached && fs::exists(batch::turntable_frame_path(dir, f));
         double seconds = 0.0;
         if (!cached || name.rfind("ref", 0) != 0) {
             batch::TurntableOptions o;
@@ -169,7 +169,7 @@ void part_flicker(const Args& args) {
             seconds = batch::render_turntable(scene, dir.string() + "/", o).stats.seconds;
         }
         std::vector<compare::Image> out;
-        for (int f = kFirst; f < kLast; ++f) out.push_back(compare::read_image(render::turntable_frame_path(dir, f)));
+        for (int f = kFirst; f < kLast; ++f) out.push_back(compare::read_image(batch::turntable_frame_path(dir, f)));
         return std::make_pair(out, seconds);
     };
     const auto ref = frames("ref" + std::to_string(args.ref_spp), args.ref_spp, false).first;
