@@ -1,4 +1,4 @@
-// The tension-field fold solve (DESIGN.md "drape") with the hem closure (docs/drape.md):
+// The tension-field fold solve (docs/drape.md, "The model") with the hem closure (docs/drape.md):
 // Q from the critical-stress equation, then for each fold count n one configuration fixed
 // by the top edge and the hem keeping their length, and n chosen as the most folds whose
 // zig-zag fits the centre fibre.

@@ -1,5 +1,5 @@
 #pragma once
-// The garment surface spanned by the fold lines (DESIGN.md "drape", grid).
+// The garment surface spanned by the fold lines (docs/drape.md, "Garment grid").
 //
 // A vertical fibre at x (c = cos(pi x / l)) runs from the top edge through fold lines
 // n, n-1, .., 0, then hangs straight.  Between fold lines it follows a smooth profile in the

@@ -28,7 +28,7 @@ double integrate(const std::function<double(double)>& f, double a, double b, dou
     return simpson(f, a, b, fa, fm, fb, (b - a) / 6.0 * (fa + 4.0 * fm + fb), tol, 40);
 }
 
-// Top edge length by quadrature of DESIGN.md's integral.
+// Top edge length by quadrature of the model's integral (docs/drape.md, equation 2).
 double top_edge_by_quadrature(double l, double a_n, double zmax) {
     const double k2 = std::pow(std::numbers::pi / l, 2) * (a_n * a_n + zmax * zmax);
     return integrate(
@@ -80,7 +80,7 @@ TEST(CriticalStress, QSatisfiesTheEquationDirectly) {
             for (double h : {0.3, 0.7, 1.5}) {
                 const ClothParams p = fabric(t_mm, e_mpa, 150.0, h);
                 const double l = p.support_span_m();
-                // sigma_cr written out from DESIGN.md, not through critical_stress_pa.
+                // sigma_cr written out from docs/drape.md, not through critical_stress_pa.
                 const double sigma_cr = p.load_constant * p.young_pa * std::pow(p.thickness_m, 2) /
                                         (l * l * (1.0 - p.poisson * p.poisson));
                 const double s = sigma_cr * p.thickness_m / (p.weight_n_per_m2 * p.height_m);

@@ -1,4 +1,4 @@
-// Physical trends the model must show over realistic fabric ranges (DESIGN.md "drape"):
+// Physical trends the model must show over realistic fabric ranges (docs/drape.md):
 // more folds for taller, heavier, thinner or softer cloth; deeper folds with more slack.
 #include <gtest/gtest.h>
 

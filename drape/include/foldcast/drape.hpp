@@ -1,6 +1,6 @@
 #pragma once
-// drape: tension-field wrinkle model of a cloth hanging from two supports (DESIGN.md,
-// "drape"), the garment grid built on its fold lines, and the animation of folds forming.
+// drape: tension-field wrinkle model of a cloth hanging from supports (docs/drape.md), the
+// garment grid built on its fold lines, and the animation of folds forming.
 //
 // Frame: origin midway between the supports, x to the right (supports at x = +/- l/2),
 // y up (the cloth hangs towards -y from y = 0), z out of the cloth plane towards the viewer.
