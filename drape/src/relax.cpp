@@ -337,11 +337,17 @@ CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSiz
     }
     segments.emplace_back(segment_start, grid.nv);
     for (const auto& [begin, end] : segments) {
-        int best = begin;
+        int deepest = begin;
         for (int j = begin; j < end; ++j)
-            if (std::abs(z[std::size_t(j)]) > std::abs(z[std::size_t(best)])) best = j;
+            if (std::abs(z[std::size_t(j)]) > std::abs(z[std::size_t(deepest)])) deepest = j;
+        // Below the lowest fold line the fibre hangs straight at the fold's depth: that
+        // plateau's crest is its top, where the fibre stops folding, not wherever a relaxed
+        // grid happens to bulge a fraction of a millimetre further out along it.
+        constexpr double kPlateau_m = 5e-4;
+        int best = begin;
+        while (std::abs(z[std::size_t(best)]) < std::abs(z[std::size_t(deepest)]) - kPlateau_m) ++best;
         double height = y[std::size_t(best)];
-        if (best > 0 && best + 1 < grid.nv) {
+        if (best == deepest && best > 0 && best + 1 < grid.nv) {
             // Vertex of the parabola through |z| at best-1, best, best+1, then y interpolated.
             const double zm = std::abs(z[std::size_t(best - 1)]), z0 = std::abs(z[std::size_t(best)]),
                          zp = std::abs(z[std::size_t(best + 1)]);

@@ -63,9 +63,9 @@ TEST(Supports, EverySupportIsExactlyPinned) {
 TEST(Supports, BaysAreCopiesOfOneBayJoinedAtTheSharedSupports) {
     const ClothParams p = curtain();
     const FoldSolution s = solve_folds(p);
-    const Garment g = build_garment(p, s, kGrid);
+    const Garment g = build_garment(p, s, kGrid, /*relax=*/false);  // the model's grid
     const ClothParams bay = bay_params(p);
-    const Garment one = build_garment(bay, s, {17, kGrid.nv});
+    const Garment one = build_garment(bay, s, {17, kGrid.nv}, false);
     const double bay_span = bay.support_span_m();
     for (int j = 0; j < kGrid.nv; ++j)
         for (int k = 0; k < 4; ++k)
@@ -95,7 +95,8 @@ TEST(Supports, DropKeepsTheFoldsAndShearsThePattern) {
     EXPECT_EQ(a.folds, b.folds);
     EXPECT_EQ(a.amplitudes_m, b.amplitudes_m);
     EXPECT_EQ(a.zmax_m, b.zmax_m);
-    const Garment ga = build_garment(level, a, kGrid), gb = build_garment(dropped, b, kGrid);
+    // The model's grids: the relaxation of each is its own, not a shear of the other's.
+    const Garment ga = build_garment(level, a, kGrid, false), gb = build_garment(dropped, b, kGrid, false);
     const double l = level.support_span_m();
     for (std::size_t v = 0; v < ga.mesh.positions.size(); ++v) {
         const Vec3f& p = ga.mesh.positions[v];
@@ -109,7 +110,7 @@ TEST(Supports, DropKeepsTheFoldsAndShearsThePattern) {
     two.supports = 2;
     ClothParams two_level = two;
     two_level.support_drop_m = 0.0;
-    const Garment g2 = build_garment(two, solve_folds(two), {33, 33});
+    const Garment g2 = build_garment(two, solve_folds(two), {33, 33}, false);
     EXPECT_EQ(solve_folds(two).folds, solve_folds(two_level).folds);
     EXPECT_NEAR(g2.mesh.positions[32].y(), -0.05, 1e-6);
     // The fold lines are sheared the same way and still end on the supports.
@@ -125,11 +126,16 @@ TEST(Supports, AnimationEndsOnTheGarment) {
     const ClothParams p = curtain(0.04);
     AnimationOptions options;
     options.frames = 4;
+    options.relax = false;  // relaxed frames are warm-started, so only the model's grids are equal
     const Animation anim = animate(p, kGrid, options);
-    const Garment g = build_garment(p, solve_folds(p), kGrid);
+    const Garment g = build_garment(p, solve_folds(p), kGrid, false);
     ASSERT_EQ(anim.frames.back().size(), g.mesh.positions.size());
     for (std::size_t v = 0; v < g.mesh.positions.size(); ++v)
         ASSERT_EQ(anim.frames.back()[v], g.mesh.positions[v]);
+    // Relaxed, every support of every bay stays where the model puts it in every frame.
+    options.relax = true;
+    const Animation relaxed = animate(p, kGrid, options);
+    for (int v : g.support_vertices) EXPECT_EQ(relaxed.frames.back()[std::size_t(v)], g.mesh.positions[std::size_t(v)]);
 }
 
 TEST(Supports, RejectsBadSupportsAndGrids) {

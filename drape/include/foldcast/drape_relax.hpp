@@ -48,7 +48,9 @@ private:
 // What a grid's centre fibre (the middle column, or the mean of the two middle ones) shows
 // of its folds: how often the out-of-plane displacement z changes sign going down, and the
 // height y of each crest (the vertex of largest |z| between two sign changes, refined by a
-// parabola), top first.  The same analysis runs on Blender's cloth (bench/).
+// parabola; for a plateau within 0.5 mm of that depth, such as the fibre hanging straight
+// below the lowest fold line, its top), top first.  The same analysis runs on Blender's
+// cloth (bench/).
 struct CentreFibreFolds {
     int sign_changes = 0;
     std::vector<double> crest_heights_m;  // y of each crest, from the top edge down
