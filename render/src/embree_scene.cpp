@@ -15,14 +15,46 @@ void unpack_lane(const RTCRayHit16& packet, int k, RTCRay* r, RTCHit* h) {
     h->Ng_x = packet.hit.Ng_x[k]; h->Ng_y = packet.hit.Ng_y[k]; h->Ng_z = packet.hit.Ng_z[k];
 }
 
+namespace {
+const char* error_name(RTCError code) {
+    switch (code) {
+        case RTC_ERROR_NONE: return "no error";
+        case RTC_ERROR_UNKNOWN: return "unknown error";
+        case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+        case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+        case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+        case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+        case RTC_ERROR_CANCELLED: return "cancelled";
+    }
+    return "error";
+}
+}  // namespace
+
+void EmbreeScene::on_error(void* self, RTCError code, const char* message) {
+    auto* scene = static_cast<EmbreeScene*>(self);
+    if (scene->error_.empty())
+        scene->error_ = std::string(error_name(code)) + (message && *message ? std::string(": ") + message : "");
+}
+
+void EmbreeScene::throw_if_failed(const char* what) const {
+    if (!error_.empty()) throw std::runtime_error(std::string("Embree, ") + what + ": " + error_);
+}
+
 EmbreeScene::EmbreeScene() {
     // No thread count in the device's configuration: Embree turns one into a process-wide
     // tbb::global_control, which silently capped every TBB arena of the process, the
     // tracer's tiles included, at that many threads (RenderKit/embree#507).
     device_ = rtcNewDevice(nullptr);
-    if (!device_) throw std::runtime_error("Embree: cannot create a device");
+    if (!device_)
+        throw std::runtime_error(std::string("Embree: cannot create a device (") + error_name(rtcGetDeviceError(nullptr)) + ")");
+    rtcSetDeviceErrorFunction(device_, &EmbreeScene::on_error, this);
     scene_ = rtcNewScene(device_);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    if (!error_.empty()) {  // no destructor runs for a constructor that throws
+        if (scene_) rtcReleaseScene(scene_);
+        rtcReleaseDevice(device_);
+        throw_if_failed("creating the scene");
+    }
 }
 
 EmbreeScene::~EmbreeScene() {
@@ -43,6 +75,7 @@ void EmbreeScene::add(GeometryData data) {
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(scene_, g, static_cast<unsigned>(geoms_.size()));
     rtcReleaseGeometry(g);
+    throw_if_failed("adding a mesh");
     geoms_.push_back(std::move(data));
 }
 
@@ -53,6 +86,7 @@ void EmbreeScene::commit() {
     // per frame and take ~10-30 ms.
     tbb::task_arena one_thread(1);
     one_thread.execute([&] { rtcCommitScene(scene_); });
+    throw_if_failed("building the BVH");
 }
 
 bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, RTCRayHit& rh, std::uint64_t& rays) const {

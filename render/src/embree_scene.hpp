@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "foldcast/core/mesh.hpp"
@@ -79,9 +80,15 @@ public:
     Hit surface(const RTCRay& ray, const RTCHit& h) const;
 
 private:
+    // Embree reports errors to a handler, not by return values: the first one is kept here
+    // and thrown by throw_if_failed() after each call that can fail (device, geometry, build).
+    static void on_error(void* self, RTCError code, const char* message);
+    void throw_if_failed(const char* what) const;
+
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     std::vector<GeometryData> geoms_;
+    std::string error_;  // written once by on_error, read on the calling thread
 };
 
 }  // namespace foldcast::render
