@@ -38,9 +38,10 @@ Command batch_command(CLI::App& app) {
                 for (const std::string& look : manifest.looks) library.get(look);  // fail before any work
                 if (args->dry_run) {
                     for (const batch::BatchJob& job : batch::shard_jobs(manifest, shard))
-                        std::printf("%4zu %s %s\n", job.index,
-                                    batch::is_finished(job.output, batch::job_identity(job, manifest)) ? "done" : "todo",
-                                    job.output.c_str());
+                        std::printf(
+                            "%4zu %s %s\n", job.index,
+                            batch::is_finished(job.output, batch::job_identity(job, manifest)) ? "done" : "todo",
+                            job.output.c_str());
                     return 0;
                 }
                 auto render_job = [&](const batch::BatchJob& job, const batch::BatchManifest& m) {

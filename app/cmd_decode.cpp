@@ -26,7 +26,8 @@ std::pair<std::size_t, std::size_t> parse_frames(const std::string& text, std::s
     const std::size_t a = number(std::string_view(text).substr(0, colon), 0);
     const std::size_t b = number(std::string_view(text).substr(colon + 1), count);
     if (a >= b || b > count)
-        throw InputError("--frames '" + text + "': the file has frames 0.." + std::to_string(count - 1) + " (need A < B <= " + std::to_string(count) + ")");
+        throw InputError("--frames '" + text + "': the file has frames 0.." + std::to_string(count - 1) +
+                         " (need A < B <= " + std::to_string(count) + ")");
     return {a, b};
 }
 }  // namespace
@@ -44,30 +45,40 @@ Command decode_command(CLI::App& app) {
     sub->add_flag("--json", o->json, "print a JSON report on stdout");
 
     return {sub, [o]() {
-        if (std::filesystem::path(o->output).extension() != ".pc2") throw InputError("-o '" + o->output + "' must end in .pc2");
-        const std::string bytes = codec::read_fca(o->input);
-        codec::StreamingDecoder decoder(o->input, bytes.size());
-        decoder.feed(bytes);
-        const codec::StreamStatus status = decoder.status();
-        if (!status.header_ready) throw InputError(o->input + ": truncated inside its header (" + std::to_string(bytes.size()) + " bytes)");
-        Animation anim = decoder.animation();
-        if (!o->frames.empty()) {
-            const auto [a, b] = parse_frames(o->frames, anim.frame_count());
-            anim.frames = std::vector<std::vector<Vec3f>>(anim.frames.begin() + static_cast<std::ptrdiff_t>(a),
-                                                          anim.frames.begin() + static_cast<std::ptrdiff_t>(b));
-        }
-        if (!status.complete)
-            std::fprintf(stderr, "foldcast: warning: '%s' is truncated: frames 0..%zu are final, later frames are coarser\n",
-                         o->input.c_str(), status.playable_frames == 0 ? std::size_t(0) : status.playable_frames - 1);
-        write_pc2_animation(o->output, anim);
-        if (o->json) {
-            nlohmann::json j{{"output", o->output}, {"frames", anim.frame_count()}, {"vertices", anim.vertex_count()},
-                             {"fps", anim.fps}, {"profile", codec::profile_name(decoder.profile())}, {"bytes", bytes.size()},
-                             {"complete", status.complete}, {"playable_frames", status.playable_frames}};
-            std::printf("%s\n", j.dump().c_str());
-        }
-        return 0;
-    }};
+                if (std::filesystem::path(o->output).extension() != ".pc2")
+                    throw InputError("-o '" + o->output + "' must end in .pc2");
+                const std::string bytes = codec::read_fca(o->input);
+                codec::StreamingDecoder decoder(o->input, bytes.size());
+                decoder.feed(bytes);
+                const codec::StreamStatus status = decoder.status();
+                if (!status.header_ready)
+                    throw InputError(o->input + ": truncated inside its header (" + std::to_string(bytes.size()) +
+                                     " bytes)");
+                Animation anim = decoder.animation();
+                if (!o->frames.empty()) {
+                    const auto [a, b] = parse_frames(o->frames, anim.frame_count());
+                    anim.frames = std::vector<std::vector<Vec3f>>(anim.frames.begin() + static_cast<std::ptrdiff_t>(a),
+                                                                  anim.frames.begin() + static_cast<std::ptrdiff_t>(b));
+                }
+                if (!status.complete)
+                    std::fprintf(
+                        stderr,
+                        "foldcast: warning: '%s' is truncated: frames 0..%zu are final, later frames are coarser\n",
+                        o->input.c_str(), status.playable_frames == 0 ? std::size_t(0) : status.playable_frames - 1);
+                write_pc2_animation(o->output, anim);
+                if (o->json) {
+                    nlohmann::json j{{"output", o->output},
+                                     {"frames", anim.frame_count()},
+                                     {"vertices", anim.vertex_count()},
+                                     {"fps", anim.fps},
+                                     {"profile", codec::profile_name(decoder.profile())},
+                                     {"bytes", bytes.size()},
+                                     {"complete", status.complete},
+                                     {"playable_frames", status.playable_frames}};
+                    std::printf("%s\n", j.dump().c_str());
+                }
+                return 0;
+            }};
 }
 
 }  // namespace foldcast::app

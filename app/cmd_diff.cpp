@@ -27,8 +27,11 @@ nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 int report_error(const DiffOptions& o, compare::DiffVerdict verdict, const std::string& message) {
     std::fprintf(stderr, "foldcast diff: %s\n", message.c_str());
     if (o.json) {
-        nlohmann::json j{{"reference", o.reference}, {"test", o.test}, {"verdict", compare::verdict_name(verdict)},
-                         {"exit_code", static_cast<int>(verdict)}, {"error", message}};
+        nlohmann::json j{{"reference", o.reference},
+                         {"test", o.test},
+                         {"verdict", compare::verdict_name(verdict)},
+                         {"exit_code", static_cast<int>(verdict)},
+                         {"error", message}};
         std::printf("%s\n", j.dump(2).c_str());
     }
     return static_cast<int>(verdict);
@@ -118,14 +121,15 @@ int run_diff(const DiffOptions& o) {
 
 Command diff_command(CLI::App& app) {
     auto o = std::make_shared<DiffOptions>();
-    CLI::App* sub = app.add_subcommand(
-        "diff",
-        "Compare two images like OpenImageIO's idiff. Exit status: 0 pass, 1 warning, 2 failure, "
-        "3 size mismatch, 4 unreadable file.");
+    CLI::App* sub =
+        app.add_subcommand("diff",
+                           "Compare two images like OpenImageIO's idiff. Exit status: 0 pass, 1 warning, 2 failure, "
+                           "3 size mismatch, 4 unreadable file.");
     sub->add_option("reference", o->reference, "Reference (golden) image")->required();
     sub->add_option("test", o->test, "Image to check")->required();
     sub->add_option("-o,--output", o->heat_map_path, "Write a heat-map of the differences (PNG)");
-    sub->add_option("--heatmap", o->heat_map_kind, "Heat-map content: flip (perceptual) or abs (max |A-B|, scaled to the largest)")
+    sub->add_option("--heatmap", o->heat_map_kind,
+                    "Heat-map content: flip (perceptual) or abs (max |A-B|, scaled to the largest)")
         ->check(CLI::IsMember({"flip", "abs"}))
         ->capture_default_str();
     sub->add_option("--fail", o->th.fail, "A pixel fails when any channel differs by more than this (values in [0,1])")
@@ -133,21 +137,24 @@ Command diff_command(CLI::App& app) {
     sub->add_option("--failpercent", o->th.fail_percent, "FAILURE when more than this percentage of pixels fail")
         ->capture_default_str();
     sub->add_option("--hardfail", o->th.hard_fail, "FAILURE when any difference exceeds this (default: infinity)");
-    sub->add_option("--warn", o->th.warn, "A pixel warns when any channel differs by more than this")->capture_default_str();
+    sub->add_option("--warn", o->th.warn, "A pixel warns when any channel differs by more than this")
+        ->capture_default_str();
     sub->add_option("--warnpercent", o->th.warn_percent, "WARNING when more than this percentage of pixels warn")
         ->capture_default_str();
     sub->add_option("--hardwarn", o->th.hard_warn, "WARNING when any difference exceeds this (default: infinity)");
     // Read as text: CLI11 would clamp 99999999999999999999 to the largest long long silently.
-    sub->add_option("--allowfailures", o->allow_failures_text, "PASS whenever at most this many pixels fail (idiff's rule)")
+    sub->add_option("--allowfailures", o->allow_failures_text,
+                    "PASS whenever at most this many pixels fail (idiff's rule)")
         ->capture_default_str();
     sub->add_flag("--json", o->json, "Print one JSON object with the metrics and the verdict");
     return {sub, [o] {
-        const std::string& text = o->allow_failures_text;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), o->th.allow_failures);
-        if (ec != std::errc() || end != text.data() + text.size() || o->th.allow_failures < 0)
-            throw InputError("--allowfailures '" + text + "': must be a whole number from 0 to 9223372036854775807");
-        return run_diff(*o);
-    }};
+                const std::string& text = o->allow_failures_text;
+                const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), o->th.allow_failures);
+                if (ec != std::errc() || end != text.data() + text.size() || o->th.allow_failures < 0)
+                    throw InputError("--allowfailures '" + text +
+                                     "': must be a whole number from 0 to 9223372036854775807");
+                return run_diff(*o);
+            }};
 }
 
 }  // namespace foldcast::app

@@ -65,8 +65,8 @@ drape::GridSize parse_grid(const std::string& text) {
     };
     drape::GridSize g{0, 0};
     if (x != std::string::npos && parse(text.data(), text.data() + x, g.nu) &&
-        parse(text.data() + x + 1, text.data() + text.size(), g.nv) && g.nu >= 2 && g.nv >= 2 &&
-        g.nu <= 8192 && g.nv <= 8192)
+        parse(text.data() + x + 1, text.data() + text.size(), g.nv) && g.nu >= 2 && g.nv >= 2 && g.nu <= 8192 &&
+        g.nv <= 8192)
         return g;
     throw InputError("--grid " + text + ": must be NUxNV with 2..8192 vertices each way, e.g. 64x64");
 }
@@ -101,16 +101,15 @@ drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
     }
     require_positive("--width-m", o.width_m);
     require_positive("--height-m", o.height_m);
-    require(std::isfinite(o.inset_m) && o.inset_m >= 0.0 && o.inset_m < 0.5 * o.width_m, "--inset-m",
-            o.inset_m, ">= 0 and less than half the width (" + number(0.5 * o.width_m) + " m)");
+    require(std::isfinite(o.inset_m) && o.inset_m >= 0.0 && o.inset_m < 0.5 * o.width_m, "--inset-m", o.inset_m,
+            ">= 0 and less than half the width (" + number(0.5 * o.width_m) + " m)");
     require_positive("--thickness-mm", m.thickness_mm);
     require_positive("--young-mpa", m.young_mpa);
     if (flags.weight->count())
         require_positive("--weight-n-mm2", o.weight_n_mm2);
     else
         require_positive("--gsm", m.gsm);
-    require(std::isfinite(m.poisson) && m.poisson >= 0.0 && m.poisson < 0.5, "--poisson", m.poisson,
-            ">= 0 and < 0.5");
+    require(std::isfinite(m.poisson) && m.poisson >= 0.0 && m.poisson < 0.5, "--poisson", m.poisson, ">= 0 and < 0.5");
     require_positive("--load-constant", m.load_constant);
     require(o.supports >= 2 && o.supports <= 65, "--supports", o.supports, "2..65");
     require(std::isfinite(o.support_drop_m) && std::abs(o.support_drop_m) <= o.width_m - 2.0 * o.inset_m,
@@ -125,15 +124,18 @@ drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
 
 const char* regime_name(drape::FoldSolution::Regime r) {
     switch (r) {
-        case drape::FoldSolution::Regime::wrinkled: return "wrinkled";
-        case drape::FoldSolution::Regime::no_wrinkles: return "no_wrinkles";
-        case drape::FoldSolution::Regime::no_feasible_folds: return "no_feasible_folds";
+        case drape::FoldSolution::Regime::wrinkled:
+            return "wrinkled";
+        case drape::FoldSolution::Regime::no_wrinkles:
+            return "no_wrinkles";
+        case drape::FoldSolution::Regime::no_feasible_folds:
+            return "no_feasible_folds";
     }
     return "?";
 }
 
-nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
-                      const drape::Garment& g, const DrapeOptions& o, drape::GridSize grid) {
+nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s, const drape::Garment& g,
+                      const DrapeOptions& o, drape::GridSize grid) {
     nlohmann::json j = {
         {"folds", s.folds},
         {"Q", s.Q},
@@ -152,20 +154,31 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
         {"stress_ratio", s.stress_ratio},
         {"slack_amplitude_m", s.slack_amplitude_m},
         {"critical_stress_pa", drape::critical_stress_pa(p)},
-        {"cloth", {{"width_m", p.width_m}, {"height_m", p.height_m}, {"inset_m", p.inset_m},
-                   {"support_span_m", p.support_span_m()}, {"supports", p.supports},
-                   {"support_drop_m", p.support_drop_m}, {"thickness_m", p.thickness_m},
-                   {"young_pa", p.young_pa}, {"poisson", p.poisson},
-                   {"weight_n_per_m2", p.weight_n_per_m2}, {"load_constant", p.load_constant}}},
+        {"cloth",
+         {{"width_m", p.width_m},
+          {"height_m", p.height_m},
+          {"inset_m", p.inset_m},
+          {"support_span_m", p.support_span_m()},
+          {"supports", p.supports},
+          {"support_drop_m", p.support_drop_m},
+          {"thickness_m", p.thickness_m},
+          {"young_pa", p.young_pa},
+          {"poisson", p.poisson},
+          {"weight_n_per_m2", p.weight_n_per_m2},
+          {"load_constant", p.load_constant}}},
         {"grid", {grid.nu, grid.nv}},
         {"look", o.look.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.look)},
         {"output", o.output.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.output)}};
     if (o.verbose) {
         nlohmann::json candidates = nlohmann::json::array();
         for (const auto& c : s.candidates)
-            candidates.push_back({{"folds", c.folds}, {"solved", c.solved}, {"feasible", c.feasible},
-                                  {"a0_m", c.lowest_amplitude_m}, {"an_m", c.top_amplitude_m},
-                                  {"zmax_m", c.zmax_m}, {"fold_length_m", c.fold_length_m},
+            candidates.push_back({{"folds", c.folds},
+                                  {"solved", c.solved},
+                                  {"feasible", c.feasible},
+                                  {"a0_m", c.lowest_amplitude_m},
+                                  {"an_m", c.top_amplitude_m},
+                                  {"zmax_m", c.zmax_m},
+                                  {"fold_length_m", c.fold_length_m},
                                   {"residual", c.residual},
                                   {"why_not", c.why_not}});
         j["candidates"] = candidates;
@@ -175,16 +188,16 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
 
 void print_text(const drape::ClothParams& p, const drape::FoldSolution& s, const drape::Garment& g,
                 const DrapeOptions& o) {
-    std::printf("cloth %.3g x %.3g m, supports %.3g m apart; t = %.3g mm, E = %.3g MPa, w = %.4g N/m^2\n",
-                p.width_m, p.height_m, p.support_span_m(), p.thickness_m * 1e3, p.young_pa * 1e-6,
-                p.weight_n_per_m2);
+    std::printf("cloth %.3g x %.3g m, supports %.3g m apart; t = %.3g mm, E = %.3g MPa, w = %.4g N/m^2\n", p.width_m,
+                p.height_m, p.support_span_m(), p.thickness_m * 1e3, p.young_pa * 1e-6, p.weight_n_per_m2);
     if (p.supports > 2 || p.support_drop_m != 0.0)
-        std::printf("%d supports (%d bays of %.3g m cloth on %.3g m), the last %.3g m lower than the first; "
-                    "folds per bay\n",
-                    p.supports, p.bays(), p.width_m / p.bays(), p.support_span_m() / p.bays(), p.support_drop_m);
+        std::printf(
+            "%d supports (%d bays of %.3g m cloth on %.3g m), the last %.3g m lower than the first; "
+            "folds per bay\n",
+            p.supports, p.bays(), p.width_m / p.bays(), p.support_span_m() / p.bays(), p.support_drop_m);
     std::printf("%s\n", s.explanation.c_str());
-    std::printf("folds %d, Q %.6g, zmax %.4g m, zig-zag %.4g m, S %.4g, residual %.2g\n", s.folds, s.Q,
-                s.zmax_m, s.fold_length_m, s.stress_ratio, s.residual);
+    std::printf("folds %d, Q %.6g, zmax %.4g m, zig-zag %.4g m, S %.4g, residual %.2g\n", s.folds, s.Q, s.zmax_m,
+                s.fold_length_m, s.stress_ratio, s.residual);
     std::printf("amplitudes a_0..a_n (m):");
     for (double a : s.amplitudes_m) std::printf(" %.4g", a);
     std::printf("\nfeasible fold counts:");
@@ -194,14 +207,15 @@ void print_text(const drape::ClothParams& p, const drape::FoldSolution& s, const
         std::printf("grid stretch: mean %.3g, max %.3g (the model's surface, not relaxed)\n", g.stretch.mean,
                     g.stretch.max);
     else
-        std::printf("grid stretch: mean %.3g, max %.3g after relaxation (%d iterations); model's surface: mean %.3g, max %.3g\n",
-                    g.stretch.mean, g.stretch.max, g.relax_iterations, g.stretch_analytical.mean,
-                    g.stretch_analytical.max);
+        std::printf(
+            "grid stretch: mean %.3g, max %.3g after relaxation (%d iterations); model's surface: mean %.3g, max "
+            "%.3g\n",
+            g.stretch.mean, g.stretch.max, g.relax_iterations, g.stretch_analytical.mean, g.stretch_analytical.max);
     if (o.verbose)
         for (const auto& c : s.candidates)
             std::printf("  n=%-3d %-10s a_0 %.4g a_n %.4g zmax %.4g zig-zag %.4g residual %.2g %s\n", c.folds,
-                        c.feasible ? "feasible" : (c.solved ? "solved" : "no"), c.lowest_amplitude_m,
-                        c.top_amplitude_m, c.zmax_m, c.fold_length_m, c.residual, c.why_not.c_str());
+                        c.feasible ? "feasible" : (c.solved ? "solved" : "no"), c.lowest_amplitude_m, c.top_amplitude_m,
+                        c.zmax_m, c.fold_length_m, c.residual, c.why_not.c_str());
 }
 
 int run_drape(const DrapeOptions& o, const Flags& flags) {
@@ -256,11 +270,11 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     } else {
         print_text(params, solution, garment, o);
         if (kind == OutputKind::fca)
-            std::printf("wrote %s (%zu frames at %g fps)\n", o.output.c_str(), animation->frame_count(), animation->fps);
+            std::printf("wrote %s (%zu frames at %g fps)\n", o.output.c_str(), animation->frame_count(),
+                        animation->fps);
         else if (kind == OutputKind::pc2)
-            std::printf("wrote %s (%zu frames at %g fps) and %s\n", o.output.c_str(),
-                        animation->frame_count(), animation->fps,
-                        fs::path(o.output).replace_extension(".obj").c_str());
+            std::printf("wrote %s (%zu frames at %g fps) and %s\n", o.output.c_str(), animation->frame_count(),
+                        animation->fps, fs::path(o.output).replace_extension(".obj").c_str());
         else if (kind != OutputKind::none)
             std::printf("wrote %s (%dx%d grid)\n", o.output.c_str(), grid.nu, grid.nv);
     }
@@ -271,12 +285,12 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
 Command drape_command(CLI::App& app) {
     auto o = std::make_shared<DrapeOptions>();
     auto flags = std::make_shared<Flags>();
-    CLI::App* sub = app.add_subcommand(
-        "drape",
-        "Predict the folds of a cloth hanging from two or more supports (tension-field model, "
-        "docs/drape.md) and write the garment grid or the animation of the folds forming.\n"
-        "Defaults: a cotton shirting panel 0.5 m x 0.7 m, supports 0.1 m in from each side, "
-        "0.3 mm thick, E 5 MPa, 150 g/m^2, Poisson 0.3.");
+    CLI::App* sub =
+        app.add_subcommand("drape",
+                           "Predict the folds of a cloth hanging from two or more supports (tension-field model, "
+                           "docs/drape.md) and write the garment grid or the animation of the folds forming.\n"
+                           "Defaults: a cotton shirting panel 0.5 m x 0.7 m, supports 0.1 m in from each side, "
+                           "0.3 mm thick, E 5 MPa, 150 g/m^2, Poisson 0.3.");
     sub->add_option("--width-m", o->width_m, "Cloth width L: top edge length (m)")->capture_default_str();
     sub->add_option("--height-m", o->height_m, "Cloth height h (m)")->capture_default_str();
     sub->add_option("--inset-m", o->inset_m,
@@ -286,25 +300,24 @@ Command drape_command(CLI::App& app) {
                     "Supports equally spaced under the top edge, 2..65: supports - 1 bays share the "
                     "inner ones and each folds with its share of the width (--grid NU - 1 a multiple of the bays)")
         ->capture_default_str();
-    sub->add_option("--support-drop-m", o->support_drop_m,
-                    "How much lower the last support hangs than the first (m; negative: higher); the pattern is sheared")
+    sub->add_option(
+           "--support-drop-m", o->support_drop_m,
+           "How much lower the last support hangs than the first (m; negative: higher); the pattern is sheared")
         ->capture_default_str();
-    sub->add_option("--look", o->look, "Fabric look for the mechanics: a name (see `foldcast looks`) or a look "
-                                       ".toml file; the flags below override its values");
+    sub->add_option("--look", o->look,
+                    "Fabric look for the mechanics: a name (see `foldcast looks`) or a look "
+                    ".toml file; the flags below override its values");
     flags->thickness = sub->add_option("--thickness-mm", o->thickness_mm, "Thickness t (mm)")->capture_default_str();
     flags->young = sub->add_option("--young-mpa", o->young_mpa, "Young's modulus E (MPa)")->capture_default_str();
     flags->gsm = sub->add_option("--gsm", o->gsm, "Fabric weight (g/m^2)")->capture_default_str();
-    flags->weight = sub->add_option("--weight-n-mm2", o->weight_n_mm2,
-                                    "Weight per area w (N/mm^2), instead of --gsm");
+    flags->weight = sub->add_option("--weight-n-mm2", o->weight_n_mm2, "Weight per area w (N/mm^2), instead of --gsm");
     flags->weight->excludes(flags->gsm);
     flags->poisson = sub->add_option("--poisson", o->poisson, "Poisson's ratio nu")->capture_default_str();
-    flags->load = sub->add_option("--load-constant", o->load_constant,
-                                  "Load constant c (default 23.9 pi^2 / 12)")
+    flags->load = sub->add_option("--load-constant", o->load_constant, "Load constant c (default 23.9 pi^2 / 12)")
                       ->capture_default_str();
     sub->add_option("--grid", o->grid, "Material grid NUxNV (vertices across x down)")->capture_default_str();
-    sub->add_option("--frames", o->frames,
-                                    "Animation frames, supports moving in from d = 0 (for -o x.pc2 or --sway-m)")
-                        ->capture_default_str();
+    sub->add_option("--frames", o->frames, "Animation frames, supports moving in from d = 0 (for -o x.pc2 or --sway-m)")
+        ->capture_default_str();
     sub->add_option("--fps", o->fps, "Animation frame rate")->capture_default_str();
     sub->add_option("--sway-m", o->sway_m, "Sway amplitude at the hem on top of the animation (m)")
         ->capture_default_str();
@@ -315,8 +328,9 @@ Command drape_command(CLI::App& app) {
     sub->add_flag("--json", o->json, "Print the result as one JSON object");
     sub->add_flag("--verbose", o->verbose, "Also report every fold count tried");
     sub->add_flag("-q,--quiet", o->quiet, "No progress bar");
-    sub->add_option("-o,--output", o->output,
-                    "Write x.obj or x.ply (garment, last frame), x.pc2 (animation + x.obj beside) or x.fca (compressed animation)");
+    sub->add_option(
+        "-o,--output", o->output,
+        "Write x.obj or x.ply (garment, last frame), x.pc2 (animation + x.obj beside) or x.fca (compressed animation)");
     return Command{sub, [o, flags] { return run_drape(*o, *flags); }};
 }
 

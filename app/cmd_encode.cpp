@@ -28,7 +28,8 @@ Command encode_command(CLI::App& app) {
     sub->add_option("--profile", o->profile, "paper (reference method) or default")
         ->check(CLI::IsMember({"paper", "default"}))
         ->capture_default_str();
-    auto* err = sub->add_option("--max-error-m", o->max_error_m, "largest vertex error in metres (default: 2e-4 x bbox diagonal)")
+    auto* err = sub->add_option("--max-error-m", o->max_error_m,
+                                "largest vertex error in metres (default: 2e-4 x bbox diagonal)")
                     ->check(CLI::PositiveNumber);
     auto* keep = sub->add_option("--keep", o->keep, "paper: fraction (0,1] of wavelet coefficients kept")
                      ->check(CLI::Range(std::numeric_limits<double>::min(), 1.0));
@@ -37,53 +38,63 @@ Command encode_command(CLI::App& app) {
     sub->add_flag("--json", o->json, "print a JSON report on stdout");
     sub->add_flag("-q,--quiet", o->quiet, "no progress bar");
 
-    return {sub, [o]() {
-        const std::filesystem::path in = o->input;
-        Animation anim;
-        if (in.extension() == ".fca") {
-            anim = codec::decode(codec::read_fca(in), in.string());
-        } else if (in.extension() == ".pc2") {
-            std::filesystem::path obj = o->topology;
-            if (obj.empty()) obj = std::filesystem::path(in).replace_extension(".obj");
-            if (!std::filesystem::exists(obj))
-                throw InputError("no topology for '" + in.string() + "': '" + obj.string() + "' does not exist (give --topology FILE.obj)");
-            anim = read_pc2_animation(in, obj, o->fps);
-        } else {
-            throw InputError("input '" + in.string() + "' must be a .pc2 or .fca file");
-        }
-        if (std::filesystem::path(o->output).extension() != ".fca")
-            throw InputError("-o '" + o->output + "' must end in .fca");
-        check_writable(o->output);
-        if (o->keep && o->profile != "paper")
-            throw InputError("--keep applies to --profile paper only (the default profile is error-bounded: use --max-error-m)");
-        codec::EncodeOptions options;
-        options.profile = codec::parse_profile(o->profile);
-        options.max_error_m = o->max_error_m;
-        options.keep_fraction = o->keep;
-        ProgressBar bar(o->quiet || o->json);
-        const auto t0 = std::chrono::steady_clock::now();
-        const std::string bytes = codec::encode(anim, options, bar.callback());
-        const auto t1 = std::chrono::steady_clock::now();
-        const Animation back = codec::decode(bytes, o->output);
-        const auto t2 = std::chrono::steady_clock::now();
-        codec::write_fca(o->output, bytes);
-        const codec::Metrics m = codec::measure(anim, back, bytes.size());
-        const double vf = double(m.frames) * double(m.vertices);
-        const double enc_s = std::chrono::duration<double>(t1 - t0).count();
-        const double dec_s = std::chrono::duration<double>(t2 - t1).count();
-        if (o->json) {
-            nlohmann::json j{{"output", o->output}, {"profile", o->profile}, {"frames", m.frames}, {"vertices", m.vertices},
-                             {"bytes", m.bytes}, {"bpvf", m.bpvf}, {"rms_error_rel", m.rms_error_rel},
-                             {"max_error_rel", m.max_error_rel}, {"max_error_m", m.max_error_m}, {"kg_error", m.kg_error},
-                             {"encode_vertex_frames_per_s", vf / std::max(enc_s, 1e-9)},
-                             {"decode_vertex_frames_per_s", vf / std::max(dec_s, 1e-9)}};
-            std::printf("%s\n", j.dump().c_str());
-        } else {
-            std::printf("%s: %zu frames x %zu vertices, %zu bytes, %.3f bpvf, max error %.3g m, KG error %.4f%%\n",
-                        o->output.c_str(), m.frames, m.vertices, m.bytes, m.bpvf, m.max_error_m, m.kg_error);
-        }
-        return 0;
-    }};
+    return {
+        sub, [o]() {
+            const std::filesystem::path in = o->input;
+            Animation anim;
+            if (in.extension() == ".fca") {
+                anim = codec::decode(codec::read_fca(in), in.string());
+            } else if (in.extension() == ".pc2") {
+                std::filesystem::path obj = o->topology;
+                if (obj.empty()) obj = std::filesystem::path(in).replace_extension(".obj");
+                if (!std::filesystem::exists(obj))
+                    throw InputError("no topology for '" + in.string() + "': '" + obj.string() +
+                                     "' does not exist (give --topology FILE.obj)");
+                anim = read_pc2_animation(in, obj, o->fps);
+            } else {
+                throw InputError("input '" + in.string() + "' must be a .pc2 or .fca file");
+            }
+            if (std::filesystem::path(o->output).extension() != ".fca")
+                throw InputError("-o '" + o->output + "' must end in .fca");
+            check_writable(o->output);
+            if (o->keep && o->profile != "paper")
+                throw InputError(
+                    "--keep applies to --profile paper only (the default profile is error-bounded: use --max-error-m)");
+            codec::EncodeOptions options;
+            options.profile = codec::parse_profile(o->profile);
+            options.max_error_m = o->max_error_m;
+            options.keep_fraction = o->keep;
+            ProgressBar bar(o->quiet || o->json);
+            const auto t0 = std::chrono::steady_clock::now();
+            const std::string bytes = codec::encode(anim, options, bar.callback());
+            const auto t1 = std::chrono::steady_clock::now();
+            const Animation back = codec::decode(bytes, o->output);
+            const auto t2 = std::chrono::steady_clock::now();
+            codec::write_fca(o->output, bytes);
+            const codec::Metrics m = codec::measure(anim, back, bytes.size());
+            const double vf = double(m.frames) * double(m.vertices);
+            const double enc_s = std::chrono::duration<double>(t1 - t0).count();
+            const double dec_s = std::chrono::duration<double>(t2 - t1).count();
+            if (o->json) {
+                nlohmann::json j{{"output", o->output},
+                                 {"profile", o->profile},
+                                 {"frames", m.frames},
+                                 {"vertices", m.vertices},
+                                 {"bytes", m.bytes},
+                                 {"bpvf", m.bpvf},
+                                 {"rms_error_rel", m.rms_error_rel},
+                                 {"max_error_rel", m.max_error_rel},
+                                 {"max_error_m", m.max_error_m},
+                                 {"kg_error", m.kg_error},
+                                 {"encode_vertex_frames_per_s", vf / std::max(enc_s, 1e-9)},
+                                 {"decode_vertex_frames_per_s", vf / std::max(dec_s, 1e-9)}};
+                std::printf("%s\n", j.dump().c_str());
+            } else {
+                std::printf("%s: %zu frames x %zu vertices, %zu bytes, %.3f bpvf, max error %.3g m, KG error %.4f%%\n",
+                            o->output.c_str(), m.frames, m.vertices, m.bytes, m.bpvf, m.max_error_m, m.kg_error);
+            }
+            return 0;
+        }};
 }
 
 }  // namespace foldcast::app

@@ -81,7 +81,8 @@ int run_folds(const FoldsOptions& o) {
 
 Command folds_command(CLI::App& app) {
     auto o = std::make_shared<FoldsOptions>();
-    CLI::App* sub = app.add_subcommand("folds", "Detect fold lines (bright crests, dark valleys) in a photo of hanging cloth");
+    CLI::App* sub =
+        app.add_subcommand("folds", "Detect fold lines (bright crests, dark valleys) in a photo of hanging cloth");
     sub->add_option("photo", o->photo, "Photo (PNG, JPEG, ...)")->required();
     sub->add_option("-o,--output", o->output, "Picture with the detected lines drawn (PNG)")->required();
     sub->add_option("--mask", o->mask, "Cloth mask image (white = cloth), same size as the photo");

@@ -49,19 +49,16 @@ int draw_swatches(LooksOptions& options) {
     const auto sheet = batch::render_swatch_sheet(library, options.swatch, bar.callback());
     batch::write_swatch_sheet(options.swatches, sheet);
     if (options.json) {
-        nlohmann::json report = {{"file", options.swatches},
-                                 {"width", sheet.width},
-                                 {"height", sheet.height},
-                                 {"spp", options.swatch.spp},
-                                 {"seconds", sheet.stats.seconds},
-                                 {"rays", sheet.stats.rays},
+        nlohmann::json report = {{"file", options.swatches},        {"width", sheet.width},
+                                 {"height", sheet.height},          {"spp", options.swatch.spp},
+                                 {"seconds", sheet.stats.seconds},  {"rays", sheet.stats.rays},
                                  {"tiles", nlohmann::json::array()}};
         for (const auto& tile : sheet.tiles)
             report["tiles"].push_back({{"look", tile.look}, {"folds", tile.folds}, {"gsm", tile.gsm}});
         std::cout << report.dump() << "\n";
     } else {
-        std::fprintf(stderr, "wrote %s (%dx%d, %zu looks)\n", options.swatches.c_str(), sheet.width,
-                     sheet.height, sheet.tiles.size());
+        std::fprintf(stderr, "wrote %s (%dx%d, %zu looks)\n", options.swatches.c_str(), sheet.width, sheet.height,
+                     sheet.tiles.size());
     }
     return 0;
 }
@@ -69,23 +66,20 @@ int draw_swatches(LooksOptions& options) {
 int list_looks(const LooksOptions& options) {
     const auto library = looks::Library::load_default();
     if (options.json) {
-        nlohmann::json report = {{"directory", library.directory().string()},
-                                 {"looks", nlohmann::json::array()}};
+        nlohmann::json report = {{"directory", library.directory().string()}, {"looks", nlohmann::json::array()}};
         for (const auto& name : library.names()) report["looks"].push_back(library.get(name));
         std::cout << report.dump(2) << "\n";
         return 0;
     }
-    std::printf("%-18s %-6s %6s %6s %9s  %s\n", "look", "weave", "gsm", "t_mm", "E_MPa",
-                "description");
+    std::printf("%-18s %-6s %6s %6s %9s  %s\n", "look", "weave", "gsm", "t_mm", "E_MPa", "description");
     for (const auto& name : library.names()) {
         const auto& look = library.get(name);
-        std::printf("%-18s %-6s %6.0f %6.2f %9.3g  %s\n", name.c_str(),
-                    looks::weave_name(look.appearance.weave), look.mechanics.gsm,
-                    look.mechanics.thickness_mm, look.mechanics.young_mpa,
+        std::printf("%-18s %-6s %6.0f %6.2f %9.3g  %s\n", name.c_str(), looks::weave_name(look.appearance.weave),
+                    look.mechanics.gsm, look.mechanics.thickness_mm, look.mechanics.young_mpa,
                     look.description.c_str());
     }
-    std::printf("(%zu looks in %s; `foldcast looks show NAME` prints every value)\n",
-                library.names().size(), library.directory().c_str());
+    std::printf("(%zu looks in %s; `foldcast looks show NAME` prints every value)\n", library.names().size(),
+                library.directory().c_str());
     return 0;
 }
 
@@ -104,17 +98,15 @@ int show_look(const LooksOptions& options) {
 
 Command looks_command(CLI::App& app) {
     auto options = std::make_shared<LooksOptions>();
-    CLI::App* sub = app.add_subcommand(
-        "looks", "List the fabric looks (mechanics + appearance) shipped in looks/data "
-                 "(or $FOLDCAST_LOOKS_DIR)");
+    CLI::App* sub = app.add_subcommand("looks",
+                                       "List the fabric looks (mechanics + appearance) shipped in looks/data "
+                                       "(or $FOLDCAST_LOOKS_DIR)");
     sub->add_flag("--json", options->json,
                   "Print every look with all its values as JSON (with --swatches: the sheet's report)");
     sub->add_option("--swatches", options->swatches,
                     "Draw every look draped the same way side by side, labelled, into OUT.png");
-    sub->add_option("--only", options->only, "With --swatches: just these looks, in this order")
-        ->delimiter(',');
-    sub->add_option("--tile", options->tile, "With --swatches: each tile's size in pixels")
-        ->capture_default_str();
+    sub->add_option("--only", options->only, "With --swatches: just these looks, in this order")->delimiter(',');
+    sub->add_option("--tile", options->tile, "With --swatches: each tile's size in pixels")->capture_default_str();
     sub->add_option("--columns", options->swatch.columns, "With --swatches: tiles per row (0 = auto)")
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
@@ -127,12 +119,9 @@ Command looks_command(CLI::App& app) {
     sub->add_option("--threads", options->swatch.threads,
                     "With --swatches: render threads (default all cores; same image for any count)")
         ->check(CLI::Range(1, 1024));
-    sub->add_option("--width-m", options->swatch.width_m, "With --swatches: cloth width (m)")
-        ->capture_default_str();
-    sub->add_option("--height-m", options->swatch.height_m, "With --swatches: cloth height (m)")
-        ->capture_default_str();
-    sub->add_option("--inset-m", options->swatch.inset_m, "With --swatches: support inset (m)")
-        ->capture_default_str();
+    sub->add_option("--width-m", options->swatch.width_m, "With --swatches: cloth width (m)")->capture_default_str();
+    sub->add_option("--height-m", options->swatch.height_m, "With --swatches: cloth height (m)")->capture_default_str();
+    sub->add_option("--inset-m", options->swatch.inset_m, "With --swatches: support inset (m)")->capture_default_str();
     sub->add_flag("-q,--quiet", options->quiet, "With --swatches: no progress bar");
     CLI::App* show = sub->add_subcommand("show", "Print one look's values (TOML, or JSON with --json)");
     show->add_option("name", options->show_name, "Look name (see `foldcast looks`) or a look .toml file")->required();

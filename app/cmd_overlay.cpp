@@ -29,10 +29,16 @@ struct OverlayOptions {
     bool json = false, score = false, fit = false;
 };
 
-nlohmann::json optional_number(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+nlohmann::json optional_number(const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
 
 nlohmann::json fitted_json(const compare::FittedValue& v) {
-    return {{"best", v.best}, {"low", v.low}, {"high", v.high}, {"search_min", v.bound_min}, {"search_max", v.bound_max},
+    return {{"best", v.best},
+            {"low", v.low},
+            {"high", v.high},
+            {"search_min", v.bound_min},
+            {"search_max", v.bound_max},
             {"on_bound", v.on_bound}};
 }
 
@@ -72,7 +78,8 @@ int run_overlay(const OverlayOptions& o) {
         nlohmann::json jl = nlohmann::json::array();
         for (const auto& l : result.lines) {
             nlohmann::json pts = nlohmann::json::array();
-            for (const auto& p : l.points_px) pts.push_back({std::round(p.x() * 100) / 100, std::round(p.y() * 100) / 100});
+            for (const auto& p : l.points_px)
+                pts.push_back({std::round(p.x() * 100) / 100, std::round(p.y() * 100) / 100});
             jl.push_back({{"index", l.index}, {"sign", l.sign}, {"points_px", pts}});
         }
         const auto& p = result.params;
@@ -93,21 +100,35 @@ int run_overlay(const OverlayOptions& o) {
                            {"poisson", p.poisson},
                            {"weight_n_per_m2", p.weight_n_per_m2},
                            {"load_constant", p.load_constant}}},
-                         {"predicted", {{"folds", s.folds}, {"Q", s.Q}, {"zmax_m", s.zmax_m},
-                                        {"amplitudes_m", s.amplitudes_m}, {"explanation", s.explanation}}},
-                         {"measured", {{"folds", c.folds}, {"Q", optional_number(c.Q)},
-                                       {"top_edge_depth_px", c.top_edge_depth_px}, {"hem_depth_px", c.hem_depth_px},
-                                       {"depths_px", c.depths_px}, {"signs", c.signs}}},
+                         {"predicted",
+                          {{"folds", s.folds},
+                           {"Q", s.Q},
+                           {"zmax_m", s.zmax_m},
+                           {"amplitudes_m", s.amplitudes_m},
+                           {"explanation", s.explanation}}},
+                         {"measured",
+                          {{"folds", c.folds},
+                           {"Q", optional_number(c.Q)},
+                           {"top_edge_depth_px", c.top_edge_depth_px},
+                           {"hem_depth_px", c.hem_depth_px},
+                           {"depths_px", c.depths_px},
+                           {"signs", c.signs}}},
                          {"detected_lines", result.detection->folds.size()},
                          {"lines", jl}};
         if (result.score) {
             const auto& sc = *result.score;
-            j["score"] = {{"predicted_folds", sc.predicted_folds}, {"measured_folds", sc.measured_folds},
-                          {"count_error", sc.count_error},         {"detected_lines", sc.detected_lines},
-                          {"precision", sc.precision},             {"recall", sc.recall},
-                          {"f1", sc.f1},                           {"agreement", sc.agreement},
-                          {"chamfer_cm", sc.chamfer_cm},           {"chamfer_truncated_at_cm", sc.truncation_cm},
-                          {"tolerance_px", sc.tolerance_px},       {"tolerance_cm", sc.tolerance_cm}};
+            j["score"] = {{"predicted_folds", sc.predicted_folds},
+                          {"measured_folds", sc.measured_folds},
+                          {"count_error", sc.count_error},
+                          {"detected_lines", sc.detected_lines},
+                          {"precision", sc.precision},
+                          {"recall", sc.recall},
+                          {"f1", sc.f1},
+                          {"agreement", sc.agreement},
+                          {"chamfer_cm", sc.chamfer_cm},
+                          {"chamfer_truncated_at_cm", sc.truncation_cm},
+                          {"tolerance_px", sc.tolerance_px},
+                          {"tolerance_cm", sc.tolerance_cm}};
         }
         if (result.fit)
             j["fit"] = {{"evaluated", result.fit->evaluated},
@@ -128,7 +149,8 @@ int run_overlay(const OverlayOptions& o) {
 
 Command overlay_command(CLI::App& app) {
     auto o = std::make_shared<OverlayOptions>();
-    CLI::App* sub = app.add_subcommand("overlay", "Draw the predicted fold lines over a photo of cloth hung from two supports");
+    CLI::App* sub =
+        app.add_subcommand("overlay", "Draw the predicted fold lines over a photo of cloth hung from two supports");
     const double inf = std::numeric_limits<double>::infinity();
     sub->add_option("photo", o->photo, "Photo (PNG, JPEG, ...)")->required();
     sub->add_option("-o,--output", o->output, "Output picture, same size as the photo")->required();
@@ -139,19 +161,22 @@ Command overlay_command(CLI::App& app) {
         ->check(finite_in(-inf, inf));
     sub->add_option("--scale-px-per-m", o->scale_px_per_m, "Pixels per metre in the cloth plane")
         ->check(finite_in(1e-9, inf, "a finite number > 0"));
-    sub->add_option("--width-m", o->width_m, "Cloth width L (top edge) in metres (default: from the scale and the mask, "
-                                             "else 0.5 m assumed)")
+    sub->add_option("--width-m", o->width_m,
+                    "Cloth width L (top edge) in metres (default: from the scale and the mask, "
+                    "else 0.5 m assumed)")
         ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--height-m", o->height_m, "Cloth height h in metres (default: measured on the cloth mask)")
         ->check(finite_in(1e-9, inf, "a finite number > 0"));
-    sub->add_option("--inset-m", o->inset_m, "Support inset d: supports are L - 2d apart (default: measured on the mask)")
+    sub->add_option("--inset-m", o->inset_m,
+                    "Support inset d: supports are L - 2d apart (default: measured on the mask)")
         ->check(finite_in(0, inf));
     sub->add_option("--corners", o->corners,
                     "X1,Y1,...,X4,Y4: support 1, support 2, hem below support 2, hem below support 1 (perspective fit)")
         ->delimiter(',')
         ->expected(8)
         ->check(finite_in(-inf, inf));
-    sub->add_option("--look", o->look, "Fabric look: a name (foldcast looks) or a look .toml file")->capture_default_str();
+    sub->add_option("--look", o->look, "Fabric look: a name (foldcast looks) or a look .toml file")
+        ->capture_default_str();
     sub->add_option("--thickness-mm", o->thickness_mm, "Override the look's thickness")
         ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--young-mpa", o->young_mpa, "Override the look's Young's modulus")
@@ -162,7 +187,8 @@ Command overlay_command(CLI::App& app) {
         ->check(finite_in(1e-9, inf, "a finite number > 0"));
     sub->add_option("--load-constant", o->load_constant, "Override the look's load constant c")
         ->check(finite_in(1e-9, inf, "a finite number > 0"));
-    sub->add_option("--mask", o->mask, "Cloth mask, white = cloth, the photo's size (default: GrabCut around the supports)");
+    sub->add_option("--mask", o->mask,
+                    "Cloth mask, white = cloth, the photo's size (default: GrabCut around the supports)");
     sub->add_option("--tolerance", o->tolerance, "Precision/recall distance as a share of the support distance")
         ->check(finite_in(1e-9, 1.0, "a share of the support distance in (0, 1]"))
         ->capture_default_str();

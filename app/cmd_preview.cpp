@@ -20,9 +20,12 @@ Command preview_command(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "preview", "Rasterise a quick preview of a scene file with OpenGL through EGL (no display needed)");
     sub->add_option("scene", args->scene, "Scene file (TOML), e.g. gallery/default.toml")->required();
-    sub->add_option("-o,--output", args->out, "Output image: OUT.png (8-bit sRGB) or OUT.exr (linear float)")->required();
-    sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
-    sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
+    sub->add_option("-o,--output", args->out, "Output image: OUT.png (8-bit sRGB) or OUT.exr (linear float)")
+        ->required();
+    sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")
+        ->check(CLI::Range(1, 16384));
+    sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")
+        ->check(CLI::Range(1, 16384));
     sub->add_option("--msaa", args->msaa, "Multisample anti-aliasing samples per pixel")->check(CLI::Range(1, 16));
     sub->add_option("--aov", args->aovs, "Extra image beside OUT: depth (OUT.depth.png|exr)")
         ->check(CLI::IsMember({"depth"}));

@@ -22,12 +22,17 @@ Command render_command(CLI::App& app) {
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand("render", "Path-trace a still of a scene file (PNG or EXR, optional AOVs)");
     sub->add_option("scene", args->scene, "Scene file (TOML), e.g. gallery/default.toml")->required();
-    sub->add_option("-o,--output", args->out, "Output image: OUT.png (8-bit sRGB) or OUT.exr (linear float)")->required();
-    sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
-    sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")->check(CLI::Range(1, 16384));
+    sub->add_option("-o,--output", args->out, "Output image: OUT.png (8-bit sRGB) or OUT.exr (linear float)")
+        ->required();
+    sub->add_option("--width", args->width, "Image width in pixels (default: the scene's)")
+        ->check(CLI::Range(1, 16384));
+    sub->add_option("--height", args->height, "Image height in pixels (default: the scene's)")
+        ->check(CLI::Range(1, 16384));
     sub->add_option("--spp", args->spp, "Samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 20));
-    CLI::Option* seed = sub->add_option("--seed", args->seed, "Random seed (default: the scene's)")->check(non_negative_integer);
-    sub->add_option("--threads", args->threads, "Render threads (default: all cores); the image is the same for any count")
+    CLI::Option* seed =
+        sub->add_option("--seed", args->seed, "Random seed (default: the scene's)")->check(non_negative_integer);
+    sub->add_option("--threads", args->threads,
+                    "Render threads (default: all cores); the image is the same for any count")
         ->check(CLI::Range(1, 1024));
     sub->add_option("--aov", args->aovs, "Extra images beside OUT: albedo,normal,depth,fold (OUT.<aov>.png|exr)")
         ->check(library_validator([](const std::string& v) { render::parse_aovs(v); }, "AOV,..."));
@@ -63,8 +68,12 @@ Command render_command(CLI::App& app) {
                 const auto written = render::write_render(args->out, result, scene);
                 const render::RenderStats& s = result.stats;
                 if (args->json) {
-                    nlohmann::json j = {{"width", s.width}, {"height", s.height}, {"spp", s.spp},
-                                        {"mean_spp", s.mean_spp}, {"seconds", s.seconds}, {"rays", s.rays},
+                    nlohmann::json j = {{"width", s.width},
+                                        {"height", s.height},
+                                        {"spp", s.spp},
+                                        {"mean_spp", s.mean_spp},
+                                        {"seconds", s.seconds},
+                                        {"rays", s.rays},
                                         {"rays_per_second", s.rays_per_second()}};
                     for (const auto& p : written) j["files"].push_back(p.string());
                     std::printf("%s\n", j.dump().c_str());

@@ -33,7 +33,8 @@ void parse_frames(const std::string& text, batch::TurntableOptions& options) {
     }
     const std::size_t slash = text.find('/', colon);
     options.first_frame = number(text.substr(0, colon));
-    options.last_frame = number(text.substr(colon + 1, slash == std::string::npos ? std::string::npos : slash - colon - 1));
+    options.last_frame =
+        number(text.substr(colon + 1, slash == std::string::npos ? std::string::npos : slash - colon - 1));
     if (slash != std::string::npos) {
         options.total_frames = number(text.substr(slash + 1));
         // 0 would mean "the scene's count" inside TurntableOptions: not what "/0" says.
@@ -51,11 +52,12 @@ Command turntable_command(CLI::App& app) {
         bool quiet = false, json = false, preview = false, denoise = false, keep_raw = false;
     };
     auto args = std::make_shared<Args>();
-    CLI::App* sub = app.add_subcommand(
-        "turntable", "Render frames of the camera orbiting the garment: a PNG sequence and an MP4");
+    CLI::App* sub =
+        app.add_subcommand("turntable", "Render frames of the camera orbiting the garment: a PNG sequence and an MP4");
     sub->add_option("scene", args->scene, "Scene file (TOML)")->required();
     sub->add_option("-o,--output", args->out,
-                    "OUT.mp4 (frames go to OUT_frames/ beside it) or DIR/ (PNG sequence only)")->required();
+                    "OUT.mp4 (frames go to OUT_frames/ beside it) or DIR/ (PNG sequence only)")
+        ->required();
     sub->add_option("--frames", args->frames,
                     "N frames in all (default: the scene's [turntable] frames, 36), or A:B to render only frames "
                     "A..B-1 (A:B/N of N) for spreading over machines");
@@ -66,8 +68,7 @@ Command turntable_command(CLI::App& app) {
     sub->add_option("--join", args->join,
                     "Encode an already rendered, complete PNG sequence from this directory into -o OUT.mp4 "
                     "(no rendering)");
-    sub->add_flag("--denoise", args->denoise,
-                  "Denoise each frame, guided by the first hit's albedo, normal and depth");
+    sub->add_flag("--denoise", args->denoise, "Denoise each frame, guided by the first hit's albedo, normal and depth");
     sub->add_flag("--keep-raw", args->keep_raw, "With --denoise: also write each frame before it (frame_NNNN.raw.png)")
         ->needs("--denoise");
     sub->add_option("--noise-threshold", args->noise_threshold,
@@ -76,7 +77,8 @@ Command turntable_command(CLI::App& app) {
         ->check(CLI::Range(0.0, 1.0));
     sub->add_flag("--preview", args->preview,
                   "Rasterise the frames with OpenGL through EGL (fast preview) instead of path tracing");
-    sub->add_flag("--json", args->json, "Print frames, width, height, spp, mean_spp, seconds, rays, rays_per_second as JSON");
+    sub->add_flag("--json", args->json,
+                  "Print frames, width, height, spp, mean_spp, seconds, rays, rays_per_second as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args] {
                 const render::SceneSpec scene = render::load_scene(args->scene);
@@ -103,10 +105,11 @@ Command turntable_command(CLI::App& app) {
                 }
                 const render::RenderStats& s = result.stats;
                 if (args->json) {
-                    std::printf("{\"frames\": %d, \"width\": %d, \"height\": %d, \"spp\": %d, \"mean_spp\": %.3f, "
-                                "\"seconds\": %.3f, \"rays\": %llu, \"rays_per_second\": %.0f}\n",
-                                result.frames_rendered, s.width, s.height, s.spp, s.mean_spp, s.seconds,
-                                static_cast<unsigned long long>(s.rays), s.rays_per_second());
+                    std::printf(
+                        "{\"frames\": %d, \"width\": %d, \"height\": %d, \"spp\": %d, \"mean_spp\": %.3f, "
+                        "\"seconds\": %.3f, \"rays\": %llu, \"rays_per_second\": %.0f}\n",
+                        result.frames_rendered, s.width, s.height, s.spp, s.mean_spp, s.seconds,
+                        static_cast<unsigned long long>(s.rays), s.rays_per_second());
                 } else if (!args->quiet) {
                     std::fprintf(stderr, "rendered %d frames (%dx%d, %d spp) in %.1f s; last written: %s\n",
                                  result.frames_rendered, s.width, s.height, s.spp, s.seconds,

@@ -31,8 +31,8 @@ void ProgressBar::draw(std::string_view stage, double fraction) {
     }
     constexpr int kWidth = 40;
     const int filled = percent * kWidth / 100;
-    std::fprintf(stderr, "\r%-10.*s [%.*s%*s] %3d%%", static_cast<int>(stage.size()), stage.data(),
-                 filled, "########################################", kWidth - filled, "", percent);
+    std::fprintf(stderr, "\r%-10.*s [%.*s%*s] %3d%%", static_cast<int>(stage.size()), stage.data(), filled,
+                 "########################################", kWidth - filled, "", percent);
     std::fflush(stderr);
 }
 

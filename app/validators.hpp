@@ -15,9 +15,9 @@ namespace foldcast::app {
 inline CLI::Validator finite_in(double lo, double hi, std::string allowed = {}) {
     if (allowed.empty())
         allowed = std::isinf(lo) && std::isinf(hi) ? std::string("a finite number")
-                  : std::isinf(hi)                 ? "a finite number >= " + CLI::detail::to_string(lo)
-                                                   : "a finite number in [" + CLI::detail::to_string(lo) + ", " +
-                                                         CLI::detail::to_string(hi) + "]";
+                  : std::isinf(hi)
+                      ? "a finite number >= " + CLI::detail::to_string(lo)
+                      : "a finite number in [" + CLI::detail::to_string(lo) + ", " + CLI::detail::to_string(hi) + "]";
     return CLI::Validator(
         [lo, hi, allowed](std::string& text) -> std::string {
             double v = 0.0;

@@ -66,10 +66,15 @@ void BM_Animate(benchmark::State& state) {
         const foldcast::Animation anim = animate(p, grid, options);
         benchmark::DoNotOptimize(anim.frames.back().data());
     }
-    state.counters["vertex_frames/s"] = benchmark::Counter(
-        double(grid.nu) * grid.nv * options.frames, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["vertex_frames/s"] =
+        benchmark::Counter(double(grid.nu) * grid.nv * options.frames, benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_Animate)->Args({256, 120, 0})->Args({256, 120, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_Animate)
+    ->Args({256, 120, 0})
+    ->Args({256, 120, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 

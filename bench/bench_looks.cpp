@@ -25,12 +25,11 @@ void BM_SampleWeave(benchmark::State& state) {
         benchmark::DoNotOptimize(sample_weave(a, {u, v}, footprint));
     }
     state.SetItemsProcessed(state.iterations());
-    state.SetLabel(std::string(weave_name(a.weave)) + " footprint " +
-                   std::to_string(state.range(1) / 10.0) + " yarns");
+    state.SetLabel(std::string(weave_name(a.weave)) + " footprint " + std::to_string(state.range(1) / 10.0) + " yarns");
 }
 BENCHMARK(BM_SampleWeave)
-    ->ArgsProduct({{static_cast<int>(Weave::plain), static_cast<int>(Weave::twill),
-                    static_cast<int>(Weave::satin), static_cast<int>(Weave::knit)},
+    ->ArgsProduct({{static_cast<int>(Weave::plain), static_cast<int>(Weave::twill), static_cast<int>(Weave::satin),
+                    static_cast<int>(Weave::knit)},
                    {0, 2, 5, 20}});
 
 void BM_LoadDefaultLibrary(benchmark::State& state) {

@@ -63,7 +63,8 @@ Coded raw_zstd(const Animation& a) {
                 const float* p = reinterpret_cast<const float*>(raw.data());
                 for (std::size_t t = 0; t < a.frame_count(); ++t) {
                     std::vector<Vec3f> f(n);
-                    for (std::size_t v = 0; v < n; ++v) f[v] = Vec3f(p[(t * n + v) * 3], p[(t * n + v) * 3 + 1], p[(t * n + v) * 3 + 2]);
+                    for (std::size_t v = 0; v < n; ++v)
+                        f[v] = Vec3f(p[(t * n + v) * 3], p[(t * n + v) * 3 + 1], p[(t * n + v) * 3 + 2]);
                     b.frames.push_back(std::move(f));
                 }
                 return b;
@@ -105,7 +106,8 @@ Coded meshopt_baseline(const Animation& a, int bits) {
                 for (std::size_t t = 0; t < a.frame_count(); ++t) {
                     std::uint32_t size;
                     std::memcpy(&size, raw.data() + pos, 4);
-                    meshopt_decodeVertexBuffer(delta.data(), n, sizeof(V), reinterpret_cast<const unsigned char*>(raw.data() + pos + 4), size);
+                    meshopt_decodeVertexBuffer(delta.data(), n, sizeof(V),
+                                               reinterpret_cast<const unsigned char*>(raw.data() + pos + 4), size);
                     pos += 4 + size;
                     std::vector<Vec3f> f(n);
                     for (std::size_t v = 0; v < n; ++v) {
@@ -136,8 +138,8 @@ void report(const char* input, const std::string& method, const std::string& set
     }
     const codec::Metrics m = codec::measure(a, back, coded.bytes);
     const double vf = double(m.frames) * double(m.vertices);
-    std::printf("%s,%s,%s,%zu,%.4f,%.5f,%.3e,%.3e,%.3g,%.3g\n", input, method.c_str(), setting.c_str(), coded.bytes, m.bpvf,
-                m.kg_error, m.rms_error_rel, m.max_error_rel, vf / enc_s, vf / dec_s);
+    std::printf("%s,%s,%s,%zu,%.4f,%.5f,%.3e,%.3e,%.3g,%.3g\n", input, method.c_str(), setting.c_str(), coded.bytes,
+                m.bpvf, m.kg_error, m.rms_error_rel, m.max_error_rel, vf / enc_s, vf / dec_s);
     std::fflush(stdout);
 }
 
@@ -150,16 +152,20 @@ int main(int argc, char** argv) {
         Animation anim;
     };
     std::vector<Input> inputs;
-    inputs.push_back({"basicCloth", read_pc2_animation(std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.pc2",
-                                                       std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.obj")});
-    inputs.push_back({quick ? "drape32x32x60" : "drape128x128x240", quick ? drape_animation(32, 60) : drape_animation(128, 240)});
-    std::printf("input,method,setting,bytes,bpvf,kg_error,rms_error_rel,max_error_rel,encode_vf_per_s,decode_vf_per_s\n");
+    inputs.push_back(
+        {"basicCloth", read_pc2_animation(std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.pc2",
+                                          std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.obj")});
+    inputs.push_back(
+        {quick ? "drape32x32x60" : "drape128x128x240", quick ? drape_animation(32, 60) : drape_animation(128, 240)});
+    std::printf(
+        "input,method,setting,bytes,bpvf,kg_error,rms_error_rel,max_error_rel,encode_vf_per_s,decode_vf_per_s\n");
     for (const auto& in : inputs) {
         const Animation& a = in.anim;
         const double diag = bounds(a).diagonal();
         report(in.name, "raw-float32+zstd19", "lossless", a, [&] { return raw_zstd(a); });
         for (int bits : {10, 12, 14})
-            report(in.name, "meshopt+zstd19", std::to_string(bits) + "-bit", a, [&] { return meshopt_baseline(a, bits); });
+            report(in.name, "meshopt+zstd19", std::to_string(bits) + "-bit", a,
+                   [&] { return meshopt_baseline(a, bits); });
         for (const codec::Profile p : {codec::Profile::predictive, codec::Profile::paper})
             for (double rel : {1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5}) {
                 char setting[64];

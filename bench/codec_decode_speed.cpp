@@ -41,7 +41,7 @@ Animation drape_animation(const std::filesystem::path& cache, int grid = 128) {
     options.fps = 30.0;
     Animation a = drape::animate(drape::ClothParams{}, drape::GridSize{grid, grid}, options);
     std::filesystem::create_directories(cache);
-    write_pc2_animation(pc2, a);  // and the .obj beside it
+    write_pc2_animation(pc2, a);          // and the .obj beside it
     return read_pc2_animation(pc2, obj);  // what later runs see (float round trip through the files)
 }
 
@@ -62,8 +62,8 @@ void speed(const char* name, const Animation& a, int runs) {
         if (r + 1 < runs) back = Animation{};  // free, so each run allocates its output like a one-off caller
     }
     const double vf = double(a.frame_count()) * double(a.vertex_count());
-    std::printf("%s: decode %.2f ms CPU (best of %d), %.1f M vertex-frames/s per core, %zu bytes\n", name, best * 1e3, runs,
-                vf / best * 1e-6, bytes.size());
+    std::printf("%s: decode %.2f ms CPU (best of %d), %.1f M vertex-frames/s per core, %zu bytes\n", name, best * 1e3,
+                runs, vf / best * 1e-6, bytes.size());
 
     // Decoding into the frame buffers of the previous result, as a player or converter
     // decoding clip after clip does: the difference to the above is the kernel mapping and
@@ -79,8 +79,9 @@ void speed(const char* name, const Animation& a, int runs) {
         std::fprintf(stderr, "%s: decoding into reused buffers gave other frames\n", name);
         std::exit(1);
     }
-    std::printf("%s: decode into the previous animation's buffers %.2f ms CPU (best of %d), %.1f M vertex-frames/s per core\n",
-                name, best_reused * 1e3, runs, vf / best_reused * 1e-6);
+    std::printf(
+        "%s: decode into the previous animation's buffers %.2f ms CPU (best of %d), %.1f M vertex-frames/s per core\n",
+        name, best_reused * 1e3, runs, vf / best_reused * 1e-6);
 
     // A player's access: the whole file fed to a streaming decoder, then every frame alone
     // into one reused buffer.
@@ -108,7 +109,8 @@ void rate(const char* name, const Animation& a) {
         std::printf("%s: max-error %.1e diag: %.4f bpvf, KG %.4f %%\n", name, rel, m.bpvf, m.kg_error);
         if (prev_kg > 0 && prev_kg < 0.05 && m.kg_error >= 0.05) {
             const double w = (std::log(0.05) - std::log(prev_kg)) / (std::log(m.kg_error) - std::log(prev_kg));
-            std::printf("%s: at KG 0.05 %%: %.3f bpvf\n", name, std::exp((1 - w) * std::log(prev_bpvf) + w * std::log(m.bpvf)));
+            std::printf("%s: at KG 0.05 %%: %.3f bpvf\n", name,
+                        std::exp((1 - w) * std::log(prev_bpvf) + w * std::log(m.bpvf)));
             return;
         }
         prev_kg = m.kg_error;
@@ -123,22 +125,28 @@ int main(int argc, char** argv) {
     int runs = 7;
     bool do_rate = true, grids = false;
     for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--cache") == 0 && i + 1 < argc) cache = argv[++i];
-        else if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-        else if (std::strcmp(argv[i], "--no-rate") == 0) do_rate = false;
-        else if (std::strcmp(argv[i], "--grids") == 0) grids = true;
+        if (std::strcmp(argv[i], "--cache") == 0 && i + 1 < argc)
+            cache = argv[++i];
+        else if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+            runs = std::max(1, std::atoi(argv[++i]));
+        else if (std::strcmp(argv[i], "--no-rate") == 0)
+            do_rate = false;
+        else if (std::strcmp(argv[i], "--grids") == 0)
+            grids = true;
         else {
             std::fprintf(stderr, "usage: codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids]\n");
             return 2;
         }
     }
-    const Animation cloth = read_pc2_animation(std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.pc2",
-                                               std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.obj");
+    const Animation cloth =
+        read_pc2_animation(std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.pc2",
+                           std::string(FOLDCAST_SOURCE_DIR) + "/tests/data/animations/basicCloth.obj");
     const Animation drape = drape_animation(cache);
     speed("drape128x128x240", drape, runs);
     speed("basicCloth", cloth, runs * 20);
     if (grids)
-        for (int grid : {16, 32, 64}) speed(drape_name(grid).c_str(), drape_animation(cache, grid), runs * 128 * 128 / (grid * grid));
+        for (int grid : {16, 32, 64})
+            speed(drape_name(grid).c_str(), drape_animation(cache, grid), runs * 128 * 128 / (grid * grid));
     if (do_rate) {
         rate("drape128x128x240", drape);
         rate("basicCloth", cloth);

@@ -51,10 +51,18 @@ double raw_embree(RTCScene scene, const Camera& camera, int w, int h, int thread
                         valid[k] = (x < w && y < h) ? -1 : 0;
                         Vec3f o, d;
                         cam.ray(x + 0.5f, y + 0.5f, 0.5f, 0.5f, &o, &d);
-                        p.ray.org_x[k] = o.x(); p.ray.org_y[k] = o.y(); p.ray.org_z[k] = o.z();
-                        p.ray.dir_x[k] = d.x(); p.ray.dir_y[k] = d.y(); p.ray.dir_z[k] = d.z();
-                        p.ray.tnear[k] = 0.0f; p.ray.tfar[k] = 1e30f; p.ray.time[k] = 0.0f;
-                        p.ray.mask[k] = 0xFFFFFFFF; p.ray.id[k] = 0; p.ray.flags[k] = 0;
+                        p.ray.org_x[k] = o.x();
+                        p.ray.org_y[k] = o.y();
+                        p.ray.org_z[k] = o.z();
+                        p.ray.dir_x[k] = d.x();
+                        p.ray.dir_y[k] = d.y();
+                        p.ray.dir_z[k] = d.z();
+                        p.ray.tnear[k] = 0.0f;
+                        p.ray.tfar[k] = 1e30f;
+                        p.ray.time[k] = 0.0f;
+                        p.ray.mask[k] = 0xFFFFFFFF;
+                        p.ray.id[k] = 0;
+                        p.ray.flags[k] = 0;
                         p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
                     }
                     rtcIntersect16(valid, scene, &ctx, &p);
@@ -65,10 +73,18 @@ double raw_embree(RTCScene scene, const Camera& camera, int w, int h, int thread
                         Vec3f o, d;
                         cam.ray(x + 0.5f, y + 0.5f, 0.5f, 0.5f, &o, &d);
                         RTCRayHit r;
-                        r.ray.org_x = o.x(); r.ray.org_y = o.y(); r.ray.org_z = o.z();
-                        r.ray.dir_x = d.x(); r.ray.dir_y = d.y(); r.ray.dir_z = d.z();
-                        r.ray.tnear = 0.0f; r.ray.tfar = 1e30f; r.ray.time = 0.0f;
-                        r.ray.mask = 0xFFFFFFFF; r.ray.id = 0; r.ray.flags = 0;
+                        r.ray.org_x = o.x();
+                        r.ray.org_y = o.y();
+                        r.ray.org_z = o.z();
+                        r.ray.dir_x = d.x();
+                        r.ray.dir_y = d.y();
+                        r.ray.dir_z = d.z();
+                        r.ray.tnear = 0.0f;
+                        r.ray.tfar = 1e30f;
+                        r.ray.time = 0.0f;
+                        r.ray.mask = 0xFFFFFFFF;
+                        r.ray.id = 0;
+                        r.ray.flags = 0;
                         r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                         rtcIntersect1(scene, &ctx, &r);
                     }
@@ -87,17 +103,23 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
-        if (a == "--width") width = next();
-        else if (a == "--height") height = next();
-        else if (a == "--spp") spp = next();
-        else if (a == "--threads") threads = next();
-        else if (a == "--repeat") repeat = next();
-        else scene_path = a;
+        if (a == "--width")
+            width = next();
+        else if (a == "--height")
+            height = next();
+        else if (a == "--spp")
+            spp = next();
+        else if (a == "--threads")
+            threads = next();
+        else if (a == "--repeat")
+            repeat = next();
+        else
+            scene_path = a;
     }
     const SceneSpec scene = load_scene(scene_path);
     const StudioSetup setup(scene, load_garment(scene));
-    const Camera camera = frame_camera(scene.camera, {setup.framing_points(0, 0.0)},
-                                       static_cast<double>(width) / height);
+    const Camera camera =
+        frame_camera(scene.camera, {setup.framing_points(0, 0.0)}, static_cast<double>(width) / height);
     const Tracer tracer(setup.lit_scene(), setup.geometry(0, 0.0));
     auto* rtc = static_cast<RTCScene>(tracer.embree_scene());
 

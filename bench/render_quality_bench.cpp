@@ -62,7 +62,8 @@ compare::Image luma(const compare::Image& rgb) {
 
 double rmse(const compare::Image& a, const compare::Image& b) {
     double sum = 0.0;
-    for (std::size_t i = 0; i < a.values.size(); ++i) sum += (a.values[i] - b.values[i]) * double(a.values[i] - b.values[i]);
+    for (std::size_t i = 0; i < a.values.size(); ++i)
+        sum += (a.values[i] - b.values[i]) * double(a.values[i] - b.values[i]);
     return std::sqrt(sum / static_cast<double>(a.values.size()));
 }
 
@@ -101,7 +102,8 @@ compare::Image reference(const std::string& name, const render::SceneSpec& scene
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const float rgb[3] = {px[y][x].r, px[y][x].g, px[y][x].b};
-                for (int c = 0; c < 3; ++c) img.at(x, y, c) = std::clamp(linear_to_srgb(std::max(0.0f, rgb[c])), 0.0f, 1.0f);
+                for (int c = 0; c < 3; ++c)
+                    img.at(x, y, c) = std::clamp(linear_to_srgb(std::max(0.0f, rgb[c])), 0.0f, 1.0f);
             }
         return img;
     }
@@ -139,12 +141,18 @@ void part_twill(const Args& args) {
     const compare::Image ref_luma = luma(ref);
     std::printf("twill close-up 192x192 against %d spp\n%-22s %8s %8s %8s\n", args.ref_spp, "image", "seconds", "SSIM",
                 "RMSE");
-    struct Row { const char* name; int spp; bool denoise; };
-    for (const Row row : {Row{"plain 16 spp", 16, false}, Row{"plain 64 spp", 64, false}, Row{"plain 256 spp", 256, false},
-                          Row{"16 spp + denoise", 16, true}, Row{"64 spp + denoise", 64, true}}) {
+    struct Row {
+        const char* name;
+        int spp;
+        bool denoise;
+    };
+    for (const Row row :
+         {Row{"plain 16 spp", 16, false}, Row{"plain 64 spp", 64, false}, Row{"plain 256 spp", 256, false},
+          Row{"16 spp + denoise", 16, true}, Row{"64 spp + denoise", 64, true}}) {
         const Rendered r = render(scene, 192, 192, row.spp, row.denoise, args);
         const compare::Image img = display(r.result.beauty);
-        std::printf("%-22s %8.2f %8.4f %8.4f\n", row.name, r.seconds, compare::ssim_luma(ref_luma, luma(img)), rmse(ref, img));
+        std::printf("%-22s %8.2f %8.4f %8.4f\n", row.name, r.seconds, compare::ssim_luma(ref_luma, luma(img)),
+                    rmse(ref, img));
         std::fflush(stdout);
     }
 }
@@ -175,7 +183,11 @@ void part_flicker(const Args& args) {
     const auto ref = frames("ref" + std::to_string(args.ref_spp), args.ref_spp, false).first;
     std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames\n%-18s %8s %10s %10s\n", kFirst, kLast - 1,
                 kSize, kSize, args.ref_spp, "frames", "seconds", "RMSE", "flicker");
-    struct Row { const char* name; int spp; bool denoise; };
+    struct Row {
+        const char* name;
+        int spp;
+        bool denoise;
+    };
     for (const Row row : {Row{"plain_16", 16, false}, Row{"plain_64", 64, false}, Row{"denoise_4", 4, true},
                           Row{"denoise_16", 16, true}}) {
         const auto [test, seconds] = frames(row.name, row.spp, row.denoise);
@@ -185,7 +197,8 @@ void part_flicker(const Args& args) {
         std::size_t n = 0;
         for (std::size_t f = 0; f + 1 < test.size(); ++f)
             for (std::size_t i = 0; i < test[f].values.size(); ++i) {
-                const double d = (test[f + 1].values[i] - test[f].values[i]) - (ref[f + 1].values[i] - ref[f].values[i]);
+                const double d =
+                    (test[f + 1].values[i] - test[f].values[i]) - (ref[f + 1].values[i] - ref[f].values[i]);
                 sum += d * d;
                 ++n;
             }
@@ -214,10 +227,14 @@ int main(int argc, char** argv) {
     Args args;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--out" && i + 1 < argc) args.out = argv[++i];
-        else if (a == "--threads" && i + 1 < argc) args.threads = std::stoi(argv[++i]);
-        else if (a == "--ref-spp" && i + 1 < argc) args.ref_spp = std::stoi(argv[++i]);
-        else args.part = a;
+        if (a == "--out" && i + 1 < argc)
+            args.out = argv[++i];
+        else if (a == "--threads" && i + 1 < argc)
+            args.threads = std::stoi(argv[++i]);
+        else if (a == "--ref-spp" && i + 1 < argc)
+            args.ref_spp = std::stoi(argv[++i]);
+        else
+            args.part = a;
     }
     fs::create_directories(args.out);
     if (args.part == "rmse" || args.part == "all") part_rmse(args);

@@ -75,7 +75,8 @@ BatchManifest load_manifest(const fs::path& path) {
     for (const toml::node& look : *look_list) m.looks.push_back(checked_name(top, look, "looks"));
 
     const toml::node* garments_node = top.node("garments");
-    if (garments_node == nullptr) throw InputError(origin + ": needs at least one [[garments]] table with name and scene");
+    if (garments_node == nullptr)
+        throw InputError(origin + ": needs at least one [[garments]] table with name and scene");
     const toml::array* garments = top.array_of_tables("garments");
     for (const toml::node& node : *garments) {
         TomlSection g(*node.as_table(), "garments", origin);

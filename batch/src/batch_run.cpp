@@ -77,7 +77,8 @@ std::string job_identity(const BatchJob& job, const BatchManifest& manifest) {
     if (fs::is_regular_file(job.garment.scene, ec)) {
         const render::SceneSpec scene = render::load_scene(job.garment.scene);
         fs::path topology = scene.garment.topology;
-        if (topology.empty() && !scene.garment.path.empty()) topology = fs::path(scene.garment.path).replace_extension(".obj");
+        if (topology.empty() && !scene.garment.path.empty())
+            topology = fs::path(scene.garment.path).replace_extension(".obj");
         text << "garment " << hash_if_file(scene.garment.path) << " " << hash_if_file(topology) << "\n";
     }
     text << "look " << job.look << "\nview " << job.view.azimuth_deg << " " << job.view.elevation_deg << "\n"
@@ -129,9 +130,9 @@ std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, c
         outputs.push_back(std::move(out));
         if (progress) progress("batch", static_cast<double>(i + 1) / static_cast<double>(jobs.size()));
     }
-    const std::string name = shard.count == 1 ? std::string("outputs.json")
-                                              : "outputs-" + std::to_string(shard.index) + "-of-" +
-                                                    std::to_string(shard.count) + ".json";
+    const std::string name =
+        shard.count == 1 ? std::string("outputs.json")
+                         : "outputs-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json";
     fs::create_directories(manifest.output_dir);
     write_file_atomically(manifest.output_dir / name, outputs_json(manifest, outputs));
     return outputs;

@@ -49,8 +49,7 @@ CameraSpec swatch_camera(const SwatchOptions& o, double aspect) {
 }
 
 // Two lines under a tile; the font shrinks with narrow tiles so labels stay inside them.
-void draw_label(cv::Mat& sheet, int x, int y, int tile_width, const std::string& line1,
-                const std::string& line2) {
+void draw_label(cv::Mat& sheet, int x, int y, int tile_width, const std::string& line1, const std::string& line2) {
     const cv::Scalar ink(235, 235, 235), dim(170, 170, 170);
     const double scale = std::min(1.0, tile_width / 240.0);
     cv::putText(sheet, line1, {x + 6, y + 16}, cv::FONT_HERSHEY_SIMPLEX, 0.5 * scale, ink, 1, cv::LINE_AA);
@@ -61,8 +60,7 @@ void draw_label(cv::Mat& sheet, int x, int y, int tile_width, const std::string&
 
 SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptions& options,
                                 const ProgressFn& progress) {
-    if (options.tile_width < 16 || options.tile_height < 16 || options.tile_width > 4096 ||
-        options.tile_height > 4096)
+    if (options.tile_width < 16 || options.tile_height < 16 || options.tile_width > 4096 || options.tile_height > 4096)
         throw InputError("swatch tile " + std::to_string(options.tile_width) + "x" +
                          std::to_string(options.tile_height) + ": each side must be 16 to 4096 pixels");
     if (options.spp < 1) throw InputError("swatch spp " + std::to_string(options.spp) + ": must be >= 1");
@@ -98,14 +96,13 @@ SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptio
         scene.seed = options.seed;
         RenderOptions render_options;
         render_options.threads = options.threads;
-        const ProgressFn tile_progress = progress ? ProgressFn([&, k](std::string_view, double f) {
-            progress("swatches", (k + f) / count);
-        })
-                                                  : ProgressFn{};
+        const ProgressFn tile_progress =
+            progress ? ProgressFn([&, k](std::string_view, double f) { progress("swatches", (k + f) / count); })
+                     : ProgressFn{};
         const RenderResult result = render::render_still(scene, render_options, tile_progress);
 
-        const auto solution = drape::solve_folds(drape::cloth_from_look(
-            look.mechanics, options.width_m, options.height_m, options.inset_m));
+        const auto solution = drape::solve_folds(
+            drape::cloth_from_look(look.mechanics, options.width_m, options.height_m, options.inset_m));
         sheet.tiles.push_back({look.name, solution.folds, look.mechanics.gsm});
         sheet.stats.rays += result.stats.rays;
         sheet.stats.seconds += result.stats.seconds;
@@ -117,8 +114,8 @@ SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptio
         cv::Mat target = canvas(cv::Rect(x, y, options.tile_width, options.tile_height));
         cv::cvtColor(tile_rgb, target, cv::COLOR_RGB2BGR);
         char detail[96];
-        std::snprintf(detail, sizeof detail, "%d folds  %.0f g/m2  %s", solution.folds,
-                      look.mechanics.gsm, looks::weave_name(look.appearance.weave));
+        std::snprintf(detail, sizeof detail, "%d folds  %.0f g/m2  %s", solution.folds, look.mechanics.gsm,
+                      looks::weave_name(look.appearance.weave));
         draw_label(canvas, x, y + options.tile_height, options.tile_width, look.name, detail);
     }
     sheet.stats.width = sheet.width;

@@ -20,15 +20,15 @@
 namespace foldcast::batch {
 namespace fs = std::filesystem;
 
-using preview::PreviewRenderer;
 using preview::preview_frame;
+using preview::PreviewRenderer;
 using render::Camera;
 using render::FrameGeometry;
 using render::load_garment;
 using render::RenderResult;
 using render::StudioSetup;
-using render::TraceSettings;
 using render::Tracer;
+using render::TraceSettings;
 using render::write_render;
 
 fs::path turntable_frame_path(const fs::path& dir, int frame) {
@@ -45,21 +45,25 @@ fs::path frame_to_read(OutputTransaction& outputs, const fs::path& frames_dir, i
     return staged.empty() ? final_path : staged;
 }
 
-void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4) {
+void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame_count, double fps,
+               const fs::path& mp4) {
     check_writable(mp4);
     cv::Mat first = cv::imread(frame_to_read(outputs, frames_dir, 0).string(), cv::IMREAD_COLOR);
     if (first.empty()) throw InputError("turntable frames in " + frames_dir.string() + ": frame_0000.png is missing");
     // A registered temporary of a unique name beside the target (removed on failure or interrupt).
     const fs::path temp = outputs.stage_file(mp4);
-    cv::VideoWriter writer(temp.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps, cv::Size(first.cols, first.rows));
-    if (!writer.isOpened()) throw std::runtime_error("cannot open an MP4 writer (OpenCV videoio, mp4v) for " + mp4.string());
+    cv::VideoWriter writer(temp.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
+                           cv::Size(first.cols, first.rows));
+    if (!writer.isOpened())
+        throw std::runtime_error("cannot open an MP4 writer (OpenCV videoio, mp4v) for " + mp4.string());
     for (int f = 0; f < frame_count; ++f) {
         const fs::path p = turntable_frame_path(frames_dir, f);
         cv::Mat img = cv::imread(frame_to_read(outputs, frames_dir, f).string(), cv::IMREAD_COLOR);
         if (img.empty())
             throw InputError("turntable frames in " + frames_dir.string() + ": " + p.filename().string() +
                              " is missing (render every range with --frames A:B first)");
-        if (img.cols != first.cols || img.rows != first.rows) throw InputError(p.string() + ": size differs from frame_0000.png");
+        if (img.cols != first.cols || img.rows != first.rows)
+            throw InputError(p.string() + ": size differs from frame_0000.png");
         writer.write(img);
     }
 }
@@ -78,17 +82,19 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const int first = options.first_frame;
     const int last = options.last_frame < 0 ? total : options.last_frame;
     if (first < 0 || first >= last || last > total)
-        throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) + ": need 0 <= first < last <= " +
-                         std::to_string(total) + " (the turntable's frame count)");
+        throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) +
+                         ": need 0 <= first < last <= " + std::to_string(total) + " (the turntable's frame count)");
     const std::string ext = out.extension().string();
     const bool to_mp4 = ext == ".mp4";
     const std::string out_s = out.string();
     const bool to_dir = !to_mp4 && (out_s.empty() || out_s.back() == '/' || fs::is_directory(out) || ext.empty());
-    if (!to_mp4 && !to_dir) throw InputError("turntable output '" + out_s + "': a turntable goes to OUT.mp4 or a directory DIR/");
+    if (!to_mp4 && !to_dir)
+        throw InputError("turntable output '" + out_s + "': a turntable goes to OUT.mp4 or a directory DIR/");
     fs::path dir = to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out;
     std::error_code ec;
     fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir)) throw InputError("turntable output '" + out_s + "': cannot create the frame directory " + dir.string());
+    if (!fs::is_directory(dir))
+        throw InputError("turntable output '" + out_s + "': cannot create the frame directory " + dir.string());
     if (to_mp4) check_writable(out);
 
     const StudioSetup setup(scene, load_garment(scene));
@@ -96,7 +102,9 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const int height = options.render.height > 0 ? options.render.height : scene.height;
     const TraceSettings settings = trace_settings(scene, options.render);
     const bool animated = setup.frame_count() > 1;
-    auto garment_frame = [&](int f) { return animated ? f % setup.frame_count() : std::min(scene.garment.frame, setup.frame_count() - 1); };
+    auto garment_frame = [&](int f) {
+        return animated ? f % setup.frame_count() : std::min(scene.garment.frame, setup.frame_count() - 1);
+    };
     auto turn = [&](int f) { return -360.0 * f / total; };  // garment turns back = rig orbits forward
     // One framing for the whole orbit (no zoom pumping): fit every 10 degrees of turn over
     // the frames the animation uses.
@@ -111,7 +119,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     // write is in flight, so memory stays at two frames and a failed write stops the loop.
     SceneSpec opaque = setup.lit_scene();
     opaque.transparent = false;  // video frames have no alpha
-    std::future<void> writing;  // after what its task uses: waits for the task when destroyed early
+    std::future<void> writing;   // after what its task uses: waits for the task when destroyed early
     std::unique_ptr<PreviewRenderer> rasteriser;
     if (options.preview) rasteriser = std::make_unique<PreviewRenderer>(width, height, options.msaa_samples);
     for (int f = first; f < last; ++f) {
@@ -123,7 +131,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
                 progress("turntable", (done + fraction) / count);
             };
         RenderResult r = rasteriser ? preview_frame(*rasteriser, setup.lit_scene(), geometry, camera, {})
-                                          : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
+                                    : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
         if (rasteriser && progress) progress("turntable", (done + 1.0) / count);
         result.stats.rays += r.stats.rays;
         result.stats.mean_spp += r.stats.mean_spp / (last - first);

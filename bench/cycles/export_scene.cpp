@@ -22,14 +22,15 @@ namespace {
 json vec(const Vec3f& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 json bsdf(const BsdfParams& p) {
-    return {{"diffuse", vec(p.diffuse)}, {"sheen", vec(p.sheen)}, {"sheen_roughness", p.sheen_roughness},
-            {"f0", p.f0}, {"roughness", p.roughness}, {"anisotropy", p.anisotropy}};
+    return {
+        {"diffuse", vec(p.diffuse)}, {"sheen", vec(p.sheen)},     {"sheen_roughness", p.sheen_roughness}, {"f0", p.f0},
+        {"roughness", p.roughness},  {"anisotropy", p.anisotropy}};
 }
 
 json mesh(const std::vector<Vec3f>& positions, const std::vector<Vec3f>& normals,
           const std::vector<Triangle>& triangles, const char* material) {
-    json m = {{"material", material}, {"positions", json::array()}, {"normals", json::array()},
-              {"triangles", json::array()}};
+    json m = {
+        {"material", material}, {"positions", json::array()}, {"normals", json::array()}, {"triangles", json::array()}};
     for (const Vec3f& p : positions) m["positions"].push_back(vec(p));
     for (const Vec3f& n : normals) m["normals"].push_back(vec(n));
     for (const Triangle& t : triangles) m["triangles"].push_back({t[0], t[1], t[2]});
@@ -38,11 +39,16 @@ json mesh(const std::vector<Vec3f>& positions, const std::vector<Vec3f>& normals
 
 const char* material_name(MaterialId id) {
     switch (id) {
-        case MaterialId::garment: return "garment";
-        case MaterialId::backdrop: return "backdrop";
-        case MaterialId::metal: return "metal";
-        case MaterialId::wood: return "wood";
-        case MaterialId::wire: return "wire";
+        case MaterialId::garment:
+            return "garment";
+        case MaterialId::backdrop:
+            return "backdrop";
+        case MaterialId::metal:
+            return "metal";
+        case MaterialId::wood:
+            return "wood";
+        case MaterialId::wire:
+            return "wire";
     }
     return "backdrop";
 }
@@ -69,14 +75,19 @@ int main(int argc, char** argv) {
     out["width"] = width;
     out["height"] = height;
     out["max_depth"] = scene.max_depth;
-    out["camera"] = {{"position", vec(camera.position)}, {"target", vec(camera.target)}, {"up", vec(camera.up)},
+    out["camera"] = {{"position", vec(camera.position)},
+                     {"target", vec(camera.target)},
+                     {"up", vec(camera.up)},
                      {"fov_deg", camera.fov_deg}};
     out["environment"] = vec(scene.environment);
     for (const AreaLight& l : scene.lights)
-        out["lights"].push_back({{"position", vec(l.position)}, {"target", vec(l.target)}, {"width_m", l.width_m},
-                                 {"height_m", l.height_m}, {"radiance", vec(l.radiance)}});
-    out["meshes"].push_back(mesh(geometry.garment.positions, geometry.garment.normals,
-                                 geometry.garment.topology.triangles, "garment"));
+        out["lights"].push_back({{"position", vec(l.position)},
+                                 {"target", vec(l.target)},
+                                 {"width_m", l.width_m},
+                                 {"height_m", l.height_m},
+                                 {"radiance", vec(l.radiance)}});
+    out["meshes"].push_back(
+        mesh(geometry.garment.positions, geometry.garment.normals, geometry.garment.topology.triangles, "garment"));
     for (const StudioMesh& s : geometry.studio)
         out["meshes"].push_back(mesh(s.positions, s.normals, s.triangles, material_name(s.material)));
     // The materials the tracer uses (render/src/shading.cpp), the garment averaged over a

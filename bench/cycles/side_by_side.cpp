@@ -122,29 +122,37 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return std::string(argv[++i]); };
-        if (a == "--width") args.width = std::stoi(next());
-        else if (a == "--height") args.height = std::stoi(next());
-        else if (a == "--ref-spp") args.ref_spp = std::stoi(next());
-        else if (a == "--threads") args.threads = std::stoi(next());
-        else if (a == "--out") args.out = next();
+        if (a == "--width")
+            args.width = std::stoi(next());
+        else if (a == "--height")
+            args.height = std::stoi(next());
+        else if (a == "--ref-spp")
+            args.ref_spp = std::stoi(next());
+        else if (a == "--threads")
+            args.threads = std::stoi(next());
+        else if (a == "--out")
+            args.out = next();
         else if (a == "--spp") {
             args.spp.clear();
             std::stringstream ss(next());
             for (std::string t; std::getline(ss, t, ',');) args.spp.push_back(std::stoi(t));
-        } else args.scene = a;
+        } else
+            args.scene = a;
     }
     fs::create_directories(args.out);
     const SceneSpec scene = load_scene(args.scene);
     const fs::path json = args.out / "scene.json";
-    const std::string export_cmd = std::string(FOLDCAST_BINARY_DIR) + "/bench/bench_cycles_export " + args.scene +
-                                   " " + std::to_string(args.width) + " " + std::to_string(args.height) + " " +
-                                   json.string();
+    const std::string export_cmd = std::string(FOLDCAST_BINARY_DIR) + "/bench/bench_cycles_export " + args.scene + " " +
+                                   std::to_string(args.width) + " " + std::to_string(args.height) + " " + json.string();
     if (std::system(export_cmd.c_str()) != 0) throw std::runtime_error("export failed: " + export_cmd);
 
     const fs::path ref_c = args.out / ("cycles_ref" + std::to_string(args.ref_spp) + ".exr");
     const fs::path ref_f = args.out / ("foldcast_ref" + std::to_string(args.ref_spp) + ".exr");
-    if (!fs::exists(ref_f)) std::printf("foldcast reference %d spp: %.1f s\n", args.ref_spp, render_foldcast(args, scene, ref_f, args.ref_spp, false));
-    if (!fs::exists(ref_c)) std::printf("Cycles reference %d spp: %.1f s\n", args.ref_spp, render_cycles(args, json, ref_c, args.ref_spp));
+    if (!fs::exists(ref_f))
+        std::printf("foldcast reference %d spp: %.1f s\n", args.ref_spp,
+                    render_foldcast(args, scene, ref_f, args.ref_spp, false));
+    if (!fs::exists(ref_c))
+        std::printf("Cycles reference %d spp: %.1f s\n", args.ref_spp, render_cycles(args, json, ref_c, args.ref_spp));
     std::fflush(stdout);
 
     std::vector<Point> cyc, fc, fd;
@@ -161,7 +169,10 @@ int main(int argc, char** argv) {
         fd.push_back({spp, render_foldcast(args, scene, d, spp, true), 0.0});
         fd.back().rmse = rmse(ref_f, d);
         for (const auto* p : {&cyc, &fc, &fd})
-            std::printf("%-22s %6d %9.2f %8.4f\n", p == &cyc ? "cycles" : p == &fc ? "foldcast" : "foldcast --denoise",
+            std::printf("%-22s %6d %9.2f %8.4f\n",
+                        p == &cyc  ? "cycles"
+                        : p == &fc ? "foldcast"
+                                   : "foldcast --denoise",
                         spp, p->back().seconds, p->back().rmse);
         std::fflush(stdout);
     }

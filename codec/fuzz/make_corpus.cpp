@@ -61,7 +61,8 @@ void write_paper_seed(const std::filesystem::path& dir, const std::string& name,
     std::ofstream(dir / name, std::ios::binary) << seed;
 }
 
-void write_seed(const std::filesystem::path& dir, const std::string& name, const std::string& fca, std::size_t keep_bytes) {
+void write_seed(const std::filesystem::path& dir, const std::string& name, const std::string& fca,
+                std::size_t keep_bytes) {
     std::ofstream out(dir / name, std::ios::binary);
     out.put('\x40');
     out.write(fca.data(), static_cast<std::streamsize>(std::min(keep_bytes, fca.size())));

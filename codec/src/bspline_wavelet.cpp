@@ -92,7 +92,9 @@ Sparse gram_matrix(int level) {
             const auto [first, values] = bspline_basis(level, x);
             for (int a = 0; a < 4; ++a)
                 for (int b = a; b < 4; ++b)
-                    band(static_cast<Eigen::Index>(first) + a, b - a) += 0.5 * h * kWeights[q] * values[static_cast<std::size_t>(a)] * values[static_cast<std::size_t>(b)];
+                    band(static_cast<Eigen::Index>(first) + a, b - a) += 0.5 * h * kWeights[q] *
+                                                                         values[static_cast<std::size_t>(a)] *
+                                                                         values[static_cast<std::size_t>(b)];
         }
     Triplets t;
     for (std::size_t i = 0; i < n; ++i)
@@ -160,7 +162,8 @@ CubicBSplineWavelet::CubicBSplineWavelet(int finest_level) : finest_(finest_leve
             std::vector<std::pair<long, Eigen::VectorXd>> touching;
             for (long c = first; c <= last; ++c)
                 for (Sparse::InnerIterator e(constraint, c); e; ++e) {
-                    auto it = std::find_if(touching.begin(), touching.end(), [&](auto& t) { return t.first == e.row(); });
+                    auto it =
+                        std::find_if(touching.begin(), touching.end(), [&](auto& t) { return t.first == e.row(); });
                     if (it == touching.end()) {
                         touching.push_back({static_cast<long>(e.row()), Eigen::VectorXd::Zero(width)});
                         it = touching.end() - 1;
@@ -168,7 +171,8 @@ CubicBSplineWavelet::CubicBSplineWavelet(int finest_level) : finest_(finest_leve
                     it->second(c - first) = e.value();
                 }
             Eigen::MatrixXd a(static_cast<Eigen::Index>(touching.size()), width);
-            for (std::size_t k = 0; k < touching.size(); ++k) a.row(static_cast<Eigen::Index>(k)) = touching[k].second.transpose();
+            for (std::size_t k = 0; k < touching.size(); ++k)
+                a.row(static_cast<Eigen::Index>(k)) = touching[k].second.transpose();
             Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullV);
             const auto& sv = svd.singularValues();
             const Eigen::Index rank_needed = width - 1;
@@ -200,13 +204,15 @@ CubicBSplineWavelet::CubicBSplineWavelet(int finest_level) : finest_(finest_leve
             level->column_of[c] = src;
             const Sparse& block = src < coarse ? level->P : level->Q;
             const Eigen::Index col = src < coarse ? src : src - coarse;
-            for (Sparse::InnerIterator e(block, col); e; ++e) it.emplace_back(e.row(), static_cast<Eigen::Index>(c), e.value());
+            for (Sparse::InnerIterator e(block, col); e; ++e)
+                it.emplace_back(e.row(), static_cast<Eigen::Index>(c), e.value());
         }
         level->interleaved = Sparse(rows, rows);
         level->interleaved.setFromTriplets(it.begin(), it.end());
         level->interleaved.makeCompressed();
         level->lu.compute(level->interleaved);
-        if (level->lu.info() != Eigen::Success) throw std::logic_error("[P|Q] is singular at level " + std::to_string(j));
+        if (level->lu.info() != Eigen::Success)
+            throw std::logic_error("[P|Q] is singular at level " + std::to_string(j));
         levels_.push_back(std::move(level));
     }
 
@@ -248,7 +254,9 @@ const Eigen::SparseMatrix<double>& CubicBSplineWavelet::Q(int level) const {
     return levels_.at(static_cast<std::size_t>(level - kCoarsestLevel - 1))->Q;
 }
 
-std::pair<std::size_t, std::size_t> CubicBSplineWavelet::support(std::size_t index) const { return supports_.at(index); }
+std::pair<std::size_t, std::size_t> CubicBSplineWavelet::support(std::size_t index) const {
+    return supports_.at(index);
+}
 
 void CubicBSplineWavelet::analyse(Eigen::MatrixXd& x) const {
     if (static_cast<std::size_t>(x.rows()) != length()) throw std::logic_error("analyse: wrong signal length");

@@ -74,8 +74,8 @@ public:
 private:
     void need(std::size_t n, const char* field) const {
         if (n > remaining())
-            fail(std::string("truncated while reading ") + field + " (needs " + std::to_string(n) +
-                 " bytes, " + std::to_string(remaining()) + " left)");
+            fail(std::string("truncated while reading ") + field + " (needs " + std::to_string(n) + " bytes, " +
+                 std::to_string(remaining()) + " left)");
     }
     std::string_view bytes_;
     std::size_t pos_ = 0;

@@ -43,7 +43,8 @@ std::string header_payload(const Header& h) {
     ByteWriter raw;
     Triangle previous{0, 0, 0};
     for (const auto& t : h.topology.triangles) {
-        for (int k = 0; k < 3; ++k) raw.put<std::uint32_t>(t[static_cast<std::size_t>(k)] - previous[static_cast<std::size_t>(k)]);
+        for (int k = 0; k < 3; ++k)
+            raw.put<std::uint32_t>(t[static_cast<std::size_t>(k)] - previous[static_cast<std::size_t>(k)]);
         previous = t;
     }
     for (const auto& uv : h.topology.uvs) {
@@ -63,7 +64,8 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     Header h;
     const auto version = r.get<std::uint16_t>("version");
     if (version != kFormatVersion)
-        r.fail("format version " + std::to_string(version) + " (this build reads version " + std::to_string(kFormatVersion) + ")");
+        r.fail("format version " + std::to_string(version) + " (this build reads version " +
+               std::to_string(kFormatVersion) + ")");
     const auto profile = r.get<std::uint8_t>("profile");
     if (profile > static_cast<std::uint8_t>(Profile::predictive))
         r.fail("unknown profile " + std::to_string(profile) + " (known: 0 paper, 1 default)");
@@ -78,8 +80,10 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     h.threshold = r.get<double>("threshold");
     h.profile_param = r.get<std::uint32_t>("profile parameter");
     if (h.vertices == 0 || h.frames == 0)
-        r.fail("header says " + std::to_string(h.vertices) + " vertices and " + std::to_string(h.frames) + " frames (both must be > 0)");
-    if (!(std::isfinite(h.fps) && h.fps > 0.0 && h.fps <= 1e6)) r.fail("fps " + std::to_string(h.fps) + " (allowed (0, 1e6])");
+        r.fail("header says " + std::to_string(h.vertices) + " vertices and " + std::to_string(h.frames) +
+               " frames (both must be > 0)");
+    if (!(std::isfinite(h.fps) && h.fps > 0.0 && h.fps <= 1e6))
+        r.fail("fps " + std::to_string(h.fps) + " (allowed (0, 1e6])");
     if (!(std::isfinite(h.step) && h.step > 0.0 && h.step <= 1e9)) r.fail("quantisation step must be in (0, 1e9]");
     if (!(std::isfinite(h.threshold) && h.threshold >= 0.0)) r.fail("threshold must be finite and >= 0");
     for (int k = 0; k < 3; ++k)
@@ -103,7 +107,8 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     const unsigned long long declared = ZSTD_getFrameContentSize(packed.data(), packed.size());
     if (declared != raw_size) r.fail("topology block is malformed or does not match the triangle and UV counts");
     std::string raw(static_cast<std::size_t>(raw_size), '\0');
-    const std::size_t got = ZSTD_decompressDCtx(&decompression_context(), raw.data(), raw.size(), packed.data(), packed.size());
+    const std::size_t got =
+        ZSTD_decompressDCtx(&decompression_context(), raw.data(), raw.size(), packed.data(), packed.size());
     if (ZSTD_isError(got) || got != raw.size()) r.fail("topology block is corrupt");
     ByteReader t(raw, r.what() + " topology");
     h.topology.triangles.resize(triangles);
@@ -111,7 +116,8 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     for (auto& tri : h.topology.triangles) {
         for (std::size_t k = 0; k < 3; ++k) {
             tri[k] = previous[k] + t.get<std::uint32_t>("triangle");
-            if (tri[k] >= h.vertices) r.fail("triangle index " + std::to_string(tri[k]) + " >= vertex count " + std::to_string(h.vertices));
+            if (tri[k] >= h.vertices)
+                r.fail("triangle index " + std::to_string(tri[k]) + " >= vertex count " + std::to_string(h.vertices));
         }
         previous = tri;
     }

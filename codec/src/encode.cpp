@@ -58,24 +58,31 @@ std::string assemble(Header header, const std::vector<std::string>& packets) {
 
 std::string encode(const Animation& anim, const EncodeOptions& options, const ProgressFn& progress) {
     validate(anim, "animation to encode");
-    if (anim.frames.empty() || anim.vertex_count() == 0) throw InputError("animation to encode has no frames or no vertices");
+    if (anim.frames.empty() || anim.vertex_count() == 0)
+        throw InputError("animation to encode has no frames or no vertices");
     if (anim.vertex_count() > 0xffffffffu || anim.frame_count() > 0xffffffffu ||
         double(anim.vertex_count()) * double(anim.frame_count()) > double(kMaxVertexFrames))
         throw InputError("animation to encode is too large (" + std::to_string(anim.vertex_count()) + " x " +
-                         std::to_string(anim.frame_count()) + " vertex-frames, limit " + std::to_string(kMaxVertexFrames) + ")");
+                         std::to_string(anim.frame_count()) + " vertex-frames, limit " +
+                         std::to_string(kMaxVertexFrames) + ")");
     if (options.profile == Profile::paper && anim.frame_count() > kMaxPaperFrames)
-        throw InputError("animation to encode has " + std::to_string(anim.frame_count()) + " frames; the paper profile holds at most " +
-                         std::to_string(kMaxPaperFrames) + " (use the default profile)");
+        throw InputError("animation to encode has " + std::to_string(anim.frame_count()) +
+                         " frames; the paper profile holds at most " + std::to_string(kMaxPaperFrames) +
+                         " (use the default profile)");
     if (!(std::isfinite(anim.fps) && anim.fps > 0.0 && anim.fps <= 1e6))
         throw InputError("animation to encode has fps " + std::to_string(anim.fps) + " (allowed (0, 1e6])");
     if (options.max_error_m && options.keep_fraction)
         throw InputError("encode options: max_error_m and keep_fraction are mutually exclusive: give one");
     if (options.max_error_m && !(std::isfinite(*options.max_error_m) && *options.max_error_m > 0.0))
-        throw InputError("encode options: max_error_m = " + std::to_string(*options.max_error_m) + " (allowed: > 0 metres)");
+        throw InputError("encode options: max_error_m = " + std::to_string(*options.max_error_m) +
+                         " (allowed: > 0 metres)");
     if (options.keep_fraction && !(*options.keep_fraction > 0.0 && *options.keep_fraction <= 1.0))
-        throw InputError("encode options: keep_fraction = " + std::to_string(*options.keep_fraction) + " (allowed: (0, 1])");
+        throw InputError("encode options: keep_fraction = " + std::to_string(*options.keep_fraction) +
+                         " (allowed: (0, 1])");
     if (options.keep_fraction && options.profile != Profile::paper)
-        throw InputError("encode options: keep_fraction applies to the paper profile only (the default profile is error-bounded: use max_error_m)");
+        throw InputError(
+            "encode options: keep_fraction applies to the paper profile only (the default profile is error-bounded: "
+            "use max_error_m)");
 
     Header header;
     header.profile = options.profile;
@@ -106,7 +113,8 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
         const float extent = (header.bounds.max - header.bounds.min).maxCoeff();
         const std::uint32_t m = kDefaultResidualStep;
         header.threshold = m;
-        header.step = std::max(2.0 * max_error / std::sqrt(3.0) / double(m + 1), double(extent) / double(kMaxGridValue / 2));
+        header.step =
+            std::max(2.0 * max_error / std::sqrt(3.0) / double(m + 1), double(extent) / double(kMaxGridValue / 2));
         header.profile_param = static_cast<std::uint32_t>(default_stride_log2(anim.frame_count(), anim.vertex_count()));
         const std::size_t n = anim.vertex_count();
         std::vector<std::int32_t> grid(anim.frame_count() * 3 * n);

@@ -126,8 +126,7 @@ void HuffmanTable::build_canonical() {
 }
 
 void HuffmanTable::encode(BitWriter& out, std::uint32_t symbol) const {
-    if (symbol >= lengths_.size() || lengths_[symbol] == 0)
-        throw std::logic_error("Huffman symbol without a code");
+    if (symbol >= lengths_.size() || lengths_[symbol] == 0) throw std::logic_error("Huffman symbol without a code");
     out.put(codes_[symbol], lengths_[symbol]);
 }
 

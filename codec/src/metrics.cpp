@@ -11,8 +11,9 @@ namespace foldcast::codec {
 
 Metrics measure(const Animation& a, const Animation& b, std::size_t bytes) {
     if (a.frame_count() != b.frame_count() || a.vertex_count() != b.vertex_count())
-        throw InputError("cannot compare animations of " + std::to_string(a.frame_count()) + "x" + std::to_string(a.vertex_count()) +
-                         " and " + std::to_string(b.frame_count()) + "x" + std::to_string(b.vertex_count()) + " frames x vertices");
+        throw InputError("cannot compare animations of " + std::to_string(a.frame_count()) + "x" +
+                         std::to_string(a.vertex_count()) + " and " + std::to_string(b.frame_count()) + "x" +
+                         std::to_string(b.vertex_count()) + " frames x vertices");
     Metrics m;
     m.frames = a.frame_count();
     m.vertices = a.vertex_count();
@@ -44,10 +45,12 @@ std::string read_fca(const std::filesystem::path& path) {
     std::error_code ec;
     const auto size = std::filesystem::file_size(path, ec);
     if (ec) throw InputError("cannot read '" + path.string() + "': " + ec.message());
-    if (size > std::uint64_t(4) * kMaxPayloadBytes) throw InputError("'" + path.string() + "' is larger than 4 GiB: not an .fca file this build reads");
+    if (size > std::uint64_t(4) * kMaxPayloadBytes)
+        throw InputError("'" + path.string() + "' is larger than 4 GiB: not an .fca file this build reads");
     std::ifstream in(path, std::ios::binary);
     std::string bytes(static_cast<std::size_t>(size), '\0');
-    if (!in || !in.read(bytes.data(), static_cast<std::streamsize>(size))) throw InputError("cannot read '" + path.string() + "'");
+    if (!in || !in.read(bytes.data(), static_cast<std::streamsize>(size)))
+        throw InputError("cannot read '" + path.string() + "'");
     return bytes;
 }
 

@@ -35,7 +35,8 @@ PaperEncoder::PaperEncoder(const Animation& anim) : anim_(anim), layout_(anim.ve
     for (std::size_t k = 1; k < t; ++k)
         for (std::size_t v = 0; v < n; ++v)
             for (int c = 0; c < 3; ++c)
-                coefficients_(static_cast<Eigen::Index>(k - 1), static_cast<Eigen::Index>(3 * v + static_cast<std::size_t>(c))) =
+                coefficients_(static_cast<Eigen::Index>(k - 1),
+                              static_cast<Eigen::Index>(3 * v + static_cast<std::size_t>(c))) =
                     double(anim.frames[k][v][c]) - double(anim.frames[k - 1][v][c]);
     layout_.wavelet->analyse(coefficients_);
 }
@@ -85,7 +86,8 @@ std::vector<std::string> PaperEncoder::packets(double step, double threshold) co
     const auto coarse = coarse_rows();
     std::vector<std::vector<std::int32_t>> blocks{gather(q, coarse)};
     for (std::size_t p = 0; p < layout_.packet_first.size(); ++p)
-        blocks.push_back(gather(q, std::span(layout_.node_rows).subspan(layout_.packet_first[p], layout_.packet_count[p])));
+        blocks.push_back(
+            gather(q, std::span(layout_.node_rows).subspan(layout_.packet_first[p], layout_.packet_count[p])));
     std::vector<std::uint64_t> counts(kRunLengthAlphabet, 0);
     for (const auto& b : blocks) count_run_length_symbols(b, counts);
     if (std::all_of(counts.begin(), counts.end(), [](auto c) { return c == 0; })) counts[0] = 1;
@@ -127,7 +129,9 @@ namespace {
 class PaperDecoder final : public ProfileDecoder {
 public:
     PaperDecoder(const Header& h, std::string what)
-        : header_(h), what_(std::move(what)), layout_(h.vertices, h.frames),
+        : header_(h),
+          what_(std::move(what)),
+          layout_(h.vertices, h.frames),
           quantised_(IntMatrix::Zero(static_cast<Eigen::Index>(layout_.wavelet->length()),
                                      static_cast<Eigen::Index>(layout_.trajectories))) {}
 
@@ -146,8 +150,9 @@ public:
             rows = coarse_rows();
         } else {
             const auto first = layout_.packet_first[sequence - 1];
-            rows.assign(layout_.node_rows.begin() + static_cast<std::ptrdiff_t>(first),
-                        layout_.node_rows.begin() + static_cast<std::ptrdiff_t>(first + layout_.packet_count[sequence - 1]));
+            rows.assign(
+                layout_.node_rows.begin() + static_cast<std::ptrdiff_t>(first),
+                layout_.node_rows.begin() + static_cast<std::ptrdiff_t>(first + layout_.packet_count[sequence - 1]));
         }
         std::vector<std::int32_t> values(rows.size() * layout_.trajectories);
         const std::string_view rest = r.get_bytes(r.remaining(), "coefficients");
@@ -164,8 +169,8 @@ public:
 
     std::size_t playable_frames() const override {
         if (received_ == 0) return 0;
-        const std::size_t nodes = received_ == 1 ? 0
-                                  : layout_.packet_first[received_ - 2] + layout_.packet_count[received_ - 2];
+        const std::size_t nodes =
+            received_ == 1 ? 0 : layout_.packet_first[received_ - 2] + layout_.packet_count[received_ - 2];
         return layout_.playable_after[nodes];
     }
 
@@ -206,11 +211,13 @@ std::unique_ptr<ProfileDecoder> make_paper_decoder(const Header& header, const s
     const std::uint64_t packets = 1 + (detail_rows + per_packet - 1) / per_packet;
     constexpr std::uint64_t kMinPacketBytes = 10;
     if (level > kMaxPaperLevel || packets * kMinPacketBytes > bytes)
-        throw InputError(what + ": header: " + std::to_string(header.frames) + " frames of " +
-                         std::to_string(header.vertices) + " vertices need " + std::to_string(packets) +
-                         " packets (at least " + std::to_string(packets * kMinPacketBytes) +
-                         " bytes) in the paper profile: more than the " + std::to_string(bytes) + " bytes the file declares" +
-                         (level > kMaxPaperLevel ? " or the profile's limit of " + std::to_string(kMaxPaperFrames) + " frames" : ""));
+        throw InputError(
+            what + ": header: " + std::to_string(header.frames) + " frames of " + std::to_string(header.vertices) +
+            " vertices need " + std::to_string(packets) + " packets (at least " +
+            std::to_string(packets * kMinPacketBytes) + " bytes) in the paper profile: more than the " +
+            std::to_string(bytes) + " bytes the file declares" +
+            (level > kMaxPaperLevel ? " or the profile's limit of " + std::to_string(kMaxPaperFrames) + " frames"
+                                    : ""));
     return std::make_unique<PaperDecoder>(header, what);
 }
 

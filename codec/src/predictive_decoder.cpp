@@ -42,8 +42,8 @@ void on_four_states(std::array<std::uint32_t, kRansLanes>& states, std::size_t c
 // values come after (token_values).  Out of line, like decode_escapes: inlined into the
 // packet loop, both measured 5-15 % slower.
 template <RansDecoder::Renormalise R>
-[[gnu::noinline]] void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables, const ContextNeighbours* neighbours,
-                                     std::uint8_t* token, std::size_t n) {
+[[gnu::noinline]] void decode_tokens(RansDecoder& rans, const DecodeTable* const* level_tables,
+                                     const ContextNeighbours* neighbours, std::uint8_t* token, std::size_t n) {
     // Pointers in locals too, not reloaded after every byte store.
     const DecodeTable* tables[kActivityBuckets];
     std::copy(level_tables, level_tables + kActivityBuckets, tables);
@@ -62,8 +62,9 @@ template <RansDecoder::Renormalise R>
 // bits.  False if a magnitude exceeds `largest` (it cannot land on the grid; q gets the
 // clamped value).
 template <RansDecoder::Renormalise R>
-[[gnu::noinline]] bool decode_escapes(RansDecoder& rans, std::size_t first_lane, const DecodeTable& table, PaddedBitReader& raw,
-                                      const std::uint32_t* escaped, std::size_t count, std::int64_t largest, std::int32_t* q) {
+[[gnu::noinline]] bool decode_escapes(RansDecoder& rans, std::size_t first_lane, const DecodeTable& table,
+                                      PaddedBitReader& raw, const std::uint32_t* escaped, std::size_t count,
+                                      std::int64_t largest, std::int32_t* q) {
     PaddedBitReader bits = raw;
     const std::uint8_t* pos = rans.position();
     bool in_range = true;
@@ -109,7 +110,8 @@ std::size_t token_values(const std::uint8_t* token, std::size_t n, std::int32_t*
 // same double arithmetic as the encoder's rounding), decoded ones within m / 2 of them.
 std::int32_t grid_high(const Header& h) {
     double extent = 0.0;
-    for (int c = 0; c < 3; ++c) extent = std::max(extent, std::round((double(h.bounds.max[c]) - double(h.bounds.min[c])) / h.step));
+    for (int c = 0; c < 3; ++c)
+        extent = std::max(extent, std::round((double(h.bounds.max[c]) - double(h.bounds.min[c])) / h.step));
     if (!(extent <= double(kMaxGridValue))) extent = double(kMaxGridValue);  // also NaN: the widest range
     return static_cast<std::int32_t>(extent) + std::int32_t(kMaxResidualStep);
 }
@@ -117,8 +119,8 @@ std::int32_t grid_high(const Header& h) {
 // grid = temporal + residual, then position = origin + step * grid.  False if a coordinate
 // leaves [low, high].
 FOLDCAST_AVX2_CLONES
-bool finish_row(const std::uint32_t* temporal, const std::uint32_t* residual, std::size_t row, std::int32_t low, std::int32_t high,
-                const double* origin3, double step, std::int32_t* grid, float* out) {
+bool finish_row(const std::uint32_t* temporal, const std::uint32_t* residual, std::size_t row, std::int32_t low,
+                std::int32_t high, const double* origin3, double step, std::int32_t* grid, float* out) {
     std::uint32_t outside = 0;
     for (std::size_t k = 0; k < row; ++k) {
         const auto g = static_cast<std::int32_t>(temporal[k] + residual[k]);
@@ -133,7 +135,8 @@ bool finish_row(const std::uint32_t* temporal, const std::uint32_t* residual, st
     for (std::size_t j = 0; j < kBlock; ++j) origin[j] = origin3[j % 3];
     std::size_t k = 0;
     for (; k + kBlock <= row; k += kBlock)
-        for (std::size_t j = 0; j < kBlock; ++j) out[k + j] = static_cast<float>(origin[j] + step * double(grid[k + j]));
+        for (std::size_t j = 0; j < kBlock; ++j)
+            out[k + j] = static_cast<float>(origin[j] + step * double(grid[k + j]));
     for (std::size_t j = 0; k < row; ++k, ++j) out[k] = static_cast<float>(origin[j] + step * double(grid[k]));
     return true;
 }
@@ -150,11 +153,20 @@ const DecodeTable& uniform_decode_table() {
 class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
-        : header_(h), what_(std::move(what)), layout_(h.frames, static_cast<int>(h.profile_param)),
-          refs_(spatial_references(h.vertices, h.topology.triangles)), neighbours_(context_neighbours(refs_)), plan_(spatial_plan(refs_)),
+        : header_(h),
+          what_(std::move(what)),
+          layout_(h.frames, static_cast<int>(h.profile_param)),
+          refs_(spatial_references(h.vertices, h.topology.triangles)),
+          neighbours_(context_neighbours(refs_)),
+          plan_(spatial_plan(refs_)),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
-          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1), grid_high_(grid_high(h)), positions_(h.frames), decoded_(h.frames, 0),
-          grids_(h.frames), frame_grid_(h.frames, nullptr), table_of_() {
+          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1),
+          grid_high_(grid_high(h)),
+          positions_(h.frames),
+          decoded_(h.frames, 0),
+          grids_(h.frames),
+          frame_grid_(h.frames, nullptr),
+          table_of_() {
         table_of_.fill(&uniform_decode_table());
     }
 
@@ -188,7 +200,8 @@ public:
         for (std::size_t t : frames) {
             const int mode = static_cast<int>(bits.get(kModeBits));
             if (!frame_mode_allowed(layout_.references[t], mode))
-                r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) + " is not allowed there (corrupt data)");
+                r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) +
+                       " is not allowed there (corrupt data)");
             modes.push_back(mode);
         }
         for (int id : packet_table_ids(layout_, frames)) {
@@ -216,18 +229,20 @@ public:
         std::size_t packet_references = 0;
         for (std::size_t t : frames) packet_references += layout_.referenced[t] && !layout_.referenced_later[t];
         if (const std::size_t needed = (1 + packet_references) * row; needed > scratch_size_) {
-            scratch_ = std::make_unique_for_overwrite<std::int32_t[]>(needed);  // each row is written in full before it is read
+            scratch_ = std::make_unique_for_overwrite<std::int32_t[]>(
+                needed);  // each row is written in full before it is read
             scratch_size_ = needed;
         }
         std::size_t next_scratch = 1;
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
             decode_residuals(rans, raw, layout_.level_class[t], r);
-            predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row, grid_high_,
-                          temporal_.data());
+            predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row,
+                          grid_high_, temporal_.data());
             std::int32_t* grid = scratch_.get();
             if (layout_.referenced_later[t]) {
-                if (!grids_[t]) grids_[t] = std::make_unique_for_overwrite<std::int32_t[]>(row);  // written in full below
+                if (!grids_[t])
+                    grids_[t] = std::make_unique_for_overwrite<std::int32_t[]>(row);  // written in full below
                 grid = grids_[t].get();
             } else if (layout_.referenced[t]) {
                 grid = scratch_.get() + row * next_scratch++;
@@ -296,8 +311,8 @@ private:
         const std::size_t n = header_.vertices;
         decode_tokens<R>(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
-        return decode_escapes<R>(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped, largest_residual_,
-                                 q_.data());
+        return decode_escapes<R>(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped,
+                                 largest_residual_, q_.data());
     }
 
     // grid = temporal prediction + (spatial prediction) + q m, checked against the grid's
@@ -309,11 +324,14 @@ private:
         const auto m = static_cast<std::uint32_t>(residual_step_);
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
         std::uint32_t* r = residual_.data();
-        if (use_spatial) spatial_residuals(plan_, q, m, r);
-        else for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
+        if (use_spatial)
+            spatial_residuals(plan_, q, m, r);
+        else
+            for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
         const double origin[3] = {header_.bounds.min.x(), header_.bounds.min.y(), header_.bounds.min.z()};
-        return finish_row(reinterpret_cast<const std::uint32_t*>(temporal_.data()), r, row, -std::int32_t(kMaxResidualStep), grid_high_,
-                          origin, header_.step, grid, positions.data()->data());
+        return finish_row(reinterpret_cast<const std::uint32_t*>(temporal_.data()), r, row,
+                          -std::int32_t(kMaxResidualStep), grid_high_, origin, header_.step, grid,
+                          positions.data()->data());
     }
 
     Header header_;
@@ -324,17 +342,17 @@ private:
     SpatialPlan plan_;
     std::int64_t residual_step_;
     std::int64_t largest_residual_;  // |q| above it cannot land on the grid; bounding it keeps the sums in int32
-    std::int32_t grid_high_;  // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
+    std::int32_t grid_high_;         // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
     std::vector<std::unique_ptr<std::int32_t[]>> grids_;  // integer frames kept for later packets
-    std::vector<const std::int32_t*> frame_grid_;   // each decoded frame's integers, while they are needed
+    std::vector<const std::int32_t*> frame_grid_;         // each decoded frame's integers, while they are needed
     std::unique_ptr<std::int32_t[]> scratch_;
     std::size_t scratch_size_ = 0;
-    std::vector<std::uint8_t> stream_;    // the packet's rANS words, padded
-    std::vector<std::uint8_t> raw_bits_;  // the packet's side information, padded
+    std::vector<std::uint8_t> stream_;                          // the packet's rANS words, padded
+    std::vector<std::uint8_t> raw_bits_;                        // the packet's side information, padded
     std::array<std::unique_ptr<DecodeTable>, kTables> tables_;  // each made when its first table arrives
-    std::array<const DecodeTable*, kTables> table_of_;           // what each context decodes with now
+    std::array<const DecodeTable*, kTables> table_of_;          // what each context decodes with now
     std::size_t received_ = 0;
     // Per-frame scratch.
     std::vector<std::uint8_t> token_;
@@ -346,10 +364,13 @@ private:
 }  // namespace
 
 std::unique_ptr<ProfileDecoder> make_predictive_decoder(const Header& header, const std::string& what) {
-    if (header.profile_param > 20) throw InputError(what + ": header: keyframe stride 2^" + std::to_string(header.profile_param) + " (allowed up to 2^20)");
-    if (!(header.threshold >= 1.0 && header.threshold <= double(kMaxResidualStep) && header.threshold == std::floor(header.threshold)))
-        throw InputError(what + ": header: residual step " + std::to_string(header.threshold) + " (allowed: an integer 1.." +
-                         std::to_string(kMaxResidualStep) + ")");
+    if (header.profile_param > 20)
+        throw InputError(what + ": header: keyframe stride 2^" + std::to_string(header.profile_param) +
+                         " (allowed up to 2^20)");
+    if (!(header.threshold >= 1.0 && header.threshold <= double(kMaxResidualStep) &&
+          header.threshold == std::floor(header.threshold)))
+        throw InputError(what + ": header: residual step " + std::to_string(header.threshold) +
+                         " (allowed: an integer 1.." + std::to_string(kMaxResidualStep) + ")");
     return std::make_unique<PredictiveDecoder>(header, what);
 }
 

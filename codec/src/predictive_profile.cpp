@@ -20,8 +20,9 @@ class FloorDivider {
 public:
     explicit FloorDivider(std::int64_t divisor)
         : divisor_(divisor),
-          shift_(std::has_single_bit(static_cast<std::uint64_t>(divisor)) ? std::countr_zero(static_cast<std::uint64_t>(divisor))
-                                                                          : -1) {}
+          shift_(std::has_single_bit(static_cast<std::uint64_t>(divisor))
+                     ? std::countr_zero(static_cast<std::uint64_t>(divisor))
+                     : -1) {}
     std::int64_t operator()(std::int64_t a) const {
         if (shift_ >= 0) return a >> shift_;
         const std::int64_t q = a / divisor_;
@@ -40,32 +41,36 @@ FOLDCAST_AVX2_CLONES
 void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t* const* frames, std::size_t row,
                  std::int64_t largest, std::int32_t* out) {
     switch (ref.kind) {
-    case TemporalReference::Kind::none: std::fill(out, out + row, 0); return;
-    case TemporalReference::Kind::copy: {
-        const std::int32_t* a = frames[ref.frames[0]];
-        for (std::size_t k = 0; k < row; ++k) out[k] = a[k];
-        return;
-    }
-    case TemporalReference::Kind::linear: {
-        const std::int32_t *a = frames[ref.frames[0]], *b = frames[ref.frames[1]];
-        const auto span = static_cast<std::int64_t>(ref.frames[1] - ref.frames[0]);
-        const auto offset = static_cast<std::int64_t>(t - ref.frames[0]);
-        const FloorDivider divide(span);
-        for (std::size_t k = 0; k < row; ++k)
-            out[k] = static_cast<std::int32_t>(a[k] + divide(std::int64_t(b[k] - a[k]) * offset + span / 2));
-        return;
-    }
-    case TemporalReference::Kind::cubic: {
-        const std::int32_t *a = frames[ref.frames[0]], *b = frames[ref.frames[1]], *c = frames[ref.frames[2]],
-                           *d = frames[ref.frames[3]];
-        if (cubic_fits_int32(largest)) {
-            for (std::size_t k = 0; k < row; ++k) out[k] = (-a[k] + 9 * b[k] + 9 * c[k] - d[k] + 8) >> 4;
+        case TemporalReference::Kind::none:
+            std::fill(out, out + row, 0);
+            return;
+        case TemporalReference::Kind::copy: {
+            const std::int32_t* a = frames[ref.frames[0]];
+            for (std::size_t k = 0; k < row; ++k) out[k] = a[k];
             return;
         }
-        for (std::size_t k = 0; k < row; ++k)
-            out[k] = static_cast<std::int32_t>((-std::int64_t(a[k]) + 9 * std::int64_t(b[k]) + 9 * std::int64_t(c[k]) - std::int64_t(d[k]) + 8) >> 4);
-        return;
-    }
+        case TemporalReference::Kind::linear: {
+            const std::int32_t *a = frames[ref.frames[0]], *b = frames[ref.frames[1]];
+            const auto span = static_cast<std::int64_t>(ref.frames[1] - ref.frames[0]);
+            const auto offset = static_cast<std::int64_t>(t - ref.frames[0]);
+            const FloorDivider divide(span);
+            for (std::size_t k = 0; k < row; ++k)
+                out[k] = static_cast<std::int32_t>(a[k] + divide(std::int64_t(b[k] - a[k]) * offset + span / 2));
+            return;
+        }
+        case TemporalReference::Kind::cubic: {
+            const std::int32_t *a = frames[ref.frames[0]], *b = frames[ref.frames[1]], *c = frames[ref.frames[2]],
+                               *d = frames[ref.frames[3]];
+            if (cubic_fits_int32(largest)) {
+                for (std::size_t k = 0; k < row; ++k) out[k] = (-a[k] + 9 * b[k] + 9 * c[k] - d[k] + 8) >> 4;
+                return;
+            }
+            for (std::size_t k = 0; k < row; ++k)
+                out[k] = static_cast<std::int32_t>(
+                    (-std::int64_t(a[k]) + 9 * std::int64_t(b[k]) + 9 * std::int64_t(c[k]) - std::int64_t(d[k]) + 8) >>
+                    4);
+            return;
+        }
     }
 }
 
@@ -84,15 +89,23 @@ void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t 
     const auto [left, right] = bracket(ref);
     TemporalReference r = ref;
     switch (mode) {
-    case TemporalMode::layout: break;
-    case TemporalMode::linear: r = {TemporalReference::Kind::linear, {left, right, 0, 0}}; break;
-    case TemporalMode::copy_left: r = {TemporalReference::Kind::copy, {left, 0, 0, 0}}; break;
-    case TemporalMode::copy_right: r = {TemporalReference::Kind::copy, {right, 0, 0, 0}}; break;
-    case TemporalMode::none: r = {}; break;
+        case TemporalMode::layout:
+            break;
+        case TemporalMode::linear:
+            r = {TemporalReference::Kind::linear, {left, right, 0, 0}};
+            break;
+        case TemporalMode::copy_left:
+            r = {TemporalReference::Kind::copy, {left, 0, 0, 0}};
+            break;
+        case TemporalMode::copy_right:
+            r = {TemporalReference::Kind::copy, {right, 0, 0, 0}};
+            break;
+        case TemporalMode::none:
+            r = {};
+            break;
     }
     predict_row(r, t, frames, row, largest, out);
 }
-
 
 namespace {
 // One frame through the closed loop in one mode: quantised residuals q (what is sent) and
@@ -114,13 +127,14 @@ double entropy_bits(const std::uint32_t* histogram, int symbols) {
     return bits;
 }
 
-void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours, std::size_t n,
-               const std::int32_t* target, std::int64_t m, bool use_spatial, FrameTrial& f) {
+void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours,
+               std::size_t n, const std::int32_t* target, std::int64_t m, bool use_spatial, FrameTrial& f) {
     const FloorDivider divide(m);
     for (int c = 0; c < 3; ++c)
         for (std::size_t v = 0; v < n; ++v) {
             const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-            const std::int64_t p = f.temporal[k] + (use_spatial ? spatial_prediction(refs[v], f.temporal_residual.data(), c) : 0);
+            const std::int64_t p =
+                f.temporal[k] + (use_spatial ? spatial_prediction(refs[v], f.temporal_residual.data(), c) : 0);
             const std::int64_t q = divide(target[k] - p + m / 2);
             f.q[k] = q;
             f.decoded[k] = p + q * m;
@@ -152,10 +166,13 @@ bool frame_mode_allowed(const TemporalReference& reference, int mode) {
     if (mode < 0 || mode >= kFrameModes) return false;
     const auto temporal = static_cast<TemporalMode>(mode / 2);
     switch (reference.kind) {
-    case TemporalReference::Kind::none: return temporal == TemporalMode::layout;  // frame 0: nothing to predict from
-    case TemporalReference::Kind::copy: return temporal == TemporalMode::layout || temporal == TemporalMode::none;
-    case TemporalReference::Kind::linear:
-    case TemporalReference::Kind::cubic: return true;
+        case TemporalReference::Kind::none:
+            return temporal == TemporalMode::layout;  // frame 0: nothing to predict from
+        case TemporalReference::Kind::copy:
+            return temporal == TemporalMode::layout || temporal == TemporalMode::none;
+        case TemporalReference::Kind::linear:
+        case TemporalReference::Kind::cubic:
+            return true;
     }
     return false;
 }
@@ -174,7 +191,8 @@ PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), 
     std::vector<std::size_t> keys;
     for (std::size_t f = 0; f < t; f += stride) keys.push_back(f);
     if (keys.back() != t - 1) keys.push_back(t - 1);
-    for (std::size_t i = 1; i < keys.size(); ++i) references[keys[i]] = {TemporalReference::Kind::copy, {keys[i - 1], 0, 0, 0}};
+    for (std::size_t i = 1; i < keys.size(); ++i)
+        references[keys[i]] = {TemporalReference::Kind::copy, {keys[i - 1], 0, 0, 0}};
     packets.push_back(keys);
     for (std::size_t start = 0; start + 1 < t; start += stride) {
         std::vector<std::size_t> group;
@@ -309,8 +327,8 @@ std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vec
 }
 
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& refs,
-                                            std::size_t n, const std::vector<std::int32_t>& grid, std::uint32_t residual_step,
-                                            int forced_mode) {
+                                            std::size_t n, const std::vector<std::int32_t>& grid,
+                                            std::uint32_t residual_step, int forced_mode) {
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
     const std::vector<ContextNeighbours> neighbours = context_neighbours(refs);
@@ -346,8 +364,11 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             best.bits = 0.0;
             for (int candidate = 0; candidate < kFrameModes; ++candidate) {
                 if (!frame_mode_allowed(ref, candidate) || (forced_mode >= 0 && candidate != forced_mode)) continue;
-                if (candidate / 2 == static_cast<int>(TemporalMode::linear) && ref.kind == TemporalReference::Kind::linear) continue;
-                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded_frames.data(), row, largest, trial.temporal.data());
+                if (candidate / 2 == static_cast<int>(TemporalMode::linear) &&
+                    ref.kind == TemporalReference::Kind::linear)
+                    continue;
+                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded_frames.data(), row, largest,
+                              trial.temporal.data());
                 run_frame(refs, neighbours, n, target, m, candidate % 2 == 1, trial);
                 if (mode < 0 || trial.bits < best.bits) {
                     std::swap(trial, best);
@@ -365,7 +386,8 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             const int base = level_table_base(layout.level_class[t]);
             for (std::size_t v = 0; v < n; ++v, ++k) {
                 const int table = base + best.bucket[v];
-                symbols.push_back({static_cast<std::uint8_t>(table), best.token[v], static_cast<std::uint8_t>(k % kRansLanes)});
+                symbols.push_back(
+                    {static_cast<std::uint8_t>(table), best.token[v], static_cast<std::uint8_t>(k % kRansLanes)});
                 ++counts[static_cast<std::size_t>(table)][best.token[v]];
             }
             for (std::size_t v = 0; v < n; ++v)
@@ -385,7 +407,8 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
         BitWriter bits;
         for (int mode : modes) bits.put(static_cast<std::uint32_t>(mode), kModeBits);
         for (int id : packet_table_ids(layout, frames)) {
-            const TableChoice choice = choose_table(counts[static_cast<std::size_t>(id)], tables[static_cast<std::size_t>(id)]);
+            const TableChoice choice =
+                choose_table(counts[static_cast<std::size_t>(id)], tables[static_cast<std::size_t>(id)]);
             bits.put(choice.send, 1);
             if (!choice.send) continue;
             write_table(bits, choice.table);

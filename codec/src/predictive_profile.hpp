@@ -23,7 +23,9 @@ struct TemporalReference {
     enum class Kind { none, copy, linear, cubic } kind = Kind::none;
     std::array<std::size_t, 4> frames{};  // copy: [0]; linear: [0], [1] (a < t < b); cubic: t-3h, t-h, t+h, t+3h
     // How many of `frames` it reads (every mode's frames are among them).
-    std::size_t count() const { return kind == Kind::cubic ? 4 : kind == Kind::linear ? 2 : kind == Kind::copy ? 1 : 0; }
+    std::size_t count() const {
+        return kind == Kind::cubic ? 4 : kind == Kind::linear ? 2 : kind == Kind::copy ? 1 : 0;
+    }
 };
 
 struct PredictiveLayout {
@@ -81,8 +83,8 @@ constexpr int kModeBits = 4;  // per frame, in the packet's side information
 // of every coordinate read: small enough (cubic_fits_int32), the cubic is computed in int32,
 // which vectorises twice as wide, with the same result.  Predictions of in-range frames
 // stay within int32.
-void predict_frame(const TemporalReference& reference, TemporalMode mode, std::size_t t, const std::int32_t* const* frames,
-                   std::size_t row, std::int64_t largest, std::int32_t* out);
+void predict_frame(const TemporalReference& reference, TemporalMode mode, std::size_t t,
+                   const std::int32_t* const* frames, std::size_t row, std::int64_t largest, std::int32_t* out);
 constexpr bool cubic_fits_int32(std::int64_t largest) { return 20 * largest + 8 <= std::int64_t(INT32_MAX); }
 
 // Spatial prediction of coordinate c's temporal residual at a vertex: r_a + r_b - r_c.
@@ -102,8 +104,9 @@ std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vec
 // Packet payloads in streaming order; `grid` holds T x 3N fine-grid coordinates
 // (frame-major), `residual_step` is m.  `forced_mode` >= 0 codes every frame in that mode
 // where allowed (tests); otherwise the encoder picks each frame's cheapest mode.
-std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& spatial,
-                                            std::size_t vertices, const std::vector<std::int32_t>& grid,
-                                            std::uint32_t residual_step, int forced_mode = -1);
+std::vector<std::string> predictive_packets(const PredictiveLayout& layout,
+                                            const std::vector<SpatialReference>& spatial, std::size_t vertices,
+                                            const std::vector<std::int32_t>& grid, std::uint32_t residual_step,
+                                            int forced_mode = -1);
 
 }  // namespace foldcast::codec

@@ -67,7 +67,8 @@ QuantisedTable read_table(BitReader& in) {
     BitReader bits = in;
     QuantisedTable q;
     for (std::size_t s = 0; s < kRansAlphabet;) {
-        const auto absent = std::min<std::size_t>(static_cast<std::size_t>(std::countl_zero(bits.peek(32))), kRansAlphabet - s);
+        const auto absent =
+            std::min<std::size_t>(static_cast<std::size_t>(std::countl_zero(bits.peek(32))), kRansAlphabet - s);
         bits.skip(static_cast<int>(absent));
         s += absent;
         if (s == kRansAlphabet || absent == 32) continue;  // done, or 32 absent and more to look at
@@ -101,7 +102,8 @@ SymbolTable make_table(const QuantisedTable& table) {
     std::size_t big = present[0];  // the first most frequent symbol
     for (std::size_t i = 0; i < count; ++i) {
         const std::size_t s = present[i];
-        t.freq[s] = static_cast<std::uint16_t>(std::max<std::uint32_t>(1, kCodeValues[table.code[s]] * kRansTotal / total));
+        t.freq[s] =
+            static_cast<std::uint16_t>(std::max<std::uint32_t>(1, kCodeValues[table.code[s]] * kRansTotal / total));
         left -= t.freq[s];
         if (t.freq[s] > t.freq[big]) big = s;
     }
@@ -119,7 +121,8 @@ SymbolTable make_table(const QuantisedTable& table) {
 }
 
 void fill_decode_table(const SymbolTable& table, DecodeTable& out) {
-    for (std::size_t s = 0; s < kRansAlphabet; ++s) out.freq_start[s] = table.freq[s] | std::uint32_t(table.start[s]) << 16;
+    for (std::size_t s = 0; s < kRansAlphabet; ++s)
+        out.freq_start[s] = table.freq[s] | std::uint32_t(table.start[s]) << 16;
     // Each present symbol's slots in whole 16-byte blocks: a block running past them is
     // overwritten by the next symbol's (ranges ascend with the symbol), the last one's by
     // nothing.  Most symbols need one block, written without a loop.
@@ -152,7 +155,8 @@ std::string RansEncoder::finish() {
         const Coded& c = symbols_[i];
         std::uint32_t& s = x[c.lane];
         // Keep the state in [kLow, 2^32) after coding: emit 16 bits first if it would overflow.
-        const std::uint64_t limit = std::uint64_t((kLow >> kRansProbabilityBits) << 16) * c.freq;  // 2^32 for freq = kRansTotal
+        const std::uint64_t limit =
+            std::uint64_t((kLow >> kRansProbabilityBits) << 16) * c.freq;  // 2^32 for freq = kRansTotal
         if (s >= limit) {
             words.push_back(static_cast<std::uint16_t>(s & 0xffffu));
             s >>= 16;
@@ -179,7 +183,8 @@ RansDecoder::RansDecoder(std::string_view bytes, std::size_t words_between_check
     pos_ = storage.data();
     end_ = storage.data() + bytes.size();
     for (auto& x : state) {
-        x = std::uint32_t(pos_[0]) | std::uint32_t(pos_[1]) << 8 | std::uint32_t(pos_[2]) << 16 | std::uint32_t(pos_[3]) << 24;
+        x = std::uint32_t(pos_[0]) | std::uint32_t(pos_[1]) << 8 | std::uint32_t(pos_[2]) << 16 |
+            std::uint32_t(pos_[3]) << 24;
         pos_ += 4;
     }
 }

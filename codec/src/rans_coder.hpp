@@ -49,7 +49,7 @@ SymbolTable make_table(const QuantisedTable& table);
 // symbol's frequency and start.
 struct DecodeTable {
     std::array<std::uint32_t, kRansAlphabet> freq_start;  // freq | start << 16
-    std::array<std::uint8_t, kRansTotal + 16> symbol;  // the last 16: room for the fill's last block
+    std::array<std::uint8_t, kRansTotal + 16> symbol;     // the last 16: room for the fill's last block
 };
 void fill_decode_table(const SymbolTable& table, DecodeTable& out);
 // Bits to code `counts` with `table`, or a negative value if a counted symbol is absent.

@@ -16,12 +16,12 @@
 
 namespace foldcast::codec {
 
-constexpr int kTokenLevels = 8;     // level classes 0..6, then 7 and above together
+constexpr int kTokenLevels = 8;  // level classes 0..6, then 7 and above together
 constexpr int kActivityBuckets = 5;
 constexpr int kTokenTables = kTokenLevels * kActivityBuckets;
 constexpr int kEscapeTable = kTokenTables;  // one table for every escape
 constexpr int kTables = kTokenTables + 1;
-constexpr int kMaxEscapeLength = 31;       // |q| < 2^31: more than any grid coordinate allows
+constexpr int kMaxEscapeLength = 31;  // |q| < 2^31: more than any grid coordinate allows
 
 constexpr int residual_class(std::int64_t q) { return q == 0 ? 0 : q == 1 ? 1 : q == -1 ? 2 : 3; }
 constexpr int vertex_token(std::int64_t qx, std::int64_t qy, std::int64_t qz) {
@@ -30,25 +30,30 @@ constexpr int vertex_token(std::int64_t qx, std::int64_t qy, std::int64_t qz) {
 constexpr int token_class(int token, int coordinate) { return (token >> (2 * coordinate)) & 3; }
 
 struct TokenTraits {
-    std::array<std::uint8_t, kRansAlphabet> weight{};      // sum of 0, 1, 1, 2 per class
-    std::array<std::uint8_t, kRansAlphabet> escapes{};     // escaped coordinates
+    std::array<std::uint8_t, kRansAlphabet> weight{};   // sum of 0, 1, 1, 2 per class
+    std::array<std::uint8_t, kRansAlphabet> escapes{};  // escaped coordinates
     // q of the non-escaped coordinates (escaped ones 0), padded to 16 bytes so one copy
     // writes a vertex.
     std::array<std::array<std::int32_t, 4>, kRansAlphabet> value{};
     // The first `escapes` entries (padded to 16 bytes for the decoder's four-lane copy).
     std::array<std::array<std::uint32_t, 4>, kRansAlphabet> escaped_coordinates{};
-    std::array<std::uint8_t, 13> bucket{};                 // of two weights summed: 0, 1, 2-3, 4-7, 8-12
+    std::array<std::uint8_t, 13> bucket{};  // of two weights summed: 0, 1, 2-3, 4-7, 8-12
     // The bucket of two neighbours' tokens a and b at [a << 6 | b]: the decoder's one lookup.
     std::array<std::uint8_t, kRansAlphabet * kRansAlphabet> pair_bucket{};
     constexpr TokenTraits() {
         for (int t = 0; t < kRansAlphabet; ++t)
             for (int c = 0; c < 3; ++c) {
                 const int k = token_class(t, c);
-                weight[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(weight[static_cast<std::size_t>(t)] + (k == 3 ? 2 : k != 0));
-                if (k == 3) escaped_coordinates[static_cast<std::size_t>(t)][escapes[static_cast<std::size_t>(t)]++] = static_cast<std::uint32_t>(c);
+                weight[static_cast<std::size_t>(t)] =
+                    static_cast<std::uint8_t>(weight[static_cast<std::size_t>(t)] + (k == 3 ? 2 : k != 0));
+                if (k == 3)
+                    escaped_coordinates[static_cast<std::size_t>(t)][escapes[static_cast<std::size_t>(t)]++] =
+                        static_cast<std::uint32_t>(c);
                 value[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)] = k == 1 ? 1 : k == 2 ? -1 : 0;
             }
-        for (int a = 0; a < 13; ++a) bucket[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>(std::min(static_cast<int>(std::bit_width(unsigned(a))), kActivityBuckets - 1));
+        for (int a = 0; a < 13; ++a)
+            bucket[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>(
+                std::min(static_cast<int>(std::bit_width(unsigned(a))), kActivityBuckets - 1));
         for (std::size_t a = 0; a < kRansAlphabet; ++a)
             for (std::size_t b = 0; b < kRansAlphabet; ++b) pair_bucket[a << 6 | b] = bucket[weight[a] + weight[b]];
     }

@@ -58,15 +58,17 @@ void decode_run_length(BitReader& in, const HuffmanTable& table, std::span<std::
         }
         const std::size_t run = symbol / 32;
         const int cat = static_cast<int>(symbol % 32);
-        if (cat == 0 && symbol != kSixteenZeros) context.fail("run-length symbol " + std::to_string(symbol) + " is undefined");
+        if (cat == 0 && symbol != kSixteenZeros)
+            context.fail("run-length symbol " + std::to_string(symbol) + " is undefined");
         const std::size_t zeros = cat == 0 ? 16 : run;
         if (zeros + (cat > 0 ? 1 : 0) > values.size() - i) context.fail("run-length data runs past its block");
         for (std::size_t k = 0; k < zeros; ++k) values[i++] = 0;
         if (cat > 0) {
             const std::uint32_t bits = in.get(cat);
             const bool negative = (bits >> (cat - 1)) == 0;
-            values[i++] = negative ? static_cast<std::int32_t>(static_cast<std::int64_t>(bits) - ((std::int64_t(1) << cat) - 1))
-                                   : static_cast<std::int32_t>(bits);
+            values[i++] =
+                negative ? static_cast<std::int32_t>(static_cast<std::int64_t>(bits) - ((std::int64_t(1) << cat) - 1))
+                         : static_cast<std::int32_t>(bits);
         }
         if (in.overrun()) context.fail("Huffman data is truncated");
     }

@@ -52,41 +52,41 @@ SpatialPlan spatial_plan(const std::vector<SpatialReference>& refs) {
 }
 
 namespace {
-void run_residuals(const SpatialRun& run, const std::vector<std::array<std::uint32_t, 3>>& gather, const std::uint32_t* q,
-                   std::uint32_t m, std::uint32_t* r) {
+void run_residuals(const SpatialRun& run, const std::vector<std::array<std::uint32_t, 3>>& gather,
+                   const std::uint32_t* q, std::uint32_t m, std::uint32_t* r) {
     const std::size_t begin = 3 * std::size_t(run.begin), end = 3 * std::size_t(run.end);
     switch (run.kind) {
-    case SpatialRun::Kind::none:
-        for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m;
-        return;
-    case SpatialRun::Kind::gather:
-        for (std::size_t v = run.begin; v < run.end; ++v) {
-            const auto [a, b, c] = gather[v];
-            for (std::size_t k = 0; k < 3; ++k) r[3 * v + k] = q[3 * v + k] * m + r[a + k] + r[b + k] - r[c + k];
+        case SpatialRun::Kind::none:
+            for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m;
+            return;
+        case SpatialRun::Kind::gather:
+            for (std::size_t v = run.begin; v < run.end; ++v) {
+                const auto [a, b, c] = gather[v];
+                for (std::size_t k = 0; k < 3; ++k) r[3 * v + k] = q[3 * v + k] * m + r[a + k] + r[b + k] - r[c + k];
+            }
+            return;
+        case SpatialRun::Kind::row: {
+            // r_v = r_{v-1} + (q_v m + r_{v-up} - r_{v-corner}): the bracket reads only vertices
+            // before the run (vectorised), then a running sum along the run.
+            const std::size_t up = 3 * std::size_t(run.up), corner = 3 * std::size_t(run.corner);
+            for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m + r[k - up] - r[k - corner];
+            std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
+            for (std::size_t k = begin; k < end; k += 3) {
+                r[k] = x += r[k];
+                r[k + 1] = y += r[k + 1];
+                r[k + 2] = z += r[k + 2];
+            }
+            return;
         }
-        return;
-    case SpatialRun::Kind::row: {
-        // r_v = r_{v-1} + (q_v m + r_{v-up} - r_{v-corner}): the bracket reads only vertices
-        // before the run (vectorised), then a running sum along the run.
-        const std::size_t up = 3 * std::size_t(run.up), corner = 3 * std::size_t(run.corner);
-        for (std::size_t k = begin; k < end; ++k) r[k] = q[k] * m + r[k - up] - r[k - corner];
-        std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
-        for (std::size_t k = begin; k < end; k += 3) {
-            r[k] = x += r[k];
-            r[k + 1] = y += r[k + 1];
-            r[k + 2] = z += r[k + 2];
+        case SpatialRun::Kind::chain: {
+            std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
+            for (std::size_t k = begin; k < end; k += 3) {
+                r[k] = x += q[k] * m;
+                r[k + 1] = y += q[k + 1] * m;
+                r[k + 2] = z += q[k + 2] * m;
+            }
+            return;
         }
-        return;
-    }
-    case SpatialRun::Kind::chain: {
-        std::uint32_t x = r[begin - 3], y = r[begin - 2], z = r[begin - 1];
-        for (std::size_t k = begin; k < end; k += 3) {
-            r[k] = x += q[k] * m;
-            r[k + 1] = y += q[k + 1] * m;
-            r[k + 2] = z += q[k + 2] * m;
-        }
-        return;
-    }
     }
 }
 }  // namespace

@@ -15,7 +15,7 @@ namespace foldcast::codec {
 struct StreamingDecoder::Impl {
     std::string what;
     std::optional<std::uint64_t> known_total;
-    std::string pending;     // bytes not yet consumed
+    std::string pending;       // bytes not yet consumed
     std::size_t consumed = 0;  // bytes of accepted packets (and magic)
     bool magic_ok = false;
     bool complete = false;
@@ -50,23 +50,26 @@ struct StreamingDecoder::Impl {
         }
         ByteReader r(payload, what + ": " + where);
         switch (type) {
-        case PacketType::header: r.fail("a second header");
-        case PacketType::data: {
-            const auto seq = r.get<std::uint32_t>("sequence number");
-            if (seq != data_packets) r.fail("data packet " + std::to_string(seq) + " out of order (expected " + std::to_string(data_packets) + ")");
-            profile->accept(seq, r.get_bytes(r.remaining(), "data"));
-            ++data_packets;
-            return;
-        }
-        case PacketType::end: {
-            const auto count = r.get<std::uint32_t>("packet count");
-            r.expect_end("end packet");
-            if (count != data_packets || data_packets != profile->expected_packets())
-                r.fail("end packet after " + std::to_string(data_packets) + " data packets (expected " +
-                       std::to_string(profile->expected_packets()) + ")");
-            complete = true;
-            return;
-        }
+            case PacketType::header:
+                r.fail("a second header");
+            case PacketType::data: {
+                const auto seq = r.get<std::uint32_t>("sequence number");
+                if (seq != data_packets)
+                    r.fail("data packet " + std::to_string(seq) + " out of order (expected " +
+                           std::to_string(data_packets) + ")");
+                profile->accept(seq, r.get_bytes(r.remaining(), "data"));
+                ++data_packets;
+                return;
+            }
+            case PacketType::end: {
+                const auto count = r.get<std::uint32_t>("packet count");
+                r.expect_end("end packet");
+                if (count != data_packets || data_packets != profile->expected_packets())
+                    r.fail("end packet after " + std::to_string(data_packets) + " data packets (expected " +
+                           std::to_string(profile->expected_packets()) + ")");
+                complete = true;
+                return;
+            }
         }
         r.fail("unknown packet type " + std::to_string(static_cast<int>(type)));
     }
@@ -87,16 +90,20 @@ struct StreamingDecoder::Impl {
             std::uint32_t length;
             std::memcpy(&length, at, 4);
             const auto type = static_cast<PacketType>(static_cast<std::uint8_t>(at[4]));
-            if (length > kMaxPayloadBytes) fail("packet " + std::to_string(packets) + " claims " + std::to_string(length) + " bytes (limit 2^30)");
+            if (length > kMaxPayloadBytes)
+                fail("packet " + std::to_string(packets) + " claims " + std::to_string(length) + " bytes (limit 2^30)");
             if (profile && consumed + kPacketOverhead + length > header.total_bytes)
                 fail("packet " + std::to_string(packets) + " runs past the size the header declares");
             if (input.size() - used < kPacketOverhead + length) break;  // wait for the rest
             const std::string_view typed(at + 4, 1 + length);
             std::uint32_t stored;
             std::memcpy(&stored, at + 5 + length, 4);
-            if (crc32(typed) != stored) fail("packet " + std::to_string(packets) + " at byte " + std::to_string(consumed) + " is corrupt (CRC mismatch)");
+            if (crc32(typed) != stored)
+                fail("packet " + std::to_string(packets) + " at byte " + std::to_string(consumed) +
+                     " is corrupt (CRC mismatch)");
             if (type != PacketType::header && type != PacketType::data && type != PacketType::end)
-                fail("packet " + std::to_string(packets) + " has unknown type " + std::to_string(static_cast<int>(type)));
+                fail("packet " + std::to_string(packets) + " has unknown type " +
+                     std::to_string(static_cast<int>(type)));
             handle(type, typed.substr(1));
             ++packets;
             used += kPacketOverhead + length;
@@ -123,8 +130,10 @@ void StreamingDecoder::feed(std::string_view bytes) {
     const std::string_view input = from_pending ? std::string_view(pending) : bytes;
     std::size_t used = 0;
     auto keep_rest = [&] {
-        if (from_pending) pending.erase(0, used);
-        else pending.assign(input.substr(used));
+        if (from_pending)
+            pending.erase(0, used);
+        else
+            pending.assign(input.substr(used));
     };
     try {
         impl_->process(input, used);
@@ -136,8 +145,10 @@ void StreamingDecoder::feed(std::string_view bytes) {
 }
 
 void StreamingDecoder::reuse(std::vector<std::vector<Vec3f>>&& frames) {
-    if (!impl_->profile) impl_->recycled = std::move(frames);
-    else if (impl_->data_packets == 0) impl_->profile->reuse(std::move(frames));
+    if (!impl_->profile)
+        impl_->recycled = std::move(frames);
+    else if (impl_->data_packets == 0)
+        impl_->profile->reuse(std::move(frames));
 }
 
 StreamStatus StreamingDecoder::status() const {
@@ -150,11 +161,26 @@ StreamStatus StreamingDecoder::status() const {
     return s;
 }
 
-std::size_t StreamingDecoder::vertex_count() const { impl_->require(); return impl_->header.vertices; }
-std::size_t StreamingDecoder::frame_count() const { impl_->require(); return impl_->header.frames; }
-double StreamingDecoder::fps() const { impl_->require(); return impl_->header.fps; }
-Profile StreamingDecoder::profile() const { impl_->require(); return impl_->header.profile; }
-const Topology& StreamingDecoder::topology() const { impl_->require(); return impl_->header.topology; }
+std::size_t StreamingDecoder::vertex_count() const {
+    impl_->require();
+    return impl_->header.vertices;
+}
+std::size_t StreamingDecoder::frame_count() const {
+    impl_->require();
+    return impl_->header.frames;
+}
+double StreamingDecoder::fps() const {
+    impl_->require();
+    return impl_->header.fps;
+}
+Profile StreamingDecoder::profile() const {
+    impl_->require();
+    return impl_->header.profile;
+}
+const Topology& StreamingDecoder::topology() const {
+    impl_->require();
+    return impl_->header.topology;
+}
 std::optional<double> StreamingDecoder::max_error_m() const {
     impl_->require();
     const Header& h = impl_->header;
@@ -178,7 +204,9 @@ Animation StreamingDecoder::take_animation() {
 
 void StreamingDecoder::frame(std::size_t t, std::vector<Vec3f>& out) const {
     impl_->require();
-    if (t >= impl_->header.frames) throw InputError(impl_->what + ": frame " + std::to_string(t) + " out of range (" + std::to_string(impl_->header.frames) + " frames)");
+    if (t >= impl_->header.frames)
+        throw InputError(impl_->what + ": frame " + std::to_string(t) + " out of range (" +
+                         std::to_string(impl_->header.frames) + " frames)");
     impl_->profile->reconstruct_frame(t, out);
 }
 

@@ -15,7 +15,9 @@ void validate_supports(const SupportPixels& s, int width, int height) {
                              ") lies outside the " + std::to_string(width) + "x" + std::to_string(height) +
                              " image (x in [0," + std::to_string(width - 1) + "], y in [0," +
                              std::to_string(height - 1) + "])");
-    if (s.distance_px() < 2.0) throw InputError("supports: the two points are " + std::to_string(s.distance_px()) + " px apart; they must be at least 2 px apart");
+    if (s.distance_px() < 2.0)
+        throw InputError("supports: the two points are " + std::to_string(s.distance_px()) +
+                         " px apart; they must be at least 2 px apart");
 }
 
 namespace {
@@ -63,10 +65,10 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
                                              static_cast<int>(std::max(a.y(), b.y()) + 1.3 * d))) &
                           bounds;
     cv::Mat labels(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
-    const cv::Rect seed = cv::Rect(cv::Point(static_cast<int>(mid.x() - 0.05 * d), static_cast<int>(mid.y() + 0.1 * d)),
-                                   cv::Point(static_cast<int>(mid.x() + 0.05 * d) + 1,
-                                             static_cast<int>(mid.y() + 0.35 * d) + 1)) &
-                          bounds;
+    const cv::Rect seed =
+        cv::Rect(cv::Point(static_cast<int>(mid.x() - 0.05 * d), static_cast<int>(mid.y() + 0.1 * d)),
+                 cv::Point(static_cast<int>(mid.x() + 0.05 * d) + 1, static_cast<int>(mid.y() + 0.35 * d) + 1)) &
+        bounds;
     // Inside the rectangle, the cloth's colour decides the first guess: chroma (CIELAB a, b)
     // near the seed strip's median is probably cloth, the rest probably not.  This keeps a
     // table or wall touching the hem out of the mask.

@@ -11,11 +11,16 @@ namespace foldcast::compare {
 
 const char* verdict_name(DiffVerdict verdict) {
     switch (verdict) {
-        case DiffVerdict::pass: return "PASS";
-        case DiffVerdict::warning: return "WARNING";
-        case DiffVerdict::failure: return "FAILURE";
-        case DiffVerdict::size_mismatch: return "SIZE MISMATCH";
-        case DiffVerdict::unreadable: return "UNREADABLE";
+        case DiffVerdict::pass:
+            return "PASS";
+        case DiffVerdict::warning:
+            return "WARNING";
+        case DiffVerdict::failure:
+            return "FAILURE";
+        case DiffVerdict::size_mismatch:
+            return "SIZE MISMATCH";
+        case DiffVerdict::unreadable:
+            return "UNREADABLE";
     }
     return "?";
 }
@@ -57,8 +62,8 @@ DiffReport diff_images(const Image& reference, const Image& test, const DiffThre
     validate(th);
     if (reference.width != test.width || reference.height != test.height || reference.channels != test.channels)
         throw SizeMismatch("images differ in size: " + std::to_string(reference.width) + "x" +
-                           std::to_string(reference.height) + "x" + std::to_string(reference.channels) +
-                           " vs " + std::to_string(test.width) + "x" + std::to_string(test.height) + "x" +
+                           std::to_string(reference.height) + "x" + std::to_string(reference.channels) + " vs " +
+                           std::to_string(test.width) + "x" + std::to_string(test.height) + "x" +
                            std::to_string(test.channels) + " (width x height x channels)");
     DiffReport r;
     r.width = reference.width;

@@ -163,7 +163,8 @@ std::vector<float> flip_error_map(const Image& reference, const Image& test, dou
     for (int y = 0; y < reference.height; ++y)
         for (int x = 0; x < reference.width; ++x) {
             const float de = std::pow(hyab(r.lab_hunt.at<cv::Vec3f>(y, x), t.lab_hunt.at<cv::Vec3f>(y, x)), qc);
-            const float colour = de < pccmax ? (pt / pccmax) * de : pt + ((de - pccmax) / (cmax - pccmax)) * (1.0f - pt);
+            const float colour =
+                de < pccmax ? (pt / pccmax) * de : pt + ((de - pccmax) / (cmax - pccmax)) * (1.0f - pt);
             const float feature_diff = std::max(std::abs(r.edge_norm.at<float>(y, x) - t.edge_norm.at<float>(y, x)),
                                                 std::abs(r.point_norm.at<float>(y, x) - t.point_norm.at<float>(y, x)));
             const float feature = std::pow(feature_diff / std::numbers::sqrt2_v<float>, qf);

@@ -24,10 +24,10 @@ double DetectedFold::length_px() const {
 namespace {
 
 struct RidgeField {
-    cv::Mat strength;  // CV_32F, >= 0
-    cv::Mat sign;      // CV_8S, +1 bright ridge, -1 dark valley
-    cv::Mat nx, ny;    // CV_32F unit normal across the line
-    cv::Mat scale;     // CV_8U index of the strongest scale
+    cv::Mat strength;             // CV_32F, >= 0
+    cv::Mat sign;                 // CV_8S, +1 bright ridge, -1 dark valley
+    cv::Mat nx, ny;               // CV_32F unit normal across the line
+    cv::Mat scale;                // CV_8U index of the strongest scale
     std::vector<cv::Mat> smooth;  // luminance smoothed at each scale
 };
 
@@ -93,7 +93,8 @@ cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth, int grow_px) {
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x) {
             const cv::Vec3f v = rgb.at<cv::Vec3f>(y, x);
-            const float r = srgb_to_linear(std::clamp(v[0], 0.0f, 1.0f)), g = srgb_to_linear(std::clamp(v[1], 0.0f, 1.0f)),
+            const float r = srgb_to_linear(std::clamp(v[0], 0.0f, 1.0f)),
+                        g = srgb_to_linear(std::clamp(v[1], 0.0f, 1.0f)),
                         b = srgb_to_linear(std::clamp(v[2], 0.0f, 1.0f));
             const float sum = r + g + b;
             dark.at<uchar>(y, x) = sum < 0.03f;
@@ -127,7 +128,8 @@ cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth, int grow_px) {
     const float limit = std::max(0.04f, median_d + 6.0f * 1.4826f * median_of(ds));
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x)
-            out.at<uchar>(y, x) = cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x) && distance.at<float>(y, x) > limit ? 255 : 0;
+            out.at<uchar>(y, x) =
+                cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x) && distance.at<float>(y, x) > limit ? 255 : 0;
     cv::morphologyEx(out, out, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
     if (grow_px > 0)
         cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1)));
@@ -141,13 +143,16 @@ const int kDy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 
 void validate(const FoldDetectionOptions& o) {
     auto check = [](bool ok, const std::string& name, double value, const char* allowed) {
-        if (!ok) throw InputError("fold detection: " + name + " = " + std::to_string(value) + " is not allowed; " + allowed);
+        if (!ok)
+            throw InputError("fold detection: " + name + " = " + std::to_string(value) + " is not allowed; " + allowed);
     };
-    for (double s : o.sigmas_px) check(std::isfinite(s) && s > 0, "sigmas_px", s, "each scale must be a finite number > 0");
+    for (double s : o.sigmas_px)
+        check(std::isfinite(s) && s > 0, "sigmas_px", s, "each scale must be a finite number > 0");
     check(std::isfinite(o.gamma) && o.gamma >= 0 && o.gamma <= 2, "gamma", o.gamma, "allowed: 0 to 2");
     check(std::isfinite(o.high_threshold) && o.high_threshold >= 0, "high_threshold", o.high_threshold,
           "allowed: >= 0 (0 = automatic)");
-    check(std::isfinite(o.low_ratio) && o.low_ratio > 0 && o.low_ratio <= 1, "low_ratio", o.low_ratio, "allowed: (0, 1]");
+    check(std::isfinite(o.low_ratio) && o.low_ratio > 0 && o.low_ratio <= 1, "low_ratio", o.low_ratio,
+          "allowed: (0, 1]");
     check(std::isfinite(o.min_length_px) && o.min_length_px >= 0, "min_length_px", o.min_length_px,
           "allowed: a finite length >= 0 px (0 = automatic)");
 }
@@ -259,7 +264,8 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
         queue.pop_front();
         for (int k = 0; k < 8; ++k) {
             const int qx = p.x + kDx[k], qy = p.y + kDy[k];
-            if (qx < 0 || qy < 0 || qx >= w || qy >= h || kept.at<uchar>(qy, qx) || !candidate.at<uchar>(qy, qx)) continue;
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h || kept.at<uchar>(qy, qx) || !candidate.at<uchar>(qy, qx))
+                continue;
             if (field.sign.at<schar>(qy, qx) != field.sign.at<schar>(p.y, p.x)) continue;
             if (field.strength.at<float>(qy, qx) < out.low_threshold) continue;
             kept.at<uchar>(qy, qx) = 1;
@@ -298,7 +304,8 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             for (const cv::Point& q : next) {
                 const cv::Point step = q - p;
                 const double len = std::hypot(step.x, step.y);
-                const double score = (dir.x * step.x + dir.y * step.y) / (len * std::max(1.0, std::hypot(dir.x, dir.y))) - 0.1 * len;
+                const double score =
+                    (dir.x * step.x + dir.y * step.y) / (len * std::max(1.0, std::hypot(dir.x, dir.y))) - 0.1 * len;
                 if (score > best_score) {
                     best_score = score;
                     best = &q;

@@ -18,7 +18,8 @@ void check_bounds(const FitBounds& b) {
         fail("Young's modulus range [" + std::to_string(b.young_min_pa) + ", " + std::to_string(b.young_max_pa) +
              "] Pa must be finite with 0 < min <= max");
     if (b.inset_steps < 1 || b.young_steps < 1 || b.inset_steps > 200 || b.young_steps > 200)
-        fail("steps must be 1 to 200 (inset " + std::to_string(b.inset_steps) + ", E " + std::to_string(b.young_steps) + ")");
+        fail("steps must be 1 to 200 (inset " + std::to_string(b.inset_steps) + ", E " + std::to_string(b.young_steps) +
+             ")");
 }
 
 double step_value(double lo, double hi, int i, int steps, bool log_spaced) {
@@ -54,7 +55,8 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
             } catch (const InputError&) {
                 continue;  // outside the model's valid range (the inset leaves no span)
             }
-            const auto lines = clip_to_cloth(project_fold_lines(drape::fold_lines(p, solution), solution.folds, map), mask);
+            const auto lines =
+                clip_to_cloth(project_fold_lines(drape::fold_lines(p, solution), solution.folds, map), mask);
             FoldScore score = score_folds(lines, detection, centre, map.px_per_m, tolerance_px);
             // Sets the model solves without folds draw nothing; their n is still compared.
             score.predicted_folds = solution.folds;
@@ -62,9 +64,9 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
             score.agreement = agreement(score.f1, score.count_error);
             tried.push_back({p.inset_m, p.young_pa, score.agreement});
             ++best.evaluated;
-            const bool better = !have || score.agreement > best.score.agreement + 1e-12 ||
-                                (std::abs(score.agreement - best.score.agreement) <= 1e-12 &&
-                                 score.chamfer_cm < best.score.chamfer_cm);
+            const bool better =
+                !have || score.agreement > best.score.agreement + 1e-12 ||
+                (std::abs(score.agreement - best.score.agreement) <= 1e-12 && score.chamfer_cm < best.score.chamfer_cm);
             if (better) {
                 best.params = p;
                 best.solution = solution;
@@ -73,8 +75,8 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
             }
         }
     if (!have)
-        throw InputError("fit: no parameter set in the search box (inset " + std::to_string(bounds.inset_min_m) + " to " +
-                         std::to_string(bounds.inset_max_m) + " m) could be solved");
+        throw InputError("fit: no parameter set in the search box (inset " + std::to_string(bounds.inset_min_m) +
+                         " to " + std::to_string(bounds.inset_max_m) + " m) could be solved");
     // Uncertainty: every set within 5 % of the best agreement.
     const double near = 0.95 * best.score.agreement;
     best.nothing_matched = best.score.f1 <= 0.0;

@@ -46,7 +46,8 @@ double agreement(double f1, int count_error) { return 0.5 * (f1 + 1.0 / (1.0 + s
 FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDetection& detection,
                       const CentreLine& centre, double px_per_m, double tolerance_px) {
     if (!(std::isfinite(tolerance_px) && tolerance_px > 0))
-        throw InputError("fold score: tolerance = " + std::to_string(tolerance_px) + " px; it must be a finite distance > 0");
+        throw InputError("fold score: tolerance = " + std::to_string(tolerance_px) +
+                         " px; it must be a finite distance > 0");
     if (!(std::isfinite(px_per_m) && px_per_m > 0))
         throw InputError("fold score: scale = " + std::to_string(px_per_m) + " px/m; it must be finite and > 0");
     FoldScore s;
@@ -83,7 +84,8 @@ FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDet
         int near = 0;
         truncated_sum = 0.0;
         for (const auto& p : pts) {
-            const int x = std::clamp(cvRound(p.x()), 0, size.width - 1), y = std::clamp(cvRound(p.y()), 0, size.height - 1);
+            const int x = std::clamp(cvRound(p.x()), 0, size.width - 1),
+                      y = std::clamp(cvRound(p.y()), 0, size.height - 1);
             const double d = dist.at<float>(y, x);
             truncated_sum += std::min(d, truncation_px);
             near += d <= tolerance_px;

@@ -38,9 +38,15 @@ Image read_image(const fs::path& path) {
                               "2^30 pixels, or truncated" + why);
     double scale = 1.0;
     switch (raw.depth()) {
-        case CV_8U: scale = 1.0 / 255.0; break;
-        case CV_16U: scale = 1.0 / 65535.0; break;
-        case CV_32F: scale = 1.0; break;
+        case CV_8U:
+            scale = 1.0 / 255.0;
+            break;
+        case CV_16U:
+            scale = 1.0 / 65535.0;
+            break;
+        case CV_32F:
+            scale = 1.0;
+            break;
         default:
             throw UnreadableImage("cannot read image '" + path.string() +
                                   "': unsupported sample type (8-bit, 16-bit or float only)");
@@ -68,7 +74,8 @@ void write_image(const fs::path& path, const Image& image) {
     } catch (const cv::Exception&) {
         ok = false;
     }
-    if (!ok) throw InputError("cannot write '" + path.string() + "': unsupported image extension '" + ext + "' (use .png)");
+    if (!ok)
+        throw InputError("cannot write '" + path.string() + "': unsupported image extension '" + ext + "' (use .png)");
     write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(encoded.data()), encoded.size()));
 }
 
@@ -81,8 +88,10 @@ cv::Mat to_mat(const Image& image) {
 
 Image from_mat(const cv::Mat& mat) {
     cv::Mat f;
-    if (mat.depth() == CV_32F) f = mat;
-    else mat.convertTo(f, CV_32F);
+    if (mat.depth() == CV_32F)
+        f = mat;
+    else
+        mat.convertTo(f, CV_32F);
     if (!f.isContinuous()) f = f.clone();
     Image image(f.cols, f.rows, f.channels());
     std::copy(f.ptr<float>(), f.ptr<float>() + image.values.size(), image.values.begin());
@@ -91,8 +100,10 @@ Image from_mat(const cv::Mat& mat) {
 
 cv::Mat rgb_of(const Image& image) {
     cv::Mat m = to_mat(image);
-    if (image.channels == 1) cv::cvtColor(m, m, cv::COLOR_GRAY2RGB);
-    else if (image.channels == 4) cv::cvtColor(m, m, cv::COLOR_RGBA2RGB);
+    if (image.channels == 1)
+        cv::cvtColor(m, m, cv::COLOR_GRAY2RGB);
+    else if (image.channels == 4)
+        cv::cvtColor(m, m, cv::COLOR_RGBA2RGB);
     else if (image.channels == 2) {
         std::vector<cv::Mat> planes;
         cv::split(m, planes);

@@ -14,11 +14,12 @@ Eigen::Vector2d ClothToImage::operator()(double x_m, double y_m) const {
 }
 
 ClothToImage similarity_from_supports(const SupportPixels& s, double span_m) {
-    if (!(span_m > 0)) throw InputError("support span must be > 0 m (width - 2 x inset), got " + std::to_string(span_m));
+    if (!(span_m > 0))
+        throw InputError("support span must be > 0 m (width - 2 x inset), got " + std::to_string(span_m));
     const Eigen::Vector2d d = s.second - s.first;
     const double scale = d.norm() / span_m;
-    const Eigen::Vector2d ex = d.normalized();           // cloth +x in pixels
-    const Eigen::Vector2d ey(ex.y(), -ex.x());            // cloth +y (up): picture "up" when supports are level
+    const Eigen::Vector2d ex = d.normalized();  // cloth +x in pixels
+    const Eigen::Vector2d ey(ex.y(), -ex.x());  // cloth +y (up): picture "up" when supports are level
     const Eigen::Vector2d mid = 0.5 * (s.first + s.second);
     ClothToImage m;
     m.h << scale * ex.x(), scale * ey.x(), mid.x(),  //
@@ -40,8 +41,9 @@ ClothToImage homography_from_corners(const std::array<Eigen::Vector2d, 4>& c, do
     for (int i = 0; i < 4; ++i) {
         const cv::Point2f a = dst[(i + 1) % 4] - dst[i], b = dst[(i + 2) % 4] - dst[i];
         if (std::abs(a.cross(b)) < 1.0f)
-            throw InputError("corners: three of the four points are (nearly) on one line; give support 1, support 2, "
-                             "hem below support 2, hem below support 1");
+            throw InputError(
+                "corners: three of the four points are (nearly) on one line; give support 1, support 2, "
+                "hem below support 2, hem below support 1");
     }
     const cv::Mat H = cv::getPerspectiveTransform(src, dst);
     ClothToImage m;
@@ -77,7 +79,8 @@ std::vector<PredictedLine> clip_to_cloth(const std::vector<PredictedLine>& lines
         Eigen::Vector2d last_on_cloth(0, 0);
         auto flush = [&] {
             double length = 0.0;
-            for (size_t i = 1; i < piece.points_px.size(); ++i) length += (piece.points_px[i] - piece.points_px[i - 1]).norm();
+            for (size_t i = 1; i < piece.points_px.size(); ++i)
+                length += (piece.points_px[i] - piece.points_px[i - 1]).norm();
             if (length >= 2.0) out.push_back(piece);
             piece.points_px.clear();
         };
@@ -111,7 +114,8 @@ std::vector<cv::Point> to_fixed(const std::vector<Eigen::Vector2d>& pts) {
     return out;
 }
 
-void dashed(cv::Mat& canvas, const std::vector<Eigen::Vector2d>& pts, double dash_px, const cv::Scalar& colour, int thickness) {
+void dashed(cv::Mat& canvas, const std::vector<Eigen::Vector2d>& pts, double dash_px, const cv::Scalar& colour,
+            int thickness) {
     if (pts.size() < 2 || !(dash_px > 0)) return;
     std::vector<double> arc(pts.size(), 0.0);  // cumulative length at each vertex
     for (size_t i = 1; i < pts.size(); ++i) arc[i] = arc[i - 1] + (pts[i] - pts[i - 1]).norm();
@@ -176,9 +180,11 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
         line_h = cv::getTextSize("Ag", font, font_scale, text_thick, &baseline).height + baseline + 5;
         key_w = static_cast<int>(30 * font_scale / 0.5);
         text_w = 0;
-        for (const auto& t : legend) text_w = std::max(text_w, cv::getTextSize(t, font, font_scale, text_thick, &baseline).width);
+        for (const auto& t : legend)
+            text_w = std::max(text_w, cv::getTextSize(t, font, font_scale, text_thick, &baseline).width);
         key_row_w = 0;
-        for (const auto& k : keys) key_row_w += key_w + pad + cv::getTextSize(k, font, font_scale, text_thick, &baseline).width + 2 * pad;
+        for (const auto& k : keys)
+            key_row_w += key_w + pad + cv::getTextSize(k, font, font_scale, text_thick, &baseline).width + 2 * pad;
         if (std::max(text_w, key_row_w) + 2 * pad <= canvas.cols / 2 || font_scale < 0.3) break;
     }
     const int rows = 1 + static_cast<int>(legend.size());

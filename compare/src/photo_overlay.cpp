@@ -16,7 +16,8 @@ std::string fixed(double v, int digits) {
 
 void check_positive(const std::optional<double>& v, const char* name) {
     if (v && !(std::isfinite(*v) && *v > 0))
-        throw InputError(std::string("overlay: ") + name + " = " + std::to_string(*v) + "; it must be a finite number > 0");
+        throw InputError(std::string("overlay: ") + name + " = " + std::to_string(*v) +
+                         "; it must be a finite number > 0");
 }
 
 }  // namespace
@@ -41,7 +42,8 @@ ClothExtent measure_cloth(const Image& mask, const SupportPixels& s) {
                 band = true;
             }
         }
-    if (!any) throw InputError("cloth mask: empty (no cloth pixel); give a mask with the cloth in white or other supports");
+    if (!any)
+        throw InputError("cloth mask: empty (no cloth pixel); give a mask with the cloth in white or other supports");
     if (!band || !(e.height_px > 0))
         throw InputError("cloth mask: no cloth just below the supports; the supports must hold the cloth's top edge");
     e.width_px = hi - lo + 1.0;
@@ -56,14 +58,16 @@ void validate(const OverlayRequest& r, int photo_width, int photo_height) {
     if (r.inset_m && !(std::isfinite(*r.inset_m) && *r.inset_m >= 0))
         throw InputError("overlay: inset_m = " + std::to_string(*r.inset_m) + "; it must be a finite number >= 0");
     if (r.scale_px_per_m && r.width_m && r.inset_m)
-        throw InputError("overlay: scale_px_per_m, width_m and inset_m together over-determine the support span; "
-                         "give at most two of them");
+        throw InputError(
+            "overlay: scale_px_per_m, width_m and inset_m together over-determine the support span; "
+            "give at most two of them");
     if (!(std::isfinite(r.tolerance) && r.tolerance > 0 && r.tolerance <= 1))
         throw InputError("overlay: tolerance = " + std::to_string(r.tolerance) +
                          "; allowed: a share of the support distance in (0, 1]");
     if (r.mask && (r.mask->width != photo_width || r.mask->height != photo_height))
-        throw InputError("overlay: the mask is " + std::to_string(r.mask->width) + "x" + std::to_string(r.mask->height) +
-                         ", the photo " + std::to_string(photo_width) + "x" + std::to_string(photo_height));
+        throw InputError("overlay: the mask is " + std::to_string(r.mask->width) + "x" +
+                         std::to_string(r.mask->height) + ", the photo " + std::to_string(photo_width) + "x" +
+                         std::to_string(photo_height));
 }
 
 OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
@@ -102,8 +106,8 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
             out.assumptions.push_back("inset from the mask");
         }
         if (!(width_m - 2.0 * inset_m > 0))
-            throw InputError("overlay: inset_m = " + fixed(inset_m, 3) + " leaves no support span of width_m = " +
-                             fixed(width_m, 3) + " (need inset < width / 2)");
+            throw InputError("overlay: inset_m = " + fixed(inset_m, 3) +
+                             " leaves no support span of width_m = " + fixed(width_m, 3) + " (need inset < width / 2)");
         px_per_m = d_px / (width_m - 2.0 * inset_m);
     }
     double height_m = 0.0;
@@ -188,8 +192,8 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         auto mark = [](const FittedValue& v) { return v.on_bound ? std::string("*") : std::string(); };
         out.legend.push_back("fit: E " + fixed(f.young_pa.best / 1e6, 2) + mark(f.young_pa) + " MPa [" +
                              fixed(f.young_pa.low / 1e6, 2) + ", " + fixed(f.young_pa.high / 1e6, 2) + "], inset " +
-                             fixed(100 * f.inset_m.best, 1) + mark(f.inset_m) + " cm [" + fixed(100 * f.inset_m.low, 1) +
-                             ", " + fixed(100 * f.inset_m.high, 1) + "]");
+                             fixed(100 * f.inset_m.best, 1) + mark(f.inset_m) + " cm [" +
+                             fixed(100 * f.inset_m.low, 1) + ", " + fixed(100 * f.inset_m.high, 1) + "]");
         if (f.young_pa.on_bound || f.inset_m.on_bound) out.legend.push_back("* on a bound of the search");
         if (f.nothing_matched) out.legend.push_back("no line on a detected fold: only n fitted");
     }

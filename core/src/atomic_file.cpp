@@ -93,8 +93,7 @@ void OutputTransaction::commit() {
         e->out.flush();
         const bool ok = static_cast<bool>(e->out);
         e->out.close();
-        if (!ok || e->out.fail())
-            throw std::runtime_error("writing '" + e->target.string() + "' failed (disk full?)");
+        if (!ok || e->out.fail()) throw std::runtime_error("writing '" + e->target.string() + "' failed (disk full?)");
     }
     // Every file or none: an interrupt from here on waits for the last rename.
     const InterruptDeferral hold;
@@ -118,15 +117,12 @@ void write_file_atomically(const fs::path& path, std::string_view bytes) {
 void check_writable(const fs::path& path) {
     if (path.empty()) throw InputError("output path is empty");
     std::error_code ec;
-    if (fs::is_directory(path, ec))
-        throw InputError("cannot write '" + path.string() + "': it is a directory");
+    if (fs::is_directory(path, ec)) throw InputError("cannot write '" + path.string() + "': it is a directory");
     const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
     if (!fs::is_directory(dir, ec))
-        throw InputError("cannot write '" + path.string() + "': directory '" + dir.string() +
-                         "' does not exist");
+        throw InputError("cannot write '" + path.string() + "': directory '" + dir.string() + "' does not exist");
     if (::access(dir.c_str(), W_OK) != 0)
-        throw InputError("cannot write '" + path.string() + "': directory '" + dir.string() +
-                         "' is not writable");
+        throw InputError("cannot write '" + path.string() + "': directory '" + dir.string() + "' is not writable");
 }
 
 void check_not_input(const fs::path& output, const fs::path& input, std::string_view flag) {

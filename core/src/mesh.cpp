@@ -8,8 +8,7 @@
 
 namespace foldcast {
 
-std::vector<Vec3f> vertex_normals(const std::vector<Vec3f>& positions,
-                                  const std::vector<Triangle>& triangles) {
+std::vector<Vec3f> vertex_normals(const std::vector<Vec3f>& positions, const std::vector<Triangle>& triangles) {
     // Accumulate in double: on fine grids the per-triangle cross products are tiny.
     std::vector<Eigen::Vector3d> sum(positions.size(), Eigen::Vector3d::Zero());
     for (const Triangle& t : triangles) {
@@ -40,12 +39,11 @@ void validate_topology(const Topology& topo, std::size_t vertex_count, const std
     for (std::size_t i = 0; i < topo.triangles.size(); ++i)
         for (std::uint32_t v : topo.triangles[i])
             if (v >= vertex_count)
-                throw InputError(what + ": triangle " + std::to_string(i) + " uses vertex " +
-                                 std::to_string(v) + " but there are only " +
-                                 std::to_string(vertex_count) + " vertices");
+                throw InputError(what + ": triangle " + std::to_string(i) + " uses vertex " + std::to_string(v) +
+                                 " but there are only " + std::to_string(vertex_count) + " vertices");
     if (!topo.uvs.empty() && topo.uvs.size() != vertex_count)
-        throw InputError(what + ": " + std::to_string(topo.uvs.size()) + " UVs for " +
-                         std::to_string(vertex_count) + " vertices (need one per vertex or none)");
+        throw InputError(what + ": " + std::to_string(topo.uvs.size()) + " UVs for " + std::to_string(vertex_count) +
+                         " vertices (need one per vertex or none)");
     for (const Vec2f& uv : topo.uvs)
         if (!uv.allFinite()) throw InputError(what + ": a UV coordinate is not a finite number");
 }
@@ -68,9 +66,8 @@ void validate(const Animation& anim, const std::string& what) {
     const std::size_t n = anim.vertex_count();
     for (std::size_t f = 0; f < anim.frames.size(); ++f) {
         if (anim.frames[f].size() != n)
-            throw InputError(what + ": frame " + std::to_string(f) + " has " +
-                             std::to_string(anim.frames[f].size()) + " vertices, frame 0 has " +
-                             std::to_string(n));
+            throw InputError(what + ": frame " + std::to_string(f) + " has " + std::to_string(anim.frames[f].size()) +
+                             " vertices, frame 0 has " + std::to_string(n));
         validate_positions(anim.frames[f], what + " frame " + std::to_string(f));
     }
     validate_topology(anim.topology, n, what);

@@ -46,8 +46,8 @@ void write_obj(const fs::path& path, const Mesh& mesh) {
 
 void write_obj(std::ostream& out, const Mesh& mesh) {
     char line[160];
-    out << "# foldcast mesh: " << mesh.positions.size() << " vertices, "
-        << mesh.topology.triangles.size() << " triangles\n";
+    out << "# foldcast mesh: " << mesh.positions.size() << " vertices, " << mesh.topology.triangles.size()
+        << " triangles\n";
     for (const Vec3f& p : mesh.positions) {
         std::snprintf(line, sizeof line, "v %.7g %.7g %.7g\n", p.x(), p.y(), p.z());
         out << line;
@@ -66,10 +66,14 @@ void write_obj(std::ostream& out, const Mesh& mesh) {
         out << 'f';
         for (std::uint32_t v : t) {
             const unsigned i = v + 1;
-            if (has_uv && has_n) out << ' ' << i << '/' << i << '/' << i;
-            else if (has_uv) out << ' ' << i << '/' << i;
-            else if (has_n) out << ' ' << i << "//" << i;
-            else out << ' ' << i;
+            if (has_uv && has_n)
+                out << ' ' << i << '/' << i << '/' << i;
+            else if (has_uv)
+                out << ' ' << i << '/' << i;
+            else if (has_n)
+                out << ' ' << i << "//" << i;
+            else
+                out << ' ' << i;
         }
         out << '\n';
     }
@@ -85,16 +89,14 @@ Mesh read_obj(const fs::path& path) {
     config.vertex_color = false;
     config.mtl_search_path = "";  // materials are never used; do not go looking for them
     tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(name, config))
-        throw InputError("cannot read '" + name + "': " + reader.Error());
+    if (!reader.ParseFromFile(name, config)) throw InputError("cannot read '" + name + "': " + reader.Error());
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
 
     Mesh mesh;
     const std::size_t n = attrib.vertices.size() / 3;
     mesh.positions.resize(n);
     for (std::size_t i = 0; i < n; ++i)
-        mesh.positions[i] = Vec3f(attrib.vertices[3 * i], attrib.vertices[3 * i + 1],
-                                  attrib.vertices[3 * i + 2]);
+        mesh.positions[i] = Vec3f(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
     const bool has_uv = !attrib.texcoords.empty();
     std::vector<bool> uv_set(has_uv ? n : 0, false);
     if (has_uv) mesh.topology.uvs.assign(n, Vec2f::Zero());
@@ -109,8 +111,8 @@ Mesh read_obj(const fs::path& path) {
                 t[k] = static_cast<std::uint32_t>(c.vertex_index);
                 if (has_uv && c.texcoord_index >= 0 && !uv_set[t[k]] &&
                     2 * static_cast<std::size_t>(c.texcoord_index) + 1 < attrib.texcoords.size()) {
-                    mesh.topology.uvs[t[k]] = Vec2f(attrib.texcoords[2 * c.texcoord_index],
-                                                    attrib.texcoords[2 * c.texcoord_index + 1]);
+                    mesh.topology.uvs[t[k]] =
+                        Vec2f(attrib.texcoords[2 * c.texcoord_index], attrib.texcoords[2 * c.texcoord_index + 1]);
                     uv_set[t[k]] = true;
                 }
             }

@@ -69,8 +69,8 @@ std::vector<std::vector<Vec3f>> read_pc2(const fs::path& path, Pc2Info* info) {
     const auto t = get<std::int32_t>(header + 28);
     if (version != 1) throw InputError("'" + name + "': PC2 version " + std::to_string(version) + " (only 1 is known)");
     if (n <= 0 || t <= 0)
-        throw InputError("'" + name + "': PC2 header says " + std::to_string(n) + " vertices and " +
-                         std::to_string(t) + " frames (both must be > 0)");
+        throw InputError("'" + name + "': PC2 header says " + std::to_string(n) + " vertices and " + std::to_string(t) +
+                         " frames (both must be > 0)");
     const std::uint64_t expected = kHeaderBytes + std::uint64_t(n) * std::uint64_t(t) * 12u;
     if (expected != file_size)
         throw InputError("'" + name + "': PC2 header promises " + std::to_string(expected) +
@@ -78,7 +78,8 @@ std::vector<std::vector<Vec3f>> read_pc2(const fs::path& path, Pc2Info* info) {
     if (!std::isfinite(start) || !std::isfinite(sampling))
         throw InputError("'" + name + "': PC2 start frame or sampling is not finite");
     if (info) *info = Pc2Info{start, sampling};
-    std::vector<std::vector<Vec3f>> frames(static_cast<std::size_t>(t), std::vector<Vec3f>(static_cast<std::size_t>(n)));
+    std::vector<std::vector<Vec3f>> frames(static_cast<std::size_t>(t),
+                                           std::vector<Vec3f>(static_cast<std::size_t>(n)));
     for (auto& f : frames)
         if (!in.read(reinterpret_cast<char*>(f.data()), static_cast<std::streamsize>(f.size() * sizeof(Vec3f))))
             throw InputError("cannot read '" + name + "': read failed");
@@ -90,9 +91,8 @@ Animation read_pc2_animation(const fs::path& pc2, const fs::path& obj, double fp
     anim.frames = read_pc2(pc2);
     const Mesh topo = read_obj(obj);
     if (topo.positions.size() != anim.vertex_count())
-        throw InputError("'" + obj.string() + "' has " + std::to_string(topo.positions.size()) +
-                         " vertices but '" + pc2.string() + "' has " +
-                         std::to_string(anim.vertex_count()));
+        throw InputError("'" + obj.string() + "' has " + std::to_string(topo.positions.size()) + " vertices but '" +
+                         pc2.string() + "' has " + std::to_string(anim.vertex_count()));
     anim.topology = topo.topology;
     anim.fps = fps;
     validate(anim, pc2.string());

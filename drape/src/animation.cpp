@@ -26,8 +26,7 @@ double smoothstep(double t) { return t * t * (3.0 - 2.0 * t); }
 // each relaxation is parallel inside and deterministic, so the bytes do not depend on the
 // thread count.
 template <typename Done>
-void relax_frames(const ClothParams& params, GridSize grid, std::vector<std::vector<Vec3f>>& frames,
-                  Done&& done) {
+void relax_frames(const ClothParams& params, GridSize grid, std::vector<std::vector<Vec3f>>& frames, Done&& done) {
     const GridRelaxer relaxer(params, grid, detail::support_columns(params, grid));  // build_garment's supports
     std::vector<Vec3f> previous_model, start;
     for (std::size_t f = 0; f < frames.size(); ++f) {
@@ -65,8 +64,7 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
         throw InputError("sway amplitude = " + std::to_string(options.sway_amplitude_m) +
                          " m: must be a finite number >= 0");
     if (!std::isfinite(options.sway_period_s) || options.sway_period_s <= 0.0)
-        throw InputError("sway period = " + std::to_string(options.sway_period_s) +
-                         " s: must be a finite number > 0");
+        throw InputError("sway period = " + std::to_string(options.sway_period_s) + " s: must be a finite number > 0");
 
     Animation anim;
     anim.fps = options.fps;
@@ -83,9 +81,10 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
         const int finished = ++done;
         if (progress && !options.relax) progress("frames", double(finished) / options.frames);
     });
-    if (options.relax) relax_frames(params, grid, anim.frames, [&](int f) {
-        if (progress) progress("frames", double(f + 1) / options.frames);
-    });
+    if (options.relax)
+        relax_frames(params, grid, anim.frames, [&](int f) {
+            if (progress) progress("frames", double(f + 1) / options.frames);
+        });
     if (options.sway_amplitude_m > 0.0) {
         tbb::parallel_for(0, options.frames, [&](int f) {
             // A pendulum-like swing out of the cloth plane: zero on the support line,

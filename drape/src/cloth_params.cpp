@@ -7,8 +7,7 @@
 
 namespace foldcast::drape {
 
-ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, double height_m,
-                            double inset_m) {
+ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, double height_m, double inset_m) {
     ClothParams p;
     p.width_m = width_m;
     p.height_m = height_m;
@@ -43,17 +42,16 @@ void validate(const ClothParams& p) {
     require_positive("weight_n_per_m2", p.weight_n_per_m2);
     require_positive("load_constant", p.load_constant);
     if (!std::isfinite(p.inset_m) || p.inset_m < 0.0 || p.inset_m >= 0.5 * p.width_m)
-        throw InputError("inset_m = " + number(p.inset_m) + ": must be >= 0 and < width/2 = " +
-                         number(0.5 * p.width_m));
+        throw InputError("inset_m = " + number(p.inset_m) +
+                         ": must be >= 0 and < width/2 = " + number(0.5 * p.width_m));
     if (!std::isfinite(p.poisson) || p.poisson < 0.0 || p.poisson >= 0.5)
         throw InputError("poisson = " + number(p.poisson) + ": must be >= 0 and < 0.5");
     if (p.supports < 2 || p.supports > kMaxSupports)
-        throw InputError("supports = " + std::to_string(p.supports) + ": must be 2.." +
-                         std::to_string(kMaxSupports));
+        throw InputError("supports = " + std::to_string(p.supports) + ": must be 2.." + std::to_string(kMaxSupports));
     if (!std::isfinite(p.support_drop_m) || std::abs(p.support_drop_m) > p.support_span_m())
         throw InputError("support_drop_m = " + number(p.support_drop_m) +
-                         ": must be a finite number with |drop| <= the support span " +
-                         number(p.support_span_m()) + " m");
+                         ": must be a finite number with |drop| <= the support span " + number(p.support_span_m()) +
+                         " m");
 }
 
 ClothParams bay_params(const ClothParams& p) {
@@ -68,8 +66,7 @@ ClothParams bay_params(const ClothParams& p) {
 double critical_stress_pa(const ClothParams& params) {
     const ClothParams p = bay_params(params);
     const double l = p.support_span_m();
-    return p.load_constant * p.young_pa * p.thickness_m * p.thickness_m /
-           (l * l * (1.0 - p.poisson * p.poisson));
+    return p.load_constant * p.young_pa * p.thickness_m * p.thickness_m / (l * l * (1.0 - p.poisson * p.poisson));
 }
 
 double stress_ratio(const ClothParams& p) {

@@ -9,8 +9,7 @@
 
 namespace foldcast::drape {
 
-std::vector<FoldLine> fold_lines(const ClothParams& params, const FoldSolution& solution,
-                                 int samples) {
+std::vector<FoldLine> fold_lines(const ClothParams& params, const FoldSolution& solution, int samples) {
     if (samples < 2) throw InputError("fold line samples = " + std::to_string(samples) + ": must be >= 2");
     validate(params);
     const double span = params.support_span_m();

@@ -75,8 +75,7 @@ public:
     // Amplitudes a_0..a_n and zmax for a_0 = b.
     void shape(double b, std::vector<double>& amplitudes, double& zmax) const {
         amplitudes.resize(static_cast<std::size_t>(folds_) + 1);
-        for (int i = 0; i <= folds_; ++i)
-            amplitudes[static_cast<std::size_t>(i)] = b * std::pow(q_, -i);
+        for (int i = 0; i <= folds_; ++i) amplitudes[static_cast<std::size_t>(i)] = b * std::pow(q_, -i);
         const double an = b * inv_q_n_;
         zmax = std::sqrt(std::max(0.0, a_ * a_ - an * an));
     }
@@ -90,8 +89,7 @@ private:
 
 double zig_zag_length(const std::vector<double>& amplitudes, double zmax) {
     double z = 0.0;
-    for (std::size_t i = 1; i < amplitudes.size(); ++i)
-        z += std::hypot(amplitudes[i - 1] - amplitudes[i], 2.0 * zmax);
+    for (std::size_t i = 1; i < amplitudes.size(); ++i) z += std::hypot(amplitudes[i - 1] - amplitudes[i], 2.0 * zmax);
     return z;
 }
 
@@ -147,8 +145,8 @@ CandidateSolve solve_candidate(const ClothParams& p, double slack_a, double q, i
     c.fold_length_m = zig_zag_length(out.amplitudes, zmax);
     c.residual = residual(p, out.amplitudes, zmax);
     if (c.fold_length_m > h) {
-        c.why_not = "its zig-zag (" + fmt(c.fold_length_m) + " m) is longer than the height " +
-                    fmt(h) + " m: too many folds";
+        c.why_not =
+            "its zig-zag (" + fmt(c.fold_length_m) + " m) is longer than the height " + fmt(h) + " m: too many folds";
         out.stop_scan = true;
         return out;
     }
@@ -171,8 +169,7 @@ FoldSolution solve_folds(const ClothParams& params) {
     s.stress_ratio = stress_ratio(p);
     const double span = p.support_span_m();
     s.slack_amplitude_m = top_edge_amplitude_m(span, p.width_m);
-    const double top_residual =
-        std::abs(top_edge_length_m(span, s.slack_amplitude_m) - p.width_m) / p.width_m;
+    const double top_residual = std::abs(top_edge_length_m(span, s.slack_amplitude_m) - p.width_m) / p.width_m;
 
     if (s.stress_ratio >= 1.0) {
         s.regime = FoldSolution::Regime::no_wrinkles;
@@ -189,8 +186,9 @@ FoldSolution solve_folds(const ClothParams& params) {
         s.regime = FoldSolution::Regime::no_feasible_folds;
         set_smooth_sag(s);
         s.residual = top_residual;
-        s.explanation = "the supports are the full width apart (inset 0): the top edge is taut, "
-                        "there is no slack to fold and the cloth hangs flat";
+        s.explanation =
+            "the supports are the full width apart (inset 0): the top edge is taut, "
+            "there is no slack to fold and the cloth hangs flat";
         return s;
     }
 
@@ -214,15 +212,13 @@ FoldSolution solve_folds(const ClothParams& params) {
     s.amplitudes_m = amplitudes[best];
     s.residual = chosen.residual;
     const std::string head = std::to_string(s.folds) + (s.folds == 1 ? " fold" : " folds") +
-                             ": S = " + fmt(s.stress_ratio) + " < 1 so the cloth buckles with Q = " +
-                             fmt(s.Q) + "; ";
+                             ": S = " + fmt(s.stress_ratio) + " < 1 so the cloth buckles with Q = " + fmt(s.Q) + "; ";
     if (cut)
-        s.explanation = head + "even one fold's zig-zag (" + fmt(s.fold_length_m) +
-                        " m) is longer than the height " + fmt(p.height_m) + " m, so the hem cuts across it";
+        s.explanation = head + "even one fold's zig-zag (" + fmt(s.fold_length_m) + " m) is longer than the height " +
+                        fmt(p.height_m) + " m, so the hem cuts across it";
     else
-        s.explanation = head + "the most folds whose zig-zag (" + fmt(s.fold_length_m) +
-                        " m) fits the height " + fmt(p.height_m) +
-                        " m; the rest of the centre fibre hangs straight below the lowest fold line";
+        s.explanation = head + "the most folds whose zig-zag (" + fmt(s.fold_length_m) + " m) fits the height " +
+                        fmt(p.height_m) + " m; the rest of the centre fibre hangs straight below the lowest fold line";
     return s;
 }
 

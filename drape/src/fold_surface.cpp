@@ -38,8 +38,7 @@ FoldSurface::FoldSurface(const ClothParams& params, const FoldSolution& solution
     const double dphi = double(n) / samples;
     std::vector<double> arc(static_cast<std::size_t>(samples) + 1, 0.0);
     const auto speed = [&](double phi) {
-        return std::hypot(top_amplitude * log_q * std::exp(phi * log_q),
-                          kPi * zmax_ * std::sin(kPi * phi));
+        return std::hypot(top_amplitude * log_q * std::exp(phi * log_q), kPi * zmax_ * std::sin(kPi * phi));
     };
     double previous = speed(0.0);
     for (int k = 1; k <= samples; ++k) {
@@ -91,12 +90,12 @@ double FoldSurface::fold_sign(double x, double v) const {
 void validate_grid(GridSize grid) {
     constexpr int kMaxSide = 8192;
     if (grid.nu < 2 || grid.nv < 2 || grid.nu > kMaxSide || grid.nv > kMaxSide)
-        throw InputError("grid " + std::to_string(grid.nu) + "x" + std::to_string(grid.nv) +
-                         ": each side must be 2.." + std::to_string(kMaxSide) + " vertices");
+        throw InputError("grid " + std::to_string(grid.nu) + "x" + std::to_string(grid.nv) + ": each side must be 2.." +
+                         std::to_string(kMaxSide) + " vertices");
 }
 
-void grid_positions(const FoldSurface& surface, const ClothParams& params, GridSize grid,
-                    std::vector<Vec3f>& positions, std::vector<float>* fold_sign) {
+void grid_positions(const FoldSurface& surface, const ClothParams& params, GridSize grid, std::vector<Vec3f>& positions,
+                    std::vector<float>* fold_sign) {
     const auto nu = static_cast<std::size_t>(grid.nu);
     const auto nv = static_cast<std::size_t>(grid.nv);
     positions.resize(nu * nv);
@@ -163,8 +162,7 @@ std::vector<Vec2f> grid_uvs(const ClothParams& params, GridSize grid) {
     for (int j = 0; j < grid.nv; ++j)
         for (int i = 0; i < grid.nu; ++i)
             uvs[std::size_t(j) * std::size_t(grid.nu) + std::size_t(i)] =
-                Vec2f(float(params.width_m * i / (grid.nu - 1)),
-                      float(params.height_m * j / (grid.nv - 1)));
+                Vec2f(float(params.width_m * i / (grid.nu - 1)), float(params.height_m * j / (grid.nv - 1)));
     return uvs;
 }
 

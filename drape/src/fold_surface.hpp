@@ -42,8 +42,8 @@ private:
 // Positions of an nu x nv material grid on the surface (row-major, row 0 = top edge).
 // Each material row is spread over its curve on the surface by arc length, so the
 // stretch along a row is uniform; the top row is the top edge with u its arc length.
-void grid_positions(const FoldSurface& surface, const ClothParams& params, GridSize grid,
-                    std::vector<Vec3f>& positions, std::vector<float>* fold_sign = nullptr);
+void grid_positions(const FoldSurface& surface, const ClothParams& params, GridSize grid, std::vector<Vec3f>& positions,
+                    std::vector<float>* fold_sign = nullptr);
 
 std::vector<Triangle> grid_triangles(GridSize grid);
 std::vector<Vec2f> grid_uvs(const ClothParams& params, GridSize grid);

@@ -8,8 +8,7 @@
 
 namespace foldcast::drape {
 
-Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid,
-                      bool relax) {
+Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid, bool relax) {
     validate(params);
     detail::validate_grid(grid);
     Garment g;
@@ -21,8 +20,7 @@ Garment build_garment(const ClothParams& params, const FoldSolution& solution, G
     g.stretch = g.stretch_analytical;
     if (relax) {
         const std::vector<Vec3f> model = g.mesh.positions;
-        const RelaxReport report =
-            GridRelaxer(params, grid, g.support_vertices).relax(g.mesh.positions, model);
+        const RelaxReport report = GridRelaxer(params, grid, g.support_vertices).relax(g.mesh.positions, model);
         g.stretch = report.after;
         g.relax_iterations = report.iterations;
         if (solution.zmax_m > 0.0)  // the relaxed fold's side, as the model's: z / zmax

@@ -24,7 +24,7 @@ struct GridRelaxer::Impl {
     GridSize grid;
     double rest_u = 0.0, rest_v = 0.0;
     RelaxSettings settings;
-    double anchor = 0.0;  // the matrix's anchor term, scaled so that it does not grow with nu
+    double anchor = 0.0;          // the matrix's anchor term, scaled so that it does not grow with nu
     std::vector<int> free_index;  // per vertex: row in the system, or -1 when pinned
     std::vector<int> free_vertices;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
@@ -44,8 +44,7 @@ void for_each_neighbour(GridSize grid, int i, int j, double rest_u, double rest_
 
 }  // namespace
 
-GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned,
-                         RelaxSettings settings)
+GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned, RelaxSettings settings)
     : impl_(std::make_unique<Impl>()) {
     detail::validate_grid(grid);
     Impl& m = *impl_;
@@ -167,15 +166,16 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
 
     std::vector<Eigen::Vector3d> x(n);
-    for (std::size_t k = 0; k < n; ++k)
-        x[k] = (m.free_index[k] < 0 ? targets[k] : positions[k]).cast<double>();
+    for (std::size_t k = 0; k < n; ++k) x[k] = (m.free_index[k] < 0 ? targets[k] : positions[k]).cast<double>();
     const int free = int(m.free_vertices.size());
     const double anchor = m.anchor;
     const auto gather = [&](Eigen::MatrixXd& out) {
-        for (int row = 0; row < free; ++row) out.row(row) = x[std::size_t(m.free_vertices[std::size_t(row)])].transpose();
+        for (int row = 0; row < free; ++row)
+            out.row(row) = x[std::size_t(m.free_vertices[std::size_t(row)])].transpose();
     };
     const auto scatter = [&](const Eigen::MatrixXd& in) {
-        for (int row = 0; row < free; ++row) x[std::size_t(m.free_vertices[std::size_t(row)])] = in.row(row).transpose();
+        for (int row = 0; row < free; ++row)
+            x[std::size_t(m.free_vertices[std::size_t(row)])] = in.row(row).transpose();
     };
 
     // Local step at x: the right-hand side of the global step, the energy
@@ -192,7 +192,9 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     constexpr int kSoftenEvery = 30;
     Eigen::MatrixXd rhs(free, 3);
     std::vector<double> row_sum(std::size_t(grid.nv)), row_max(std::size_t(grid.nv)), row_energy(std::size_t(grid.nv));
-    struct Local { double energy, mean, max; };
+    struct Local {
+        double energy, mean, max;
+    };
     const auto local = [&]() -> Local {
         tbb::parallel_for(0, grid.nv, [&](int j) {
             double sum = 0.0, max = 0.0, energy = 0.0;

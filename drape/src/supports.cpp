@@ -15,9 +15,13 @@ void validate_bay_grid(const ClothParams& params, GridSize grid) {
     if ((grid.nu - 1) % bays != 0) {
         const int below = 1 + (grid.nu - 1) / bays * bays;
         throw InputError("grid " + std::to_string(grid.nu) + "x" + std::to_string(grid.nv) + ": with " +
-                         std::to_string(params.supports) + " supports the vertices across minus one must be a "
-                         "multiple of the " + std::to_string(bays) + " bays, so that every support is a "
-                         "vertex (e.g. " + std::to_string(below) + " or " + std::to_string(below + bays) + ")");
+                         std::to_string(params.supports) +
+                         " supports the vertices across minus one must be a "
+                         "multiple of the " +
+                         std::to_string(bays) +
+                         " bays, so that every support is a "
+                         "vertex (e.g. " +
+                         std::to_string(below) + " or " + std::to_string(below + bays) + ")");
     }
 }
 

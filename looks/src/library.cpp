@@ -21,11 +21,9 @@ Look load_look_file(const fs::path& file) {
     } catch (const toml::parse_error& error) {
         const auto& where = error.source().begin;
         std::error_code ignored;
-        if (!fs::exists(file, ignored))
-            throw InputError("look file '" + file.string() + "' does not exist");
-        throw InputError(file.string() + ":" + std::to_string(where.line) + ":" +
-                         std::to_string(where.column) + ": not valid TOML: " +
-                         std::string(error.description()));
+        if (!fs::exists(file, ignored)) throw InputError("look file '" + file.string() + "' does not exist");
+        throw InputError(file.string() + ":" + std::to_string(where.line) + ":" + std::to_string(where.column) +
+                         ": not valid TOML: " + std::string(error.description()));
     }
     return parse_look(table, file.stem().string(), file.string());
 }
@@ -42,14 +40,12 @@ Library Library::load_directory(const fs::path& dir) {
         Look look = load_look_file(entry.path());
         library.looks_.emplace(look.name, std::move(look));
     }
-    if (library.looks_.empty())
-        throw InputError("looks directory '" + dir.string() + "' holds no *.toml look files");
+    if (library.looks_.empty()) throw InputError("looks directory '" + dir.string() + "' holds no *.toml look files");
     return library;
 }
 
 Library Library::load_default() {
-    if (const char* dir = std::getenv("FOLDCAST_LOOKS_DIR"); dir && *dir)
-        return load_directory(dir);
+    if (const char* dir = std::getenv("FOLDCAST_LOOKS_DIR"); dir && *dir) return load_directory(dir);
     return load_directory(FOLDCAST_LOOKS_DATA_DIR);
 }
 
@@ -63,14 +59,14 @@ std::vector<std::string> Library::names() const {
 bool Library::contains(const std::string& name) const { return looks_.count(name) != 0; }
 
 Look Library::find(const std::string& name_or_file, const fs::path& base_dir) const {
-    const bool is_file = name_or_file.find('/') != std::string::npos ||
-                         fs::path(name_or_file).extension() == ".toml";
+    const bool is_file = name_or_file.find('/') != std::string::npos || fs::path(name_or_file).extension() == ".toml";
     if (!is_file) return get(name_or_file);
     fs::path file(name_or_file);
     if (file.is_relative() && !base_dir.empty()) file = base_dir / file;
     std::error_code error;
     if (!fs::is_regular_file(file, error))
-        throw InputError("look file '" + file.string() + "' does not exist (a look is a name from `foldcast looks` "
+        throw InputError("look file '" + file.string() +
+                         "' does not exist (a look is a name from `foldcast looks` "
                          "or the path of a look .toml file)");
     return load_look_file(file);
 }

@@ -35,7 +35,8 @@ std::string format_look_toml(const Look& look) {
                 // Absolute paths, so the printed look reads back wherever it is saved.
                 else if constexpr (std::is_same_v<T, std::filesystem::path>)
                     table.insert(key.name, std::filesystem::absolute(v).string());
-                else if constexpr (!std::is_same_v<T, std::monostate>) table.insert(key.name, v);
+                else if constexpr (!std::is_same_v<T, std::monostate>)
+                    table.insert(key.name, v);
             },
             key.get(look));
     }
@@ -62,11 +63,15 @@ void to_json(nlohmann::json& json, const Look& look) {
         std::visit(
             [&](const auto& v) {
                 using T = std::decay_t<decltype(v)>;
-                if constexpr (std::is_same_v<T, Eigen::Vector3f>) section[std::string(key.name)] = colour_json(v);
-                else if constexpr (std::is_same_v<T, std::filesystem::path>) section[std::string(key.name)] = v.string();
+                if constexpr (std::is_same_v<T, Eigen::Vector3f>)
+                    section[std::string(key.name)] = colour_json(v);
+                else if constexpr (std::is_same_v<T, std::filesystem::path>)
+                    section[std::string(key.name)] = v.string();
                 else if constexpr (std::is_same_v<T, std::monostate>)
-                    section[std::string(key.name)] = key.type == LookKey::Type::file ? nlohmann::json("") : nlohmann::json(nullptr);
-                else section[std::string(key.name)] = v;
+                    section[std::string(key.name)] =
+                        key.type == LookKey::Type::file ? nlohmann::json("") : nlohmann::json(nullptr);
+                else
+                    section[std::string(key.name)] = v;
             },
             key.get(look));
     }

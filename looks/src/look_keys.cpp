@@ -8,9 +8,7 @@
 
 namespace foldcast::looks {
 
-const char* section_name(LookSection section) {
-    return section == LookSection::mechanics ? "mechanics" : "appearance";
-}
+const char* section_name(LookSection section) { return section == LookSection::mechanics ? "mechanics" : "appearance"; }
 
 namespace {
 
@@ -55,91 +53,161 @@ std::vector<LookKey> make_keys() {
     constexpr auto mech = LookSection::mechanics;
     constexpr auto app = LookSection::appearance;
     std::vector<LookKey> keys;
-    keys.push_back(number_key({.section = mech, .name = "thickness_mm", .range = {0.0, 50.0, false, true, "mm"},
-                               .required = true, .unit = "mm",
+    keys.push_back(number_key({.section = mech,
+                               .name = "thickness_mm",
+                               .range = {0.0, 50.0, false, true, "mm"},
+                               .required = true,
+                               .unit = "mm",
                                .meaning = "fabric thickness t (KES-FB3 T0, at 0.5 gf/cm^2)"},
                               &Look::mechanics, &Mechanics::thickness_mm));
-    keys.push_back(number_key({.section = mech, .name = "young_mpa", .range = {0.0, 1.0e5, false, true, "MPa"},
-                               .required = true, .unit = "MPa", .meaning = "effective Young's modulus E (see below)"},
+    keys.push_back(number_key({.section = mech,
+                               .name = "young_mpa",
+                               .range = {0.0, 1.0e5, false, true, "MPa"},
+                               .required = true,
+                               .unit = "MPa",
+                               .meaning = "effective Young's modulus E (see below)"},
                               &Look::mechanics, &Mechanics::young_mpa));
-    keys.push_back(number_key({.section = mech, .name = "poisson", .range = {-1.0, 0.5, false, false, ""},
-                               .unit = "-", .default_text = "0.3", .meaning = "Poisson's ratio nu"},
+    keys.push_back(number_key({.section = mech,
+                               .name = "poisson",
+                               .range = {-1.0, 0.5, false, false, ""},
+                               .unit = "-",
+                               .default_text = "0.3",
+                               .meaning = "Poisson's ratio nu"},
                               &Look::mechanics, &Mechanics::poisson));
-    keys.push_back(number_key({.section = mech, .name = "gsm", .range = {0.0, 5000.0, false, true, "g/m^2"},
-                               .required = true, .alternative = "weight_n_mm2", .alternative_excludes = true, .unit = "g/m^2",
+    keys.push_back(number_key({.section = mech,
+                               .name = "gsm",
+                               .range = {0.0, 5000.0, false, true, "g/m^2"},
+                               .required = true,
+                               .alternative = "weight_n_mm2",
+                               .alternative_excludes = true,
+                               .unit = "g/m^2",
                                .meaning = "weight per area; w = gsm * 1e-3 * 9.80665 N/m^2"},
                               &Look::mechanics, &Mechanics::gsm));
-    keys.push_back({.section = mech, .name = "weight_n_mm2", .type = Type::number,
-                    .range = {0.0, 5000.0e-3 * kStandardGravity * 1e-6, false, true, "N/mm^2"}, .written = false,
-                    .unit = "N/mm^2", .default_text = "-",
+    keys.push_back({.section = mech,
+                    .name = "weight_n_mm2",
+                    .type = Type::number,
+                    .range = {0.0, 5000.0e-3 * kStandardGravity * 1e-6, false, true, "N/mm^2"},
+                    .written = false,
+                    .unit = "N/mm^2",
+                    .default_text = "-",
                     .meaning = "alternative to `gsm`: weight per area w in the drape model's mm units",
                     .get = [](const Look&) -> LookValue { return std::monostate{}; },
-                    .set = [](Look& l, const LookValue& v) {
-                        l.mechanics.gsm = std::get<double>(v) * 1e6 / kStandardGravity * 1e3;  // N/mm^2 -> g/m^2
-                    }});
-    keys.push_back(number_key({.section = mech, .name = "load_constant", .range = {0.0, 1.0e4, false, true, ""},
-                               .unit = "-", .default_text = "23.9 pi^2/12 = 19.657",
+                    .set =
+                        [](Look& l, const LookValue& v) {
+                            l.mechanics.gsm = std::get<double>(v) * 1e6 / kStandardGravity * 1e3;  // N/mm^2 -> g/m^2
+                        }});
+    keys.push_back(number_key({.section = mech,
+                               .name = "load_constant",
+                               .range = {0.0, 1.0e4, false, true, ""},
+                               .unit = "-",
+                               .default_text = "23.9 pi^2/12 = 19.657",
                                .meaning = "plate buckling coefficient c"},
                               &Look::mechanics, &Mechanics::load_constant));
 
-    keys.push_back(colour_key({.name = "base_colour", .required = true, .alternative = "texture",
+    keys.push_back(colour_key({.name = "base_colour",
+                               .required = true,
+                               .alternative = "texture",
                                .meaning = "albedo of the (warp) yarns, linear RGB"},
                               &Appearance::base_colour));
-    keys.push_back({.section = app, .name = "weft_colour", .type = Type::colour, .unit = "colour",
-                    .allowed = "see above", .default_text = "= base",
-                    .meaning = "weft yarns' colour where it differs (denim's ecru weft; a shot fabric's second colour)",
-                    .get = [](const Look& l) -> LookValue {
-                        if (!l.appearance.weft_colour) return std::monostate{};
-                        return *l.appearance.weft_colour;
-                    },
-                    .set = [](Look& l, const LookValue& v) { l.appearance.weft_colour = std::get<Eigen::Vector3f>(v); }});
+    keys.push_back(
+        {.section = app,
+         .name = "weft_colour",
+         .type = Type::colour,
+         .unit = "colour",
+         .allowed = "see above",
+         .default_text = "= base",
+         .meaning = "weft yarns' colour where it differs (denim's ecru weft; a shot fabric's second colour)",
+         .get = [](const Look& l) -> LookValue {
+             if (!l.appearance.weft_colour) return std::monostate{};
+             return *l.appearance.weft_colour;
+         },
+         .set = [](Look& l, const LookValue& v) { l.appearance.weft_colour = std::get<Eigen::Vector3f>(v); }});
     keys.push_back(file_key({.name = "texture", .meaning = "image tiled every `repeat_mm`"}, &Appearance::texture));
-    keys.push_back({.section = app, .name = "weave", .type = Type::choice,
-                    .choices = {"none", "plain", "twill", "satin", "knit"}, .required = true, .unit = "-",
+    keys.push_back({.section = app,
+                    .name = "weave",
+                    .type = Type::choice,
+                    .choices = {"none", "plain", "twill", "satin", "knit"},
+                    .required = true,
+                    .unit = "-",
                     .meaning = "procedural structure (looks/src/weave*.cpp)",
                     .get = [](const Look& l) -> LookValue { return std::string(weave_name(l.appearance.weave)); },
-                    .set = [](Look& l, const LookValue& v) {
-                        for (Weave w : {Weave::none, Weave::plain, Weave::twill, Weave::satin, Weave::knit})
-                            if (std::get<std::string>(v) == weave_name(w)) l.appearance.weave = w;
-                    }});
-    keys.push_back({.section = app, .name = "twill_float", .type = Type::integer,
-                    .range = {2.0, 3.0, true, true, "(2 or 3)"}, .unit = "yarns",
-                    .allowed = "2 (2/1 twill) or 3 (3/1 twill)", .default_text = "3",
-                    .meaning = "twill only: warp floats over this many picks",
-                    .get = [](const Look& l) -> LookValue { return static_cast<long long>(l.appearance.twill_float); },
-                    .set = [](Look& l, const LookValue& v) {
-                        l.appearance.twill_float = static_cast<int>(std::get<long long>(v));
-                    }});
-    keys.push_back(number_key({.section = app, .name = "repeat_mm", .range = {0.0, 1000.0, false, true, "mm"},
-                               .unit = "mm", .default_text = "1.0",
+                    .set =
+                        [](Look& l, const LookValue& v) {
+                            for (Weave w : {Weave::none, Weave::plain, Weave::twill, Weave::satin, Weave::knit})
+                                if (std::get<std::string>(v) == weave_name(w)) l.appearance.weave = w;
+                        }});
+    keys.push_back(
+        {.section = app,
+         .name = "twill_float",
+         .type = Type::integer,
+         .range = {2.0, 3.0, true, true, "(2 or 3)"},
+         .unit = "yarns",
+         .allowed = "2 (2/1 twill) or 3 (3/1 twill)",
+         .default_text = "3",
+         .meaning = "twill only: warp floats over this many picks",
+         .get = [](const Look& l) -> LookValue { return static_cast<long long>(l.appearance.twill_float); },
+         .set = [](Look& l,
+                   const LookValue& v) { l.appearance.twill_float = static_cast<int>(std::get<long long>(v)); }});
+    keys.push_back(number_key({.section = app,
+                               .name = "repeat_mm",
+                               .range = {0.0, 1000.0, false, true, "mm"},
+                               .unit = "mm",
+                               .default_text = "1.0",
                                .meaning = "yarn spacing (weaves) or texture tile size"},
                               &Look::appearance, &Appearance::repeat_mm));
-    keys.push_back(number_key({.section = app, .name = "roughness", .range = {0.0, 1.0}, .unit = "-",
-                               .default_text = "0.8", .meaning = "GGX specular roughness"},
+    keys.push_back(number_key({.section = app,
+                               .name = "roughness",
+                               .range = {0.0, 1.0},
+                               .unit = "-",
+                               .default_text = "0.8",
+                               .meaning = "GGX specular roughness"},
                               &Look::appearance, &Appearance::roughness));
-    keys.push_back(colour_key({.name = "sheen_colour", .default_text = "black",
-                               .meaning = "Charlie sheen colour (fuzz, pile)"},
-                              &Appearance::sheen_colour));
-    keys.push_back(number_key({.section = app, .name = "sheen_roughness", .range = {0.0, 1.0}, .unit = "-",
-                               .default_text = "0.5", .meaning = "Charlie sheen roughness"},
+    keys.push_back(
+        colour_key({.name = "sheen_colour", .default_text = "black", .meaning = "Charlie sheen colour (fuzz, pile)"},
+                   &Appearance::sheen_colour));
+    keys.push_back(number_key({.section = app,
+                               .name = "sheen_roughness",
+                               .range = {0.0, 1.0},
+                               .unit = "-",
+                               .default_text = "0.5",
+                               .meaning = "Charlie sheen roughness"},
                               &Look::appearance, &Appearance::sheen_roughness));
-    keys.push_back(number_key({.section = app, .name = "specular", .range = {0.0, 1.0}, .unit = "-",
-                               .default_text = "0.5", .meaning = "specular strength (scales F0 around 0.04)"},
+    keys.push_back(number_key({.section = app,
+                               .name = "specular",
+                               .range = {0.0, 1.0},
+                               .unit = "-",
+                               .default_text = "0.5",
+                               .meaning = "specular strength (scales F0 around 0.04)"},
                               &Look::appearance, &Appearance::specular));
-    keys.push_back(number_key({.section = app, .name = "anisotropy", .range = {0.0, 1.0, true, false, ""},
-                               .unit = "-", .default_text = "0", .meaning = "GGX anisotropy"},
+    keys.push_back(number_key({.section = app,
+                               .name = "anisotropy",
+                               .range = {0.0, 1.0, true, false, ""},
+                               .unit = "-",
+                               .default_text = "0",
+                               .meaning = "GGX anisotropy"},
                               &Look::appearance, &Appearance::anisotropy));
-    keys.push_back({.section = app, .name = "anisotropy_axis", .type = Type::choice, .choices = {"warp", "weft"},
-                    .unit = "-", .default_text = "`warp`", .meaning = "direction of the highlight's stretch (warp = u)",
-                    .get = [](const Look& l) -> LookValue { return std::string(axis_name(l.appearance.anisotropy_axis)); },
-                    .set = [](Look& l, const LookValue& v) {
-                        l.appearance.anisotropy_axis =
-                            std::get<std::string>(v) == "warp" ? AnisotropyAxis::warp : AnisotropyAxis::weft;
-                    }});
+    keys.push_back(
+        {.section = app,
+         .name = "anisotropy_axis",
+         .type = Type::choice,
+         .choices = {"warp", "weft"},
+         .unit = "-",
+         .default_text = "`warp`",
+         .meaning = "direction of the highlight's stretch (warp = u)",
+         .get = [](const Look& l) -> LookValue { return std::string(axis_name(l.appearance.anisotropy_axis)); },
+         .set =
+             [](Look& l, const LookValue& v) {
+                 l.appearance.anisotropy_axis =
+                     std::get<std::string>(v) == "warp" ? AnisotropyAxis::warp : AnisotropyAxis::weft;
+             }});
     keys.push_back(file_key({.name = "normal_map", .meaning = "tangent-space normal map, tiled every `repeat_mm`"},
                             &Appearance::normal_map));
-    keys.push_back(number_key({.section = app, .name = "bump_strength", .range = {0.0, 10.0}, .unit = "-",
-                               .default_text = "1", .meaning = "scales the procedural/normal-map perturbation"},
+    keys.push_back(number_key({.section = app,
+                               .name = "bump_strength",
+                               .range = {0.0, 10.0},
+                               .unit = "-",
+                               .default_text = "1",
+                               .meaning = "scales the procedural/normal-map perturbation"},
                               &Look::appearance, &Appearance::bump_strength));
     return keys;
 }
@@ -177,7 +245,8 @@ std::string look_keys_markdown() {
             if (key.section != section) continue;
             std::string default_text(key.default_text);
             if (key.required)
-                default_text = key.alternative.empty() ? "required" : "required (or `" + std::string(key.alternative) + "`)";
+                default_text =
+                    key.alternative.empty() ? "required" : "required (or `" + std::string(key.alternative) + "`)";
             out << "| `" << key.name << "` | " << key.unit << " | " << allowed_text(key) << " | " << default_text
                 << " | " << key.meaning << " |\n";
         }

@@ -61,8 +61,8 @@ void apply_section(Look& look, LookSection section, TomlSection&& reader, bool c
     for (const LookKey& key : look_keys()) {
         if (key.section != section) continue;
         if (key.alternative_excludes && reader.has(key.name) && reader.has(key.alternative))
-            reader.fail_here("give either " + reader.qualified(key.name) + " or " +
-                             reader.qualified(key.alternative) + ", not both");
+            reader.fail_here("give either " + reader.qualified(key.name) + " or " + reader.qualified(key.alternative) +
+                             ", not both");
         if (complete && key.required && !reader.has(key.name) &&
             (key.alternative.empty() || !reader.has(key.alternative)))
             reader.missing(key.name, std::string(key.meaning) +
@@ -94,11 +94,16 @@ void apply_table(Look& look, const toml::table& table, const std::string& origin
 
 const char* weave_name(Weave weave) {
     switch (weave) {
-        case Weave::none: return "none";
-        case Weave::plain: return "plain";
-        case Weave::twill: return "twill";
-        case Weave::satin: return "satin";
-        case Weave::knit: return "knit";
+        case Weave::none:
+            return "none";
+        case Weave::plain:
+            return "plain";
+        case Weave::twill:
+            return "twill";
+        case Weave::satin:
+            return "satin";
+        case Weave::knit:
+            return "knit";
     }
     return "none";
 }

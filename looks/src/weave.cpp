@@ -37,8 +37,8 @@ PatternStats integrate(detail::Pattern pattern) {
     double albedo = 0.0, weft = 0.0, slope2 = 0.0;
     for (int b = 0; b < ny; ++b)
         for (int a = 0; a < nx; ++a) {
-            const auto point = detail::evaluate_pattern(pattern, (a + 0.5) / kSamplesPerYarn,
-                                                        (b + 0.5) / kSamplesPerYarn);
+            const auto point =
+                detail::evaluate_pattern(pattern, (a + 0.5) / kSamplesPerYarn, (b + 0.5) / kSamplesPerYarn);
             albedo += point.albedo;
             weft += point.weft;
             slope2 += double(point.slope_u) * point.slope_u + double(point.slope_v) * point.slope_v;
@@ -111,9 +111,8 @@ WeaveSample sample_weave(const Appearance& appearance, Eigen::Vector2d uv_m, dou
     sample.albedo_scale = static_cast<float>(albedo / average.mean_albedo);
     sample.weft_cover = static_cast<float>(weft);
     sample.yarn = yarn;
-    sample.normal = Eigen::Vector3f(static_cast<float>(-bump * slope_u),
-                                    static_cast<float>(-bump * slope_v), 1.0f)
-                        .normalized();
+    sample.normal =
+        Eigen::Vector3f(static_cast<float>(-bump * slope_u), static_cast<float>(-bump * slope_v), 1.0f).normalized();
     sample.slope_variance = static_cast<float>(fade * bump * bump * average.slope_variance);
     return sample;
 }

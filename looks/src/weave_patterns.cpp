@@ -23,14 +23,19 @@ long positive_mod(long a, long n) { return ((a % n) + n) % n; }
 
 bool warp_on_top(Pattern pattern, long i, long j) {  // i along u (weft index), j along v
     switch (pattern) {
-        case Pattern::plain: return positive_mod(i + j, 2) == 0;
-        case Pattern::twill_2_1: return positive_mod(i - j, 3) < 2;
-        case Pattern::twill_3_1: return positive_mod(i - j, 4) < 3;
+        case Pattern::plain:
+            return positive_mod(i + j, 2) == 0;
+        case Pattern::twill_2_1:
+            return positive_mod(i - j, 3) < 2;
+        case Pattern::twill_3_1:
+            return positive_mod(i - j, 4) < 3;
         // Warp-faced 5-harness satin, move number 2: each warp yarn goes under once every
         // five picks and the binding points of neighbouring yarns are two picks apart, so
         // they scatter instead of forming a twill line.
-        case Pattern::satin_5: return positive_mod(i - 2 * j, 5) != 0;
-        default: return true;
+        case Pattern::satin_5:
+            return positive_mod(i - 2 * j, 5) != 0;
+        default:
+            return true;
     }
 }
 
@@ -49,8 +54,7 @@ Profile yarn_profile(double across, double along, int float_yarns) {
 
 float yarn_shading(double across, double along) {
     // Flanks and float ends are partly shadowed by the neighbouring yarns.
-    return static_cast<float>((0.65 + 0.35 * std::cos(kPi * across)) *
-                              (0.85 + 0.15 * std::sin(kPi * along)));
+    return static_cast<float>((0.65 + 0.35 * std::cos(kPi * across)) * (0.85 + 0.15 * std::sin(kPi * along)));
 }
 
 YarnPoint woven(Pattern pattern, double x, double y) {
@@ -115,22 +119,32 @@ YarnPoint jersey(double x, double y) {
 
 Pattern pattern_of(const Appearance& appearance) {
     switch (appearance.weave) {
-        case Weave::plain: return Pattern::plain;
-        case Weave::twill: return appearance.twill_float == 2 ? Pattern::twill_2_1 : Pattern::twill_3_1;
-        case Weave::satin: return Pattern::satin_5;
-        case Weave::knit: return Pattern::jersey;
-        case Weave::none: break;
+        case Weave::plain:
+            return Pattern::plain;
+        case Weave::twill:
+            return appearance.twill_float == 2 ? Pattern::twill_2_1 : Pattern::twill_3_1;
+        case Weave::satin:
+            return Pattern::satin_5;
+        case Weave::knit:
+            return Pattern::jersey;
+        case Weave::none:
+            break;
     }
     return Pattern::plain;
 }
 
 Eigen::Vector2i pattern_period_yarns(Pattern pattern) {
     switch (pattern) {
-        case Pattern::plain: return {2, 2};
-        case Pattern::twill_2_1: return {3, 3};
-        case Pattern::twill_3_1: return {4, 4};
-        case Pattern::satin_5: return {5, 5};
-        default: return {1, 1};
+        case Pattern::plain:
+            return {2, 2};
+        case Pattern::twill_2_1:
+            return {3, 3};
+        case Pattern::twill_3_1:
+            return {4, 4};
+        case Pattern::satin_5:
+            return {5, 5};
+        default:
+            return {1, 1};
     }
 }
 

@@ -16,8 +16,8 @@ struct YarnPoint {
     float albedo = 1.0f;   // un-normalised shading of the yarn surface (edges darker)
     float slope_u = 0.0f;  // d(height)/du of the yarn surface, height and u in the same units
     float slope_v = 0.0f;
-    float weft = 0.0f;     // 1 where weft is on top
-    int yarn = 0;          // 0 gap, 1 yarn along u (warp) on top, 2 yarn along v on top
+    float weft = 0.0f;  // 1 where weft is on top
+    int yarn = 0;       // 0 gap, 1 yarn along u (warp) on top, 2 yarn along v on top
 };
 
 // x = u / pitch, y = v / pitch.

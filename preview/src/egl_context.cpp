@@ -30,8 +30,8 @@ bool has_extension(const char* list, const std::string& name) {
 std::vector<EGLDisplay> candidate_displays() {
     std::vector<EGLDisplay> displays;
     const char* client_extensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-        eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    auto get_platform_display =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (get_platform_display == nullptr) return displays;
     if (has_extension(client_extensions, "EGL_MESA_platform_surfaceless"))
         displays.push_back(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
@@ -62,9 +62,9 @@ EglContext::EglContext() {
             eglTerminate(display);
             continue;
         }
-        const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        const EGLint attributes[] = {
+            EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+            EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
         EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
         if (context == EGL_NO_CONTEXT) {
             reasons += " no OpenGL 3.3 core context (" + egl_error_name(eglGetError()) + ");";
@@ -79,11 +79,12 @@ EglContext::EglContext() {
         }
         display_ = display;
         context_ = context;
-        description_ = std::string("OpenGL ") + reinterpret_cast<const char*>(glGetString(GL_VERSION)) +
-                       " on " + reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        description_ = std::string("OpenGL ") + reinterpret_cast<const char*>(glGetString(GL_VERSION)) + " on " +
+                       reinterpret_cast<const char*>(glGetString(GL_RENDERER));
         return;
     }
-    if (reasons.empty()) reasons = " no EGL display (neither EGL_MESA_platform_surfaceless nor EGL_EXT_platform_device)";
+    if (reasons.empty())
+        reasons = " no EGL display (neither EGL_MESA_platform_surfaceless nor EGL_EXT_platform_device)";
     throw EglUnavailable("EGL preview unavailable:" + reasons);
 }
 

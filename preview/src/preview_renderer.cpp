@@ -117,12 +117,11 @@ GpuMesh upload(const PreviewObject& object) {
     glBindVertexArray(gpu.vao);
     glGenBuffers(1, &gpu.vbo);
     glBindBuffer(GL_ARRAY_BUFFER, gpu.vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)),
-                 interleaved.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)), interleaved.data(),
+                 GL_STREAM_DRAW);
     glGenBuffers(1, &gpu.ebo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.ebo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(mesh.topology.triangles.size() * sizeof(Triangle)),
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.topology.triangles.size() * sizeof(Triangle)),
                  mesh.topology.triangles.data(), GL_STREAM_DRAW);
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
@@ -151,8 +150,10 @@ GLuint attach_renderbuffer(GLenum attachment, GLenum format, int samples, int wi
     GLuint buffer = 0;
     glGenRenderbuffers(1, &buffer);
     glBindRenderbuffer(GL_RENDERBUFFER, buffer);
-    if (samples > 0) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, width, height);
-    else glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+    if (samples > 0)
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, width, height);
+    else
+        glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, buffer);
     return buffer;
 }
@@ -173,8 +174,8 @@ struct PreviewRenderer::State {
     GLuint shade_program(int light_count) {
         GLuint& program = shade_programs.at(static_cast<std::size_t>(light_count));
         if (program == 0) {
-            const std::string source = "#version 330 core\n#define LIGHT_COUNT " + std::to_string(light_count) +
-                                       "\n" + shaders::kShadeBody;
+            const std::string source =
+                "#version 330 core\n#define LIGHT_COUNT " + std::to_string(light_count) + "\n" + shaders::kShadeBody;
             program = link_program(shaders::kVertex, source.c_str());
         }
         return program;
@@ -190,8 +191,7 @@ struct PreviewRenderer::State {
     }
 };
 
-PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples)
-    : state_(std::make_unique<State>()) {
+PreviewRenderer::PreviewRenderer(int width, int height, int msaa_samples) : state_(std::make_unique<State>()) {
     if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
         throw std::invalid_argument("preview size must be in 1..16384 pixels");
     State& s = *state_;
@@ -306,10 +306,11 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
         if (distance > caster_radius * 1.01f) {
             const float half_angle = std::asin(std::min(caster_radius / distance, 0.99f)) * 1.05f;
             // The far plane reaches past the casters so receivers behind them compare correctly.
-            light_view_proj = perspective(2.0f * half_angle, 1.0f, distance - caster_radius, distance + 4.0f * radius) *
-                              look_at(key, caster_centre, std::abs((caster_centre - key).normalized().y()) > 0.99f
-                                                              ? Vec3f(1.0f, 0.0f, 0.0f)
-                                                              : Vec3f(0.0f, 1.0f, 0.0f));
+            light_view_proj =
+                perspective(2.0f * half_angle, 1.0f, distance - caster_radius, distance + 4.0f * radius) *
+                look_at(key, caster_centre,
+                        std::abs((caster_centre - key).normalized().y()) > 0.99f ? Vec3f(1.0f, 0.0f, 0.0f)
+                                                                                 : Vec3f(0.0f, 1.0f, 0.0f));
             has_shadow = true;
             // An area light's penumbra: about size/distance of the gap between occluder and
             // receiver, taken at a typical fold-to-fold gap of 5 cm.  The 3x3 taps span it, one
@@ -360,7 +361,8 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     for (int i = 0; i < light_count; ++i) {
         const char index[] = {'[', static_cast<char>('0' + i), ']', '\0'};
         glUniform3fv(uniform(p, (std::string("u_light_position") + index).c_str()), 1, scene.lights[i].position.data());
-        glUniform3fv(uniform(p, (std::string("u_light_intensity") + index).c_str()), 1, scene.lights[i].intensity.data());
+        glUniform3fv(uniform(p, (std::string("u_light_intensity") + index).c_str()), 1,
+                     scene.lights[i].intensity.data());
     }
     glUniform3fv(uniform(p, "u_ambient"), 1, scene.ambient.data());
     glUniform1f(uniform(p, "u_has_shadow"), has_shadow ? 1.0f : 0.0f);

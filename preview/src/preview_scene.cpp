@@ -41,10 +41,23 @@ PreviewMaterial studio_material(MaterialId id, const SceneSpec& scene) {
     PreviewMaterial m;
     m.specular = 0.25f;
     switch (id) {
-        case MaterialId::backdrop: m.base_colour = scene.backdrop_colour; m.roughness = 0.9f; break;
-        case MaterialId::metal: m.base_colour = Vec3f::Constant(0.02f); m.roughness = 0.3f; m.specular = 1.0f; break;
-        case MaterialId::wood: m.base_colour = Vec3f(0.60f, 0.43f, 0.27f); m.roughness = 0.55f; break;
-        default: m.base_colour = Vec3f::Constant(0.03f); m.roughness = 0.35f; break;
+        case MaterialId::backdrop:
+            m.base_colour = scene.backdrop_colour;
+            m.roughness = 0.9f;
+            break;
+        case MaterialId::metal:
+            m.base_colour = Vec3f::Constant(0.02f);
+            m.roughness = 0.3f;
+            m.specular = 1.0f;
+            break;
+        case MaterialId::wood:
+            m.base_colour = Vec3f(0.60f, 0.43f, 0.27f);
+            m.roughness = 0.55f;
+            break;
+        default:
+            m.base_colour = Vec3f::Constant(0.03f);
+            m.roughness = 0.35f;
+            break;
     }
     return m;
 }
@@ -137,8 +150,8 @@ RenderResult preview_still(const SceneSpec& scene, const RenderOptions& options,
                          std::to_string(setup.frame_count()) + " frame(s)");
     const int width = options.width > 0 ? options.width : scene.width;
     const int height = options.height > 0 ? options.height : scene.height;
-    const Camera camera = frame_camera(scene.camera, {setup.framing_points(frame, 0.0)},
-                                       static_cast<double>(width) / height);
+    const Camera camera =
+        frame_camera(scene.camera, {setup.framing_points(frame, 0.0)}, static_cast<double>(width) / height);
     PreviewRenderer renderer(width, height, msaa_samples);
     RenderResult result = preview_frame(renderer, setup.lit_scene(), setup.geometry(frame, 0.0), camera, options.aovs);
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

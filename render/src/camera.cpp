@@ -37,16 +37,15 @@ ProjectedBox project_all(const std::vector<Eigen::Vector3d>& points, const Eigen
 
 }  // namespace
 
-Camera frame_camera(const CameraSpec& spec, const std::vector<std::vector<Vec3f>>& fit_frames,
-                    double aspect) {
+Camera frame_camera(const CameraSpec& spec, const std::vector<std::vector<Vec3f>>& fit_frames, double aspect) {
     Camera cam;
     cam.fov_deg = spec.fov_deg;
     cam.aperture_m = spec.aperture_m;
     if (!spec.auto_frame) {
         cam.position = spec.position;
         cam.target = spec.target;
-        cam.focus_distance_m = spec.focus_distance_m > 0.0 ? spec.focus_distance_m
-                                                            : (spec.target - spec.position).norm();
+        cam.focus_distance_m =
+            spec.focus_distance_m > 0.0 ? spec.focus_distance_m : (spec.target - spec.position).norm();
         return cam;
     }
     // Every point of every frame, thinned to at most ~50k for speed (the box barely changes).

@@ -11,7 +11,9 @@ namespace foldcast::render {
 class CameraModel {
 public:
     CameraModel(const Camera& camera, int width, int height)
-        : origin_(camera.position), width_(width), height_(height),
+        : origin_(camera.position),
+          width_(width),
+          height_(height),
           aperture_(static_cast<float>(camera.aperture_m)),
           focus_(static_cast<float>(camera.focus_distance_m)) {
         forward_ = (camera.target - camera.position).normalized();

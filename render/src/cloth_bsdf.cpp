@@ -126,13 +126,12 @@ const Tables& tables() {
     return t;
 }
 
-
 }  // namespace
 
 float ggx_albedo(float mu, float roughness, float f0) {
     const Tables& t = tables();
-    return std::clamp(f0 * Tables::lookup(t.spec_a, mu, roughness) + Tables::lookup(t.spec_b, mu, roughness),
-                      0.0f, 1.0f);
+    return std::clamp(f0 * Tables::lookup(t.spec_a, mu, roughness) + Tables::lookup(t.spec_b, mu, roughness), 0.0f,
+                      1.0f);
 }
 float sheen_albedo(float mu, float sheen_roughness) {
     return std::clamp(Tables::lookup(tables().sheen, mu, sheen_roughness), 0.0f, 1.0f);

@@ -50,10 +50,10 @@ private:
     V3 wo_;
     float ax_ = 0.0f, ay_ = 0.0f;
     float sheen_alpha_ = 0.0f;
-    float e_spec_ = 0.0f;       // E_spec(mu_o) including Fresnel
-    float sheen_scale_ = 0.0f;  // s
-    float e_sheen_ = 0.0f;      // E_sheen(mu_o) for a white sheen
-    float base_weight_ = 1.0f;  // 1 - E_spec
+    float e_spec_ = 0.0f;          // E_spec(mu_o) including Fresnel
+    float sheen_scale_ = 0.0f;     // s
+    float e_sheen_ = 0.0f;         // E_sheen(mu_o) for a white sheen
+    float base_weight_ = 1.0f;     // 1 - E_spec
     float diffuse_weight_ = 1.0f;  // (1 - E_spec)(1 - s E_sheen)
     float p_spec_ = 0.0f, p_sheen_ = 0.0f, p_diffuse_ = 0.0f;
 };

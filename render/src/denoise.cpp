@@ -18,7 +18,7 @@ constexpr float kSigmaDepth = 1.0f;      // in local depth steps per pixel of di
 constexpr float kMinAlbedo = 0.01f;      // below this, a channel is filtered undivided
 
 struct Pixel {
-    V3 n = V3::Zero();      // unit normal, or zero for the sky
+    V3 n = V3::Zero();  // unit normal, or zero for the sky
     float depth = 0.0f;
     float depth_step = 0.0f;  // how much depth changes per pixel here
     bool covered = true;      // alpha > 0
@@ -89,7 +89,8 @@ void denoise(Image& rgba, const DenoiseFeatures& features, int threads) {
                                 sum_w += k;
                             }
                         const float v = sum_w > 0.0f ? sum / sum_w : 0.0f;
-                        sigma[static_cast<std::size_t>(y) * w + x] = kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f;
+                        sigma[static_cast<std::size_t>(y) * w + x] =
+                            kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f;
                     }
             });
         });
@@ -116,10 +117,13 @@ void denoise(Image& rgba, const DenoiseFeatures& features, int threads) {
                                 const std::size_t j = static_cast<std::size_t>(qy) * w + qx;
                                 const Pixel& q = px[j];
                                 if (!q.covered) continue;
-                                const float distance = static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy));
+                                const float distance =
+                                    static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy));
                                 const float e = std::abs(luminance(light[j]) - lum_p) / sigma[i] +
-                                                std::abs(q.depth - p.depth) / (kSigmaDepth * p.depth_step * std::max(1.0f, distance));
-                                const float wt = kKernel[dx + 1] * kKernel[dy + 1] * normal_weight(p.n, q.n) * std::exp(-e);
+                                                std::abs(q.depth - p.depth) /
+                                                    (kSigmaDepth * p.depth_step * std::max(1.0f, distance));
+                                const float wt =
+                                    kKernel[dx + 1] * kKernel[dy + 1] * normal_weight(p.n, q.n) * std::exp(-e);
                                 sum += wt * light[j];
                                 sum_w += wt;
                                 sum_v += wt * wt * variance[j];

@@ -17,10 +17,10 @@ namespace foldcast::render {
 
 // Per-pixel means over the pixel's samples, row-major like Image.
 struct DenoiseFeatures {
-    std::vector<V3> albedo;      // first-hit BSDF albedo
-    std::vector<V3> normal;      // first-hit shading normal (sum; zero where the sky was seen)
-    std::vector<float> depth;    // first-hit distance, 0 for the sky
-    std::vector<float> variance; // variance of the pixel's mean luminance
+    std::vector<V3> albedo;       // first-hit BSDF albedo
+    std::vector<V3> normal;       // first-hit shading normal (sum; zero where the sky was seen)
+    std::vector<float> depth;     // first-hit distance, 0 for the sky
+    std::vector<float> variance;  // variance of the pixel's mean luminance
 };
 
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are

@@ -7,24 +7,39 @@
 namespace foldcast::render {
 
 void unpack_lane(const RTCRayHit16& packet, int k, RTCRay* r, RTCHit* h) {
-    r->org_x = packet.ray.org_x[k]; r->org_y = packet.ray.org_y[k]; r->org_z = packet.ray.org_z[k];
-    r->dir_x = packet.ray.dir_x[k]; r->dir_y = packet.ray.dir_y[k]; r->dir_z = packet.ray.dir_z[k];
+    r->org_x = packet.ray.org_x[k];
+    r->org_y = packet.ray.org_y[k];
+    r->org_z = packet.ray.org_z[k];
+    r->dir_x = packet.ray.dir_x[k];
+    r->dir_y = packet.ray.dir_y[k];
+    r->dir_z = packet.ray.dir_z[k];
     r->tfar = packet.ray.tfar[k];
-    h->geomID = packet.hit.geomID[k]; h->primID = packet.hit.primID[k];
-    h->u = packet.hit.u[k]; h->v = packet.hit.v[k];
-    h->Ng_x = packet.hit.Ng_x[k]; h->Ng_y = packet.hit.Ng_y[k]; h->Ng_z = packet.hit.Ng_z[k];
+    h->geomID = packet.hit.geomID[k];
+    h->primID = packet.hit.primID[k];
+    h->u = packet.hit.u[k];
+    h->v = packet.hit.v[k];
+    h->Ng_x = packet.hit.Ng_x[k];
+    h->Ng_y = packet.hit.Ng_y[k];
+    h->Ng_z = packet.hit.Ng_z[k];
 }
 
 namespace {
 const char* error_name(RTCError code) {
     switch (code) {
-        case RTC_ERROR_NONE: return "no error";
-        case RTC_ERROR_UNKNOWN: return "unknown error";
-        case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-        case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-        case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-        case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-        case RTC_ERROR_CANCELLED: return "cancelled";
+        case RTC_ERROR_NONE:
+            return "no error";
+        case RTC_ERROR_UNKNOWN:
+            return "unknown error";
+        case RTC_ERROR_INVALID_ARGUMENT:
+            return "invalid argument";
+        case RTC_ERROR_INVALID_OPERATION:
+            return "invalid operation";
+        case RTC_ERROR_OUT_OF_MEMORY:
+            return "out of memory";
+        case RTC_ERROR_UNSUPPORTED_CPU:
+            return "unsupported CPU";
+        case RTC_ERROR_CANCELLED:
+            return "cancelled";
     }
     return "error";
 }
@@ -46,7 +61,8 @@ EmbreeScene::EmbreeScene() {
     // tracer's tiles included, at that many threads (RenderKit/embree#507).
     device_ = rtcNewDevice(nullptr);
     if (!device_)
-        throw std::runtime_error(std::string("Embree: cannot create a device (") + error_name(rtcGetDeviceError(nullptr)) + ")");
+        throw std::runtime_error(std::string("Embree: cannot create a device (") +
+                                 error_name(rtcGetDeviceError(nullptr)) + ")");
     rtcSetDeviceErrorFunction(device_, &EmbreeScene::on_error, this);
     scene_ = rtcNewScene(device_);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -68,8 +84,8 @@ void EmbreeScene::add(GeometryData data) {
                                                           3 * sizeof(float), data.positions.size()));
     for (std::size_t i = 0; i < data.positions.size(); ++i)
         for (int k = 0; k < 3; ++k) v[3 * i + k] = data.positions[i][k];
-    auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), data.triangles.size()));
+    auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                    3 * sizeof(std::uint32_t), data.triangles.size()));
     for (std::size_t i = 0; i < data.triangles.size(); ++i)
         for (int k = 0; k < 3; ++k) idx[3 * i + k] = data.triangles[i][k];
     rtcCommitGeometry(g);
@@ -125,8 +141,7 @@ Hit EmbreeScene::surface(const RTCRay& ray, const RTCHit& h) const {
         hit.uv = w * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
         hit.has_uv = true;
     }
-    if (!g.fold_sign.empty())
-        hit.fold = w * g.fold_sign[tri[0]] + u * g.fold_sign[tri[1]] + v * g.fold_sign[tri[2]];
+    if (!g.fold_sign.empty()) hit.fold = w * g.fold_sign[tri[0]] + u * g.fold_sign[tri[1]] + v * g.fold_sign[tri[2]];
     hit.tangent = g.tangents.empty() ? Vec3f::UnitX() : g.tangents[h.primID];
     return hit;
 }

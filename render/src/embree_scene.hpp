@@ -39,16 +39,34 @@ struct Hit {
 
 // The one ray construction: origin, direction, [0, tmax).
 inline void set_ray(RTCRay& r, const Vec3f& o, const Vec3f& d, float tmax) {
-    r.org_x = o.x(); r.org_y = o.y(); r.org_z = o.z();
-    r.dir_x = d.x(); r.dir_y = d.y(); r.dir_z = d.z();
-    r.tnear = 0.0f; r.tfar = tmax; r.time = 0.0f; r.mask = 0xFFFFFFFF; r.id = 0; r.flags = 0;
+    r.org_x = o.x();
+    r.org_y = o.y();
+    r.org_z = o.z();
+    r.dir_x = d.x();
+    r.dir_y = d.y();
+    r.dir_z = d.z();
+    r.tnear = 0.0f;
+    r.tfar = tmax;
+    r.time = 0.0f;
+    r.mask = 0xFFFFFFFF;
+    r.id = 0;
+    r.flags = 0;
 }
 // The same for lane k of a 16-wide packet, with no hit yet.
 inline void set_packet_ray(RTCRayHit16& packet, int k, const Vec3f& o, const Vec3f& d) {
     RTCRay16& r = packet.ray;
-    r.org_x[k] = o.x(); r.org_y[k] = o.y(); r.org_z[k] = o.z();
-    r.dir_x[k] = d.x(); r.dir_y[k] = d.y(); r.dir_z[k] = d.z();
-    r.tnear[k] = 0.0f; r.tfar[k] = kInf; r.time[k] = 0.0f; r.mask[k] = 0xFFFFFFFF; r.id[k] = 0; r.flags[k] = 0;
+    r.org_x[k] = o.x();
+    r.org_y[k] = o.y();
+    r.org_z[k] = o.z();
+    r.dir_x[k] = d.x();
+    r.dir_y[k] = d.y();
+    r.dir_z[k] = d.z();
+    r.tnear[k] = 0.0f;
+    r.tfar[k] = kInf;
+    r.time[k] = 0.0f;
+    r.mask[k] = 0xFFFFFFFF;
+    r.id[k] = 0;
+    r.flags[k] = 0;
     packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
 }

@@ -29,7 +29,10 @@ std::vector<float> fold_sign_from_geometry(const Mesh& mesh) {
     const std::vector<Eigen::Vector3d> original = p;
     for (int it = 0; it < 60; ++it) {
         for (std::size_t i = 0; i < n; ++i) {
-            if (nbr[i].empty()) { q[i] = p[i]; continue; }
+            if (nbr[i].empty()) {
+                q[i] = p[i];
+                continue;
+            }
             Eigen::Vector3d avg = Eigen::Vector3d::Zero();
             for (std::uint32_t j : nbr[i]) avg += p[j];
             q[i] = 0.5 * p[i] + 0.5 * avg / static_cast<double>(nbr[i].size());

@@ -28,7 +28,8 @@ void write_png(OutputTransaction& outputs, const fs::path& path, const cv::Mat& 
 }
 
 // Channels named e.g. {"R","G","B","A"} or {"Y"}, interleaved float pixels.
-void write_exr(OutputTransaction& outputs, const fs::path& path, const Image& img, const std::vector<std::string>& names) {
+void write_exr(OutputTransaction& outputs, const fs::path& path, const Image& img,
+               const std::vector<std::string>& names) {
     std::ofstream& file = outputs.stage(path);
     {
         Imf::Header header(img.width, img.height);
@@ -38,7 +39,8 @@ void write_exr(OutputTransaction& outputs, const fs::path& path, const Image& im
         for (std::size_t c = 0; c < names.size(); ++c) {
             header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
             // OpenEXR's Slice takes a non-const base pointer but only reads when writing.
-            fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(img.pixels.data()) + c), xs, ys));
+            fb.insert(names[c], Imf::Slice(Imf::FLOAT,
+                                           reinterpret_cast<char*>(const_cast<float*>(img.pixels.data()) + c), xs, ys));
         }
         Imf::StdOFStream stream(file, path.c_str());
         Imf::OutputFile out(stream, header);
@@ -61,7 +63,9 @@ cv::Mat aov_to_png(Aov aov, const Image& img) {
         }
         case Aov::normal: {
             cv::Mat m(h, w, CV_8UC3);
-            auto enc = [](float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(0.5f * v + 0.5f, 0.0f, 1.0f) * 255.0f)); };
+            auto enc = [](float v) {
+                return static_cast<std::uint8_t>(std::lround(std::clamp(0.5f * v + 0.5f, 0.0f, 1.0f) * 255.0f));
+            };
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x) {
                     const float* p = img.at(x, y);
@@ -78,7 +82,8 @@ cv::Mat aov_to_png(Aov aov, const Image& img) {
                 for (int x = 0; x < w; ++x) {
                     const float d = *img.at(x, y);
                     m.at<std::uint16_t>(y, x) =
-                        d > 0.0f && far > 0.0f ? static_cast<std::uint16_t>(std::lround((1.0f - d / far) * 65535.0f)) : 0;
+                        d > 0.0f && far > 0.0f ? static_cast<std::uint16_t>(std::lround((1.0f - d / far) * 65535.0f))
+                                               : 0;
                 }
             return m;
         }
@@ -141,7 +146,8 @@ std::vector<fs::path> write_render(const fs::path& out, const RenderResult& resu
 std::vector<fs::path> write_render(OutputTransaction& outputs, const fs::path& out, const RenderResult& result,
                                    const SceneSpec& scene) {
     std::string ext = out.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".png" && ext != ".exr")
         throw InputError("render output '" + out.string() + "': the file name must end in .png or .exr");
     check_writable(out);

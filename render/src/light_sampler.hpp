@@ -27,9 +27,9 @@ struct LightChoice {
 };
 
 struct LightSample {
-    Vec3f wi;             // towards the light
-    float distance = 0;   // infinite for the environment
-    float pdf = 0;        // solid angle, including the choice probability
+    Vec3f wi;            // towards the light
+    float distance = 0;  // infinite for the environment
+    float pdf = 0;       // solid angle, including the choice probability
     V3 radiance = V3::Zero();
 };
 
@@ -50,8 +50,8 @@ public:
     // Picks by u_pick and samples a point on it (or a cosine direction about `n` for the
     // environment) with (u_a, u_b); nothing when the pick has no probability or the light
     // faces away.
-    std::optional<LightSample> sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n,
-                                      const Vec3f& tangent, float u_pick, float u_a, float u_b) const;
+    std::optional<LightSample> sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n, const Vec3f& tangent,
+                                      float u_pick, float u_a, float u_b) const;
     // The nearest light's front face along o + t d, t < tmax.
     LightHit hit(const Vec3f& o, const Vec3f& d, float tmax) const;
     // What sample() would have given for light `index` hit at distance t along d.

@@ -24,7 +24,8 @@ void add(V3& radiance, const V3& contribution, int depth) {
 }  // namespace
 
 PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0,
-                                 const RTCHit& hit0, float pixel_angle, PixelSampler& sampler, std::uint64_t& rays) const {
+                                 const RTCHit& hit0, float pixel_angle, PixelSampler& sampler,
+                                 std::uint64_t& rays) const {
     PathSample out;
     V3 beta = V3::Ones();
     Vec3f o = cam_o, d = cam_d;
@@ -80,8 +81,8 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         const LightChoice choice = lights_.choose(hit.p, hit.ns);
         const float u_pick = sampler.get1d();
         const Eigen::Vector2f u_light = sampler.get2d();
-        if (const auto direct = direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_pick, u_light.x(),
-                                                u_light.y(), rays))
+        if (const auto direct =
+                direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_pick, u_light.x(), u_light.y(), rays))
             add(out.radiance, beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
                 depth + 1);
 

@@ -23,14 +23,14 @@ struct PathSample {
 
 class PathIntegrator {
 public:
-    PathIntegrator(const EmbreeScene& scene, const LightSampler& lights, const Materials& materials,
-                   int max_depth, bool transparent)
+    PathIntegrator(const EmbreeScene& scene, const LightSampler& lights, const Materials& materials, int max_depth,
+                   bool transparent)
         : scene_(scene), lights_(lights), materials_(materials), max_depth_(max_depth), transparent_(transparent) {}
 
     // `first_hit`: whether the camera ray (ray0, hit0) hit anything; pixel_angle: the
     // camera's cone spread per pixel, for texture footprints.
-    PathSample trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0,
-                     const RTCHit& hit0, float pixel_angle, PixelSampler& sampler, std::uint64_t& rays) const;
+    PathSample trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0, const RTCHit& hit0,
+                     float pixel_angle, PixelSampler& sampler, std::uint64_t& rays) const;
 
 private:
     const EmbreeScene& scene_;

@@ -19,7 +19,8 @@ std::vector<Aov> parse_aovs(const std::string& list) {
         const std::string name = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         const auto it = names.find(name);
         if (it == names.end())
-            throw InputError("AOV list '" + list + "': unknown AOV '" + name + "' (allowed: albedo, normal, depth, fold)");
+            throw InputError("AOV list '" + list + "': unknown AOV '" + name +
+                             "' (allowed: albedo, normal, depth, fold)");
         if (std::find(out.begin(), out.end(), it->second) == out.end()) out.push_back(it->second);
         if (comma == std::string::npos) break;
         start = comma + 1;
@@ -29,10 +30,14 @@ std::vector<Aov> parse_aovs(const std::string& list) {
 
 const char* aov_name(Aov aov) {
     switch (aov) {
-        case Aov::albedo: return "albedo";
-        case Aov::normal: return "normal";
-        case Aov::depth: return "depth";
-        case Aov::fold: return "fold";
+        case Aov::albedo:
+            return "albedo";
+        case Aov::normal:
+            return "normal";
+        case Aov::depth:
+            return "depth";
+        case Aov::fold:
+            return "fold";
     }
     return "?";
 }

@@ -39,9 +39,12 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
         source = "drape";
         if (!path.empty()) {
             const std::string ext = path.extension().string();
-            if (ext == ".obj") source = "obj";
-            else if (ext == ".pc2") source = "pc2";
-            else if (ext == ".fca") source = "fca";
+            if (ext == ".obj")
+                source = "obj";
+            else if (ext == ".pc2")
+                source = "pc2";
+            else if (ext == ".fca")
+                source = "fca";
             else
                 s.fail(*s.node("path"), "garment.path = \"" + path.filename().string() +
                                             "\" has an unknown extension: use .obj, .pc2 or .fca (or set source)");
@@ -108,7 +111,8 @@ AreaLight read_light(TomlSection& s, const std::string& default_name) {
     const Vec3f colour = s.colour("colour").value_or(Vec3f::Ones());
     const double intensity = number(s, "intensity", 10.0, range(0.0, 1e7));
     l.radiance = colour * static_cast<float>(intensity);
-    if ((l.position - l.target).norm() < 1e-6f) throw InputError("light '" + l.name + "': position and target must differ");
+    if ((l.position - l.target).norm() < 1e-6f)
+        throw InputError("light '" + l.name + "': position and target must differ");
     s.finish();
     return l;
 }
@@ -171,7 +175,7 @@ SceneSpec load_scene(const fs::path& file) {
     if (const toml::table* t = top.table("supports")) {
         TomlSection s(*t, "supports", name);
         const std::string kind = s.choice("kind", {"rod", "clips", "none"}).value_or("rod");
-        scene.supports = kind == "rod" ? SceneSpec::Supports::rod
+        scene.supports = kind == "rod"     ? SceneSpec::Supports::rod
                          : kind == "clips" ? SceneSpec::Supports::clips
                                            : SceneSpec::Supports::none;
         s.finish();
@@ -181,7 +185,8 @@ SceneSpec load_scene(const fs::path& file) {
         scene.width = integer(s, "width", scene.width, 1, 16384);
         scene.height = integer(s, "height", scene.height, 1, 16384);
         scene.spp = integer(s, "spp", scene.spp, 1, 1 << 20);
-        scene.seed = static_cast<std::uint64_t>(s.integer("seed", 0, 2147483647).value_or(static_cast<long long>(scene.seed)));
+        scene.seed =
+            static_cast<std::uint64_t>(s.integer("seed", 0, 2147483647).value_or(static_cast<long long>(scene.seed)));
         scene.max_depth = integer(s, "max_depth", scene.max_depth, 1, 64);
         s.finish();
     }

@@ -28,10 +28,18 @@ BsdfParams Materials::at(Hit& hit, const Vec3f& wo, float footprint_m, Frame* fr
             *frame = Frame(n, s.anisotropy_along_weft ? base.b : base.t);
             return s.bsdf;
         }
-        case MaterialId::backdrop: *frame = Frame(hit.ns, hit.tangent); return backdrop_;
-        case MaterialId::metal: *frame = Frame(hit.ns, Vec3f::UnitX()); return metal_;
-        case MaterialId::wood: *frame = Frame(hit.ns, Vec3f::UnitY()); return wood_;
-        case MaterialId::wire: *frame = Frame(hit.ns, Vec3f::UnitY()); return wire_;
+        case MaterialId::backdrop:
+            *frame = Frame(hit.ns, hit.tangent);
+            return backdrop_;
+        case MaterialId::metal:
+            *frame = Frame(hit.ns, Vec3f::UnitX());
+            return metal_;
+        case MaterialId::wood:
+            *frame = Frame(hit.ns, Vec3f::UnitY());
+            return wood_;
+        case MaterialId::wire:
+            *frame = Frame(hit.ns, Vec3f::UnitY());
+            return wire_;
     }
     throw std::logic_error("unknown material");
 }

@@ -32,14 +32,17 @@ Tables make_tables() {
         std::uint32_t lo = 0, hi = kOneBits;  // encode(lo) < code <= encode(hi)
         while (hi - lo > 1) {
             const std::uint32_t mid = lo + (hi - lo) / 2;
-            if (encode_srgb8_by_formula(std::bit_cast<float>(mid)) >= code) hi = mid;
-            else lo = mid;
+            if (encode_srgb8_by_formula(std::bit_cast<float>(mid)) >= code)
+                hi = mid;
+            else
+                lo = mid;
         }
         t.thresholds[static_cast<std::size_t>(code)] = std::bit_cast<float>(hi);
     }
     t.thresholds[256] = std::numeric_limits<float>::infinity();
     for (std::size_t b = 0; b < kBuckets; ++b)
-        t.bucket_code[b] = encode_srgb8_by_formula(std::bit_cast<float>(kFirstBits + (static_cast<std::uint32_t>(b) << kBucketShift)));
+        t.bucket_code[b] =
+            encode_srgb8_by_formula(std::bit_cast<float>(kFirstBits + (static_cast<std::uint32_t>(b) << kBucketShift)));
     return t;
 }
 

@@ -7,7 +7,6 @@
 namespace foldcast::render {
 namespace {
 
-
 void add_quad(StudioMesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
     m.triangles.push_back({a, b, c});
     m.triangles.push_back({a, c, d});
@@ -48,8 +47,10 @@ void add_cylinder(StudioMesh& m, const Vec3f& a, const Vec3f& b, float radius, i
         for (int i = 0; i < segments; ++i) {
             const auto p = centre + 1 + static_cast<std::uint32_t>(i);
             const auto q = centre + 1 + static_cast<std::uint32_t>((i + 1) % segments);
-            if (end == 0) m.triangles.push_back({centre, q, p});
-            else m.triangles.push_back({centre, p, q});
+            if (end == 0)
+                m.triangles.push_back({centre, q, p});
+            else
+                m.triangles.push_back({centre, p, q});
         }
     }
 }
@@ -78,7 +79,7 @@ StudioMesh build_cyclorama(const Vec3f& centre, float radius_m, float bottom_y) 
     m.material = MaterialId::backdrop;
     const float floor_y = bottom_y - std::max(0.15f, 0.45f * radius_m);
     const float wall_z = centre.z() - radius_m - 1.4f;
-    const float cove = 0.6f;          // radius of the curve joining floor and wall
+    const float cove = 0.6f;  // radius of the curve joining floor and wall
     const float half_width = 6.0f;
     // Profile in (z, y) from the front of the floor, round the cove, up the wall.
     std::vector<std::pair<Eigen::Vector2f, Eigen::Vector2f>> profile;  // point, normal
@@ -97,8 +98,7 @@ StudioMesh build_cyclorama(const Vec3f& centre, float radius_m, float bottom_y) 
             m.normals.emplace_back(0.0f, n.y(), n.x());
         }
     }
-    for (std::uint32_t i = 0; i + 1 < profile.size(); ++i)
-        add_quad(m, 2 * i, 2 * i + 1, 2 * i + 3, 2 * i + 2);
+    for (std::uint32_t i = 0; i + 1 < profile.size(); ++i) add_quad(m, 2 * i, 2 * i + 1, 2 * i + 3, 2 * i + 2);
     return m;
 }
 
@@ -147,14 +147,14 @@ std::vector<AreaLight> studio_lights(const Vec3f& centre, double size_m) {
     const float s = static_cast<float>(std::max(0.2, size_m));
     std::vector<AreaLight> lights;
     // Key: a large softbox high on the camera's left.
-    lights.push_back({"key", centre + s * Vec3f(-1.6f, 1.3f, 2.0f), centre, 1.2f * s, 1.2f * s,
-                      Vec3f(10.4f, 10.0f, 9.4f)});
+    lights.push_back(
+        {"key", centre + s * Vec3f(-1.6f, 1.3f, 2.0f), centre, 1.2f * s, 1.2f * s, Vec3f(10.4f, 10.0f, 9.4f)});
     // Fill: a wider, dimmer box low on the right, so shadows stay open.
-    lights.push_back({"fill", centre + s * Vec3f(2.2f, 0.2f, 2.2f), centre, 1.6f * s, 1.6f * s,
-                      Vec3f(2.3f, 2.4f, 2.6f)});
+    lights.push_back(
+        {"fill", centre + s * Vec3f(2.2f, 0.2f, 2.2f), centre, 1.6f * s, 1.6f * s, Vec3f(2.3f, 2.4f, 2.6f)});
     // Rim: a strip behind and above, to separate the cloth's edges from the wall.
-    lights.push_back({"rim", centre + s * Vec3f(0.9f, 1.6f, -0.7f), centre + Vec3f(0.0f, 0.2f * s, 0.0f),
-                      0.3f * s, 1.2f * s, Vec3f(16.0f, 16.0f, 16.0f)});
+    lights.push_back({"rim", centre + s * Vec3f(0.9f, 1.6f, -0.7f), centre + Vec3f(0.0f, 0.2f * s, 0.0f), 0.3f * s,
+                      1.2f * s, Vec3f(16.0f, 16.0f, 16.0f)});
     return lights;
 }
 

@@ -8,8 +8,7 @@
 
 namespace foldcast::render {
 
-StudioSetup::StudioSetup(const SceneSpec& scene, GarmentData garment)
-    : scene_(scene), garment_(std::move(garment)) {
+StudioSetup::StudioSetup(const SceneSpec& scene, GarmentData garment) : scene_(scene), garment_(std::move(garment)) {
     if (garment_.animation.frames.empty() || garment_.animation.vertex_count() == 0)
         throw InputError("garment: no vertices to render");
     const Bounds b = bounds(garment_.animation);
@@ -17,8 +16,7 @@ StudioSetup::StudioSetup(const SceneSpec& scene, GarmentData garment)
     bottom_ = b.min.y();
     radius_ = 0.0f;
     for (const auto& f : garment_.animation.frames)
-        for (const Vec3f& p : f)
-            radius_ = std::max(radius_, std::hypot(p.x() - centre_.x(), p.z() - centre_.z()));
+        for (const Vec3f& p : f) radius_ = std::max(radius_, std::hypot(p.x() - centre_.x(), p.z() - centre_.z()));
     radius_ += 0.05f;  // clips and rod overhang
     if (scene_.studio_preset) {
         const float size = (b.max - b.min).maxCoeff();

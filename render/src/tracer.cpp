@@ -28,8 +28,8 @@
 namespace foldcast::render {
 namespace {
 
-constexpr int kTile = 32;   // tile side in pixels (16-32 px: no false sharing between tiles)
-constexpr int kBlock = 4;   // 4x4 pixel packets for camera rays
+constexpr int kTile = 32;  // tile side in pixels (16-32 px: no false sharing between tiles)
+constexpr int kBlock = 4;  // 4x4 pixel packets for camera rays
 // Adaptive sampling trusts a pixel's own variance estimate only from this many samples on
 // (fewer can miss a rare bright path entirely), and checks it at powers of two, where the
 // Sobol' points of the pixel are a complete stratification.
@@ -173,7 +173,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     const int aov_channels[4] = {3, 3, 1, 1};
     Image aov_img[4];
     for (int a = 0; a < 4; ++a)
-        if (want[a]) aov_img[a] = Image{width, height, aov_channels[a], std::vector<float>(pixel_count * aov_channels[a], 0.0f)};
+        if (want[a])
+            aov_img[a] = Image{width, height, aov_channels[a], std::vector<float>(pixel_count * aov_channels[a], 0.0f)};
     DenoiseFeatures features;
     if (settings.denoise) {
         features.albedo.resize(pixel_count);
@@ -245,11 +246,17 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     const PixelSums& p = sums[k];
                     const float inv = 1.0f / static_cast<float>(p.n);
                     float* px = result.beauty.at(x, y);
-                    const V3 c = m.transparent ? (p.fg_count > 0 ? V3(p.fg / static_cast<float>(p.fg_count)) : V3::Zero())
-                                               : V3(p.all * inv);
-                    px[0] = c.x(); px[1] = c.y(); px[2] = c.z();
+                    const V3 c = m.transparent
+                                     ? (p.fg_count > 0 ? V3(p.fg / static_cast<float>(p.fg_count)) : V3::Zero())
+                                     : V3(p.all * inv);
+                    px[0] = c.x();
+                    px[1] = c.y();
+                    px[2] = c.z();
                     px[3] = m.transparent ? static_cast<float>(p.fg_count) * inv : 1.0f;
-                    if (want[0]) { float* a = aov_img[0].at(x, y); for (int i = 0; i < 3; ++i) a[i] = p.albedo[i] * inv; }
+                    if (want[0]) {
+                        float* a = aov_img[0].at(x, y);
+                        for (int i = 0; i < 3; ++i) a[i] = p.albedo[i] * inv;
+                    }
                     if (want[1]) {
                         const V3 n = p.normal.squaredNorm() > 0.0f ? V3(p.normal.normalized()) : V3::Zero();
                         float* a = aov_img[1].at(x, y);

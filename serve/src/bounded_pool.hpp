@@ -28,7 +28,10 @@ public:
         ready_.notify_one();
     }
     void shutdown() override {
-        { std::lock_guard lock(mutex_); shutdown_ = true; }
+        {
+            std::lock_guard lock(mutex_);
+            shutdown_ = true;
+        }
         ready_.notify_all();
         room_.notify_all();
         for (auto& t : threads_) t.join();

@@ -20,12 +20,16 @@ public:
         // An idle link starts again now; a sender that was scheduled late (a loaded machine)
         // may catch up on at most kCatchUp of missed time, as a real link's buffers allow.
         if (next_free_ < now - kCatchUp) next_free_ = now - kCatchUp;
-        next_free_ += std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(double(bytes) / bytes_per_s_));
+        next_free_ +=
+            std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(double(bytes) / bytes_per_s_));
         const auto until = next_free_;
         return !woken_.wait_until(lock, until, [&] { return stopped_; });
     }
     void stop() {
-        { std::lock_guard lock(mutex_); stopped_ = true; }
+        {
+            std::lock_guard lock(mutex_);
+            stopped_ = true;
+        }
         woken_.notify_all();
     }
 

@@ -9,7 +9,8 @@ std::optional<std::filesystem::path> resolve_inside(const std::filesystem::path&
     namespace fs = std::filesystem;
     // Lexical checks first: whatever the file system says, these never name a file below root.
     if (url_path.empty() || url_path.front() == '/') return std::nullopt;
-    if (url_path.find('\0') != std::string_view::npos || url_path.find('\\') != std::string_view::npos) return std::nullopt;
+    if (url_path.find('\0') != std::string_view::npos || url_path.find('\\') != std::string_view::npos)
+        return std::nullopt;
     fs::path relative;
     std::size_t start = 0;
     while (start <= url_path.size()) {

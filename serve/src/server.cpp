@@ -21,7 +21,7 @@ namespace foldcast::serve {
 namespace {
 namespace fs = std::filesystem;
 
-constexpr std::size_t kMaxHeaders = 64;            // cpp-httplib bounds each line to 8 KiB, not their number
+constexpr std::size_t kMaxHeaders = 64;  // cpp-httplib bounds each line to 8 KiB, not their number
 constexpr std::size_t kMaxHeaderBytes = 16 * 1024;
 constexpr std::size_t kMaxRanges = 8;
 constexpr std::size_t kMaxListed = 10000;
@@ -61,8 +61,8 @@ struct Server::Impl {
         }
         for (const auto& [first, last] : req.ranges) {
             // cpp-httplib gives -1 for an open end (or, for a suffix range, an open start).
-            const bool bad = (first >= 0 && static_cast<std::size_t>(first) >= size) || (first >= 0 && last >= 0 && last < first) ||
-                             (first < 0 && last <= 0);
+            const bool bad = (first >= 0 && static_cast<std::size_t>(first) >= size) ||
+                             (first >= 0 && last >= 0 && last < first) || (first < 0 && last <= 0);
             if (bad) {
                 res.status = 416;
                 res.set_header("Content-Range", "bytes */" + std::to_string(size));
@@ -96,7 +96,8 @@ struct Server::Impl {
         nlohmann::json files = nlohmann::json::array();
         std::error_code ec;
         std::vector<std::pair<std::string, std::uintmax_t>> found;
-        for (auto it = fs::recursive_directory_iterator(options.root, fs::directory_options::skip_permission_denied, ec);
+        for (auto it =
+                 fs::recursive_directory_iterator(options.root, fs::directory_options::skip_permission_denied, ec);
              !ec && it != fs::recursive_directory_iterator() && found.size() < kMaxListed; it.increment(ec)) {
             if (it->path().extension() != ".fca") continue;
             const std::string name = fs::relative(it->path(), options.root, ec).generic_string();
@@ -149,8 +150,10 @@ struct Server::Impl {
             if (!file) {
                 res.status = 404;
                 if (name == "index.html")
-                    res.set_content("the player is not built (needs emscripten and web/node_modules: docs/player.md); "
-                                    "the files are at /api/files and /files/NAME\n", "text/plain");
+                    res.set_content(
+                        "the player is not built (needs emscripten and web/node_modules: docs/player.md); "
+                        "the files are at /api/files and /files/NAME\n",
+                        "text/plain");
                 return;
             }
             send_file(req, res, *file, false);  // the player's assets: cached after a first visit, not throttled
@@ -160,18 +163,22 @@ struct Server::Impl {
         });
         if (options.log)
             http.set_logger([](const httplib::Request& req, const httplib::Response& res) {
-                std::fprintf(stderr, "%s %s %s -> %d\n", req.remote_addr.c_str(), req.method.c_str(), req.path.c_str(), res.status);
+                std::fprintf(stderr, "%s %s %s -> %d\n", req.remote_addr.c_str(), req.method.c_str(), req.path.c_str(),
+                             res.status);
             });
     }
 };
 
 Server::Server(Options options) : impl_(std::make_unique<Impl>()) {
     Impl& s = *impl_;
-    if (!fs::is_directory(options.root)) throw InputError("serve: DIR '" + options.root.string() + "' is not a directory");
-    if (options.port < 0 || options.port > 65535) throw InputError("serve: --port " + std::to_string(options.port) + " is not in 0..65535");
+    if (!fs::is_directory(options.root))
+        throw InputError("serve: DIR '" + options.root.string() + "' is not a directory");
+    if (options.port < 0 || options.port > 65535)
+        throw InputError("serve: --port " + std::to_string(options.port) + " is not in 0..65535");
     if (options.throttle_kbps && !(std::isfinite(*options.throttle_kbps) && *options.throttle_kbps > 0.0))
         throw InputError("serve: --throttle-kbps must be a positive number of kilobits per second");
-    if (options.workers == 0 || options.queued == 0) throw InputError("serve: workers and queued connections must be at least 1");
+    if (options.workers == 0 || options.queued == 0)
+        throw InputError("serve: workers and queued connections must be at least 1");
     s.options = std::move(options);
     if (s.options.throttle_kbps) s.link = std::make_unique<Link>(*s.options.throttle_kbps);
     const std::size_t workers = s.options.workers, queued = s.options.queued;

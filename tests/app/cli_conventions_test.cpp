@@ -40,12 +40,14 @@ TEST(CliConventions, BadValuesAreNamedByTheirFlag) {
         std::string args, flag;
     };
     const std::string pc2 = std::string(FOLDCAST_TEST_DATA) + "/animations/basicCloth.pc2";
-    for (const Case& c : {Case{"render " + scene + " -o x.png --aov albedo,shadow", "--aov"},
-                          Case{"preview " + scene + " -o x.png --aov albedo", "--aov"},
-                          Case{"encode " + pc2 + " -o x.fca --profile fast", "--profile"},
-                          Case{"encode " + pc2 + " -o x.fca --max-error-m -1", "--max-error-m"},
-                          Case{"batch " + std::string(FOLDCAST_SOURCE_DIR) + "/gallery/catalogue.toml --shard 3/2", "--shard"}}) {
-        const auto r = run_command("cd '" + dir.string() + "' && " + foldcast_binary() + " " + c.args + " 2> '" + err + "'");
+    for (const Case& c :
+         {Case{"render " + scene + " -o x.png --aov albedo,shadow", "--aov"},
+          Case{"preview " + scene + " -o x.png --aov albedo", "--aov"},
+          Case{"encode " + pc2 + " -o x.fca --profile fast", "--profile"},
+          Case{"encode " + pc2 + " -o x.fca --max-error-m -1", "--max-error-m"},
+          Case{"batch " + std::string(FOLDCAST_SOURCE_DIR) + "/gallery/catalogue.toml --shard 3/2", "--shard"}}) {
+        const auto r =
+            run_command("cd '" + dir.string() + "' && " + foldcast_binary() + " " + c.args + " 2> '" + err + "'");
         EXPECT_EQ(r.exit_code, 2) << c.args;
         const std::string message = read(err);
         EXPECT_NE(message.find(c.flag), std::string::npos) << c.args << ": " << message;
@@ -62,11 +64,12 @@ TEST(CliConventions, LookMayBeAFile) {
     ASSERT_NE(at, std::string::npos);
     look.replace(at, look.find('\n', at) - at, "thickness_mm = 0.123");
     std::ofstream(dir / "mine.toml") << look;
-    const auto r = run_command("cd '" + dir.string() + "' && " + foldcast_binary() + " drape --quiet --look ./mine.toml --json");
+    const auto r =
+        run_command("cd '" + dir.string() + "' && " + foldcast_binary() + " drape --quiet --look ./mine.toml --json");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NEAR(nlohmann::json::parse(r.out)["cloth"]["thickness_m"].get<double>(), 0.123e-3, 1e-12);
-    const auto missing = run_command("cd '" + dir.string() + "' && " + foldcast_binary() +
-                                     " drape --quiet --look ./nope.toml 2>&1");
+    const auto missing =
+        run_command("cd '" + dir.string() + "' && " + foldcast_binary() + " drape --quiet --look ./nope.toml 2>&1");
     EXPECT_EQ(missing.exit_code, 2);
     EXPECT_NE(missing.out.find("look file"), std::string::npos) << missing.out;
 }

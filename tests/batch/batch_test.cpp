@@ -71,7 +71,8 @@ TEST(BatchManifest, ErrorsNameTheKey) {
 TEST(BatchShard, ParsesAndRejects) {
     EXPECT_EQ(parse_shard("2/5").index, 2);
     EXPECT_EQ(parse_shard("2/5").count, 5);
-    for (const char* bad : {"5/5", "-1/3", "1/0", "a/b", "1", "1/2/3"}) EXPECT_THROW(parse_shard(bad), InputError) << bad;
+    for (const char* bad : {"5/5", "-1/3", "1/0", "a/b", "1", "1/2/3"})
+        EXPECT_THROW(parse_shard(bad), InputError) << bad;
 }
 
 TEST(BatchShard, ShardsAreDisjointAndCoverEverything) {

@@ -27,8 +27,8 @@ fs::path tiny_scene(const fs::path& dir) {
 
 TEST(PreviewCli, WritesTheImageAndItsDepth) {
     const auto dir = test::temp_dir();
-    const test::CommandResult r =
-        foldcast("preview " + tiny_scene(dir).string() + " -o " + (dir / "p.png").string() + " --aov depth --json 2>&1");
+    const test::CommandResult r = foldcast("preview " + tiny_scene(dir).string() + " -o " + (dir / "p.png").string() +
+                                           " --aov depth --json 2>&1");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto report = nlohmann::json::parse(r.out);
     EXPECT_EQ(report["width"], 48);
@@ -40,9 +40,9 @@ TEST(PreviewCli, WritesTheImageAndItsDepth) {
 TEST(PreviewCli, NoEglIsOneLineAndExitTwo) {
     const auto dir = test::temp_dir();
     // With no EGL vendor library glvnd has no driver to offer: what a machine without Mesa sees.
-    const test::CommandResult r = test::run_command("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json " +
-                                                    test::foldcast_binary() + " preview " + tiny_scene(dir).string() +
-                                                    " -o " + (dir / "p.png").string() + " 2>&1");
+    const test::CommandResult r =
+        test::run_command("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json " + test::foldcast_binary() + " preview " +
+                          tiny_scene(dir).string() + " -o " + (dir / "p.png").string() + " 2>&1");
     const std::string& err = r.out;
     EXPECT_EQ(r.exit_code, 2) << err;
     EXPECT_NE(err.find("EGL"), std::string::npos) << err;
@@ -52,10 +52,11 @@ TEST(PreviewCli, NoEglIsOneLineAndExitTwo) {
 
 TEST(PreviewCli, TurntablePreviewWritesEveryFrame) {
     const auto dir = test::temp_dir();
-    const test::CommandResult r = foldcast("turntable " + tiny_scene(dir).string() + " -o " + (dir / "frames").string() +
-                                           "/ --frames 5 --preview --quiet 2>&1");
+    const test::CommandResult r = foldcast("turntable " + tiny_scene(dir).string() + " -o " +
+                                           (dir / "frames").string() + "/ --frames 5 --preview --quiet 2>&1");
     ASSERT_EQ(r.exit_code, 0) << r.out;
-    for (int f = 0; f < 5; ++f) EXPECT_TRUE(fs::exists(dir / "frames" / ("frame_000" + std::to_string(f) + ".png"))) << f;
+    for (int f = 0; f < 5; ++f)
+        EXPECT_TRUE(fs::exists(dir / "frames" / ("frame_000" + std::to_string(f) + ".png"))) << f;
     EXPECT_FALSE(fs::exists(dir / "frames" / "frame_0005.png"));
 }
 
@@ -69,9 +70,10 @@ std::set<std::pair<std::string, std::string>> outputs(const std::string& json_te
 TEST(BatchCli, ShardsTogetherRenderExactlyTheUnshardedCatalogue) {
     const auto dir = test::temp_dir();
     tiny_scene(dir);
-    const std::string manifest = "width = 40\nheight = 30\nspp = 2\nlooks = [\"denim\", \"chiffon\"]\n"
-                                 "[[garments]]\nname = \"cloth\"\nscene = \"tiny.toml\"\n"
-                                 "[[views]]\nname = \"front\"\n[[views]]\nname = \"side\"\nazimuth_deg = 60\n";
+    const std::string manifest =
+        "width = 40\nheight = 30\nspp = 2\nlooks = [\"denim\", \"chiffon\"]\n"
+        "[[garments]]\nname = \"cloth\"\nscene = \"tiny.toml\"\n"
+        "[[views]]\nname = \"front\"\n[[views]]\nname = \"side\"\nazimuth_deg = 60\n";
     std::ofstream(dir / "whole.toml") << "output_dir = \"whole\"\n" << manifest;
     std::ofstream(dir / "split.toml") << "output_dir = \"split\"\n" << manifest;
     const std::string whole_toml = (dir / "whole.toml").string();

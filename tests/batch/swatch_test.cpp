@@ -27,8 +27,8 @@ batch::SwatchOptions tiny(std::vector<std::string> looks) {
 
 // Mean absolute difference of two tiles of the sheet (tile pixels only, not labels).
 double tile_difference(const batch::SwatchSheet& sheet, const batch::SwatchOptions& o, int a, int b) {
-    const int label = sheet.height / ((static_cast<int>(sheet.tiles.size()) + o.columns - 1) / o.columns) -
-                      o.tile_height;
+    const int label =
+        sheet.height / ((static_cast<int>(sheet.tiles.size()) + o.columns - 1) / o.columns) - o.tile_height;
     auto origin = [&](int k) {
         return std::pair<int, int>{(k % o.columns) * o.tile_width, (k / o.columns) * (o.tile_height + label)};
     };
@@ -82,9 +82,9 @@ TEST(SwatchSheet, BadInputsAreInputErrors) {
 TEST(SwatchSheet, CommandWritesThePng) {
     const fs::path out = fs::temp_directory_path() / "foldcast_swatch_cli_test.png";
     fs::remove(out);
-    ASSERT_EQ(run_status("looks --swatches " + out.string() +
-                         " --only denim,chiffon --tile 40x48 --spp 1 --columns 2 -q"),
-              0);
+    ASSERT_EQ(
+        run_status("looks --swatches " + out.string() + " --only denim,chiffon --tile 40x48 --spp 1 --columns 2 -q"),
+        0);
     const cv::Mat png = cv::imread(out.string(), cv::IMREAD_COLOR);
     ASSERT_FALSE(png.empty());
     EXPECT_EQ(png.cols, 80);

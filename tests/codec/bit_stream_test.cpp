@@ -16,7 +16,8 @@ TEST(BitStream, PaddedReaderReadsWhatWasWrittenFromAnyPosition) {
     BitWriter w;
     for (int i = 0; i < 5000; ++i) {
         const int count = 1 + static_cast<int>(rng() % 32);
-        const std::uint32_t value = count == 32 ? static_cast<std::uint32_t>(rng()) : static_cast<std::uint32_t>(rng()) & ((1u << count) - 1u);
+        const std::uint32_t value =
+            count == 32 ? static_cast<std::uint32_t>(rng()) : static_cast<std::uint32_t>(rng()) & ((1u << count) - 1u);
         fields.push_back({value, count});
         w.put(value, count);
     }
@@ -27,7 +28,8 @@ TEST(BitStream, PaddedReaderReadsWhatWasWrittenFromAnyPosition) {
         for (std::size_t i = 0; i < split; ++i) ASSERT_EQ(plain.get(fields[i].second), fields[i].first);
         std::vector<std::uint8_t> storage;
         PaddedBitReader padded(plain.bytes(), plain.bit_position(), storage);
-        for (std::size_t i = split; i < fields.size(); ++i) ASSERT_EQ(padded.get(fields[i].second), fields[i].first) << "field " << i;
+        for (std::size_t i = split; i < fields.size(); ++i)
+            ASSERT_EQ(padded.get(fields[i].second), fields[i].first) << "field " << i;
         EXPECT_FALSE(padded.overrun());
     }
 }

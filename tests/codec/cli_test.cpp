@@ -14,7 +14,9 @@ namespace foldcast {
 namespace {
 
 // foldcast with `args`, stderr dropped.
-test::CommandResult run(const std::string& args) { return test::run_command(test::foldcast_binary() + " " + args + " 2>/dev/null"); }
+test::CommandResult run(const std::string& args) {
+    return test::run_command(test::foldcast_binary() + " " + args + " 2>/dev/null");
+}
 
 std::string q(const std::filesystem::path& p) {
     std::string quoted(1, '\'');
@@ -28,7 +30,8 @@ TEST(CodecCli, EncodeDecodeRoundTripThroughPc2AndObj) {
     const auto pc2 = test::test_data("animations/basicCloth.pc2");
     for (const char* profile : {"paper", "default"}) {
         const auto fca = dir / std::string(profile).append(".fca");
-        const test::CommandResult enc = run("encode " + q(pc2) + " -o " + q(fca) + " --profile " + std::string(profile) + " --max-error-m 0.001 --json");
+        const test::CommandResult enc = run("encode " + q(pc2) + " -o " + q(fca) + " --profile " +
+                                            std::string(profile) + " --max-error-m 0.001 --json");
         ASSERT_EQ(enc.exit_code, 0) << enc.out;
         const auto j = nlohmann::json::parse(enc.out);
         for (const char* key : {"frames", "vertices", "bytes", "bpvf", "rms_error_rel", "max_error_rel", "kg_error"})
@@ -46,7 +49,9 @@ TEST(CodecCli, EncodeDecodeRoundTripThroughPc2AndObj) {
         EXPECT_LE(codec::measure(original, back, 1).max_error_m, 0.001 * 1.00001);
 
         // Re-encoding an .fca works, and --frames selects a range.
-        ASSERT_EQ(run("encode " + q(fca) + " -o " + q(dir / "again.fca") + " --profile " + std::string(profile)).exit_code, 0);
+        ASSERT_EQ(
+            run("encode " + q(fca) + " -o " + q(dir / "again.fca") + " --profile " + std::string(profile)).exit_code,
+            0);
         ASSERT_EQ(run("decode " + q(fca) + " -o " + q(dir / "part.pc2") + " --frames 10:20").exit_code, 0);
         EXPECT_EQ(read_pc2(dir / "part.pc2").size(), 10u);
     }
@@ -68,8 +73,16 @@ TEST(CodecCli, DrapeToFcaToPc2IsWhatBlendersMeshCacheReads) {
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     ASSERT_GE(bytes.size(), 32u);
     EXPECT_EQ(std::string(bytes.data(), 12), std::string("POINTCACHE2\0", 12));
-    auto i32 = [&](std::size_t at) { std::int32_t v; std::memcpy(&v, bytes.data() + at, 4); return v; };
-    auto f32 = [&](std::size_t at) { float v; std::memcpy(&v, bytes.data() + at, 4); return v; };
+    auto i32 = [&](std::size_t at) {
+        std::int32_t v;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return v;
+    };
+    auto f32 = [&](std::size_t at) {
+        float v;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return v;
+    };
     EXPECT_EQ(i32(12), 1);
     const std::int32_t verts = i32(16), frames = i32(28);
     EXPECT_EQ(f32(20), 0.0f);  // start
@@ -99,7 +112,9 @@ TEST(CodecCli, TopologyFlagAndTruncatedFileDecodesWithWarning) {
     std::filesystem::copy_file(test::test_data("animations/basicCloth.pc2"), dir / "cache.pc2");
     EXPECT_EQ(run("encode " + q(dir / "cache.pc2") + " -o " + q(dir / "a.fca")).exit_code, 2);  // no cache.obj
     ASSERT_EQ(run("encode " + q(dir / "cache.pc2") + " --topology " + q(test::test_data("animations/basicCloth.obj")) +
-                  " -o " + q(dir / "a.fca")).exit_code, 0);
+                  " -o " + q(dir / "a.fca"))
+                  .exit_code,
+              0);
     std::string bytes = codec::read_fca(dir / "a.fca");
     codec::write_fca(dir / "half.fca", std::string_view(bytes).substr(0, bytes.size() / 2));
     const test::CommandResult half = run("decode " + q(dir / "half.fca") + " -o " + q(dir / "half.pc2") + " --json");

@@ -2,7 +2,6 @@
 // Only the test links drape; the codec library itself never does.
 #include <gtest/gtest.h>
 
-
 #include "foldcast/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape.hpp"

@@ -27,8 +27,10 @@ TEST(FuzzCorpus, EverySeedDecodesInTheCurrentFormat) {
         const codec::StreamStatus status = decoder.status();
         EXPECT_TRUE(status.header_ready) << name;
         EXPECT_GT(status.packets, 0u) << name;
-        if (name.find("truncated") == std::string::npos) EXPECT_TRUE(status.complete) << name;
-        else EXPECT_FALSE(status.complete) << name;
+        if (name.find("truncated") == std::string::npos)
+            EXPECT_TRUE(status.complete) << name;
+        else
+            EXPECT_FALSE(status.complete) << name;
         ++seeds;
     }
     EXPECT_GE(seeds, 4);
@@ -49,7 +51,8 @@ TEST(FuzzCorpus, EveryPaperSeedDecodesInsideTheHarnessContainer) {
         std::ifstream in(entry.path(), std::ios::binary);
         const std::string seed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         ASSERT_GT(seed.size(), 3u) << entry.path();
-        const std::string file = codec::fuzz::paper_container(reinterpret_cast<const std::uint8_t*>(seed.data()), seed.size());
+        const std::string file =
+            codec::fuzz::paper_container(reinterpret_cast<const std::uint8_t*>(seed.data()), seed.size());
         const std::string name = entry.path().filename().string();
         codec::StreamingDecoder decoder(name, file.size());
         ASSERT_NO_THROW(decoder.feed(file)) << name;

@@ -38,7 +38,8 @@ std::vector<std::int32_t> sheet_grid(std::size_t frames, std::size_t jump_frame)
             const double fold = t >= jump_frame ? 4000.0 * std::sin(0.7 * y) : 0.0;
             const double p[3] = {20000.0 + 1000.0 * x + 37.0 * double(t), 20000.0 + 1000.0 * y + 0.5 * double(t * t),
                                  20000.0 + 300.0 * std::sin(0.3 * x + 0.05 * double(t)) + fold};
-            for (int c = 0; c < 3; ++c) g[(t * n + v) * 3 + static_cast<std::size_t>(c)] = static_cast<std::int32_t>(std::lround(p[c]));
+            for (int c = 0; c < 3; ++c)
+                g[(t * n + v) * 3 + static_cast<std::size_t>(c)] = static_cast<std::int32_t>(std::lround(p[c]));
         }
     return g;
 }
@@ -51,7 +52,8 @@ struct Coded {
 
 // Encodes with `mode` (-1: the encoder's choice) and decodes through the profile decoder;
 // the grid step is 1 m so decoded positions are grid coordinates.
-Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode, float bounds_scale = 1.0f) {
+Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode,
+           float bounds_scale = 1.0f) {
     const std::size_t n = kCols * kRows;
     Header h;
     h.vertices = static_cast<std::uint32_t>(n);
@@ -84,7 +86,8 @@ Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint3
 
 std::int64_t max_abs_error(const std::vector<std::int32_t>& a, const std::vector<std::int32_t>& b) {
     std::int64_t worst = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) worst = std::max<std::int64_t>(worst, std::abs(std::int64_t(a[i]) - b[i]));
+    for (std::size_t i = 0; i < a.size(); ++i)
+        worst = std::max<std::int64_t>(worst, std::abs(std::int64_t(a[i]) - b[i]));
     return worst;
 }
 
@@ -103,7 +106,7 @@ TEST(PredictionModes, ModesAreAllowedOnlyWhereTheirReferencesExist) {
     const PredictiveLayout layout(40, 4);
     EXPECT_TRUE(frame_mode_allowed(layout.references[0], 0));
     EXPECT_FALSE(frame_mode_allowed(layout.references[0], 2 * int(TemporalMode::copy_left)));
-    EXPECT_TRUE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::none) + 1));   // keyframe
+    EXPECT_TRUE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::none) + 1));  // keyframe
     EXPECT_FALSE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::copy_right)));
     for (int mode = 0; mode < kFrameModes; ++mode) EXPECT_TRUE(frame_mode_allowed(layout.references[8], mode));
     EXPECT_FALSE(frame_mode_allowed(layout.references[8], kFrameModes));

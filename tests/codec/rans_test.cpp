@@ -15,7 +15,8 @@ namespace {
 SymbolCounts skewed_counts(std::mt19937& rng, int present) {
     SymbolCounts counts{};
     std::uniform_int_distribution<int> symbol(0, kRansAlphabet - 1);
-    for (int i = 0; i < present; ++i) counts[static_cast<std::size_t>(symbol(rng))] += 1 + (rng() % 5000) * (rng() % 50);
+    for (int i = 0; i < present; ++i)
+        counts[static_cast<std::size_t>(symbol(rng))] += 1 + (rng() % 5000) * (rng() % 50);
     return counts;
 }
 
@@ -46,7 +47,8 @@ TEST(Rans, TablesSumToTheTotalAndKeepEveryPresentSymbol) {
             ASSERT_GE(slot, t.start[s]);
             ASSERT_LT(slot, t.start[s] + t.freq[s]);
         }
-        for (std::size_t s = 0; s < counts.size(); ++s) ASSERT_EQ(d.freq_start[s], t.freq[s] | std::uint32_t(t.start[s]) << 16);
+        for (std::size_t s = 0; s < counts.size(); ++s)
+            ASSERT_EQ(d.freq_start[s], t.freq[s] | std::uint32_t(t.start[s]) << 16);
     }
 }
 
@@ -117,8 +119,10 @@ TEST(Rans, InterleavedStatesRoundTripAndCostWhatTheModelSays) {
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t k = 0; k < tables.size(); ++k) {
             const std::size_t lane = (3 * i + k) % kRansLanes;
-            const int a = RansDecoder::decode<RansDecoder::Renormalise::branch_free>(decode_tables[k], free_of_branches.state[lane], p);
-            const int b = RansDecoder::decode<RansDecoder::Renormalise::branch>(decode_tables[k], branching.state[lane], q);
+            const int a = RansDecoder::decode<RansDecoder::Renormalise::branch_free>(decode_tables[k],
+                                                                                     free_of_branches.state[lane], p);
+            const int b =
+                RansDecoder::decode<RansDecoder::Renormalise::branch>(decode_tables[k], branching.state[lane], q);
             ASSERT_EQ(a, streams[k][i]) << i;
             ASSERT_EQ(b, streams[k][i]) << i;
             ASSERT_EQ(free_of_branches.state[lane], branching.state[lane]) << i;

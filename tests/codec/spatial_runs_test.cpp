@@ -15,8 +15,8 @@ namespace foldcast::codec {
 namespace {
 
 // What the encoder computes, vertex by vertex in int64: r_v = q_v m + r_a + r_b - r_c.
-std::vector<std::int64_t> reference_residuals(const std::vector<SpatialReference>& refs, const std::vector<std::int32_t>& q,
-                                              std::int64_t m) {
+std::vector<std::int64_t> reference_residuals(const std::vector<SpatialReference>& refs,
+                                              const std::vector<std::int32_t>& q, std::int64_t m) {
     std::vector<std::int64_t> r(q.size());
     for (std::size_t v = 0; v < refs.size(); ++v)
         for (int c = 0; c < 3; ++c) {
@@ -60,7 +60,8 @@ void expect_runs_match_reference(const std::vector<Triangle>& triangles, std::si
 
 TEST(SpatialRuns, RegularGridIsMostlyRowRunsAndMatchesTheEncoder) {
     const Animation grid = test::wave_grid(17, 9, 1);
-    const std::vector<SpatialRun> runs = spatial_plan(spatial_references(grid.vertex_count(), grid.topology.triangles)).runs;
+    const std::vector<SpatialRun> runs =
+        spatial_plan(spatial_references(grid.vertex_count(), grid.topology.triangles)).runs;
     std::size_t in_rows = 0;
     for (const SpatialRun& run : runs)
         if (run.kind == SpatialRun::Kind::row) in_rows += run.end - run.begin;
@@ -98,7 +99,8 @@ TEST(CubicPrediction, Int32AndInt64ArithmeticAgreeWithinTheBound) {
         }
         std::vector<std::int32_t> narrow(row), wide(row);
         predict_frame(layout.references[t], TemporalMode::layout, t, pointers.data(), row, largest, narrow.data());
-        predict_frame(layout.references[t], TemporalMode::layout, t, pointers.data(), row, std::int64_t(1) << 30, wide.data());
+        predict_frame(layout.references[t], TemporalMode::layout, t, pointers.data(), row, std::int64_t(1) << 30,
+                      wide.data());
         EXPECT_EQ(narrow, wide) << "largest " << largest;
     }
     EXPECT_FALSE(cubic_fits_int32(std::int64_t(1) << 27));

@@ -44,7 +44,8 @@ TEST_P(Streaming, PrefixesDecodeCoarserAndErrorFallsAsBytesArrive) {
         EXPECT_LE(error, previous_error * (1.0 + 1e-3)) << "cut at " << end;
         previous_error = error;
         if (first_error < 0.0) first_error = error;
-        for (std::size_t t = 0; t < s.playable_frames; ++t) ASSERT_EQ(partial.frames[t], full.frames[t]) << "frame " << t;
+        for (std::size_t t = 0; t < s.playable_frames; ++t)
+            ASSERT_EQ(partial.frames[t], full.frames[t]) << "frame " << t;
         // One frame alone (a player's access) is the same as in the whole animation, for
         // final and for interpolated frames alike.
         for (std::size_t t : {std::size_t(0), s.playable_frames, a.frame_count() / 2, a.frame_count() - 1})
@@ -158,7 +159,8 @@ TEST(StreamingDefault, FramesBetweenKeyframesBlendThem) {
         const float w = float(t % 16) / 16.0f;
         const std::vector<Vec3f> frame = d.frame(t);
         ASSERT_EQ(frame.size(), left.size());
-        for (std::size_t v = 0; v < frame.size(); ++v) ASSERT_EQ(frame[v], (1.0f - w) * left[v] + w * right[v]) << "frame " << t << ", vertex " << v;
+        for (std::size_t v = 0; v < frame.size(); ++v)
+            ASSERT_EQ(frame[v], (1.0f - w) * left[v] + w * right[v]) << "frame " << t << ", vertex " << v;
     }
 }
 
@@ -168,7 +170,7 @@ TEST(StreamingDefault, SmallMeshesGroupMoreFramesPerPacket) {
     EXPECT_EQ(default_stride_log2(240, 128 * 128), 4);
     EXPECT_EQ(default_stride_log2(240, 64 * 64), 5);
     EXPECT_EQ(default_stride_log2(240, 32 * 32), 7);
-    EXPECT_EQ(default_stride_log2(150, 81), 8);  // basicCloth: keyframes 0 and 149 only
+    EXPECT_EQ(default_stride_log2(150, 81), 8);     // basicCloth: keyframes 0 and 149 only
     EXPECT_EQ(default_stride_log2(10, 100000), 3);  // short animations as before: stride < T / 2
     EXPECT_EQ(default_stride_log2(1, 1), 0);
     EXPECT_EQ(default_stride_log2(std::size_t(1) << 28, 1), 17);  // within the header's limit of 20

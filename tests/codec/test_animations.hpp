@@ -19,7 +19,8 @@ inline Animation wave_grid(int nu, int nv, int frames) {
         for (int i = 0; i + 1 < nu; ++i) {
             const auto v = static_cast<std::uint32_t>(j * nu + i);
             a.topology.triangles.push_back({v, v + 1, v + static_cast<std::uint32_t>(nu)});
-            a.topology.triangles.push_back({v + 1, v + static_cast<std::uint32_t>(nu) + 1, v + static_cast<std::uint32_t>(nu)});
+            a.topology.triangles.push_back(
+                {v + 1, v + static_cast<std::uint32_t>(nu) + 1, v + static_cast<std::uint32_t>(nu)});
         }
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) a.topology.uvs.emplace_back(0.01f * float(i), 0.01f * float(j));

@@ -122,7 +122,8 @@ TEST(BSplineWavelet, WindowEnergyIsBitIdenticalToTheWholeVectorProduct) {
                 const double whole = full.dot(gram * full);
                 const double windowed = window_energy(gram, rows, first, q);
                 ASSERT_EQ(std::memcmp(&whole, &windowed, sizeof whole), 0)
-                    << "level " << level << " first " << first << " width " << width << ": " << whole << " vs " << windowed;
+                    << "level " << level << " first " << first << " width " << width << ": " << whole << " vs "
+                    << windowed;
             }
     }
 }

@@ -44,5 +44,6 @@ TEST(DiffCli, SizeMismatchExits3AndUnreadableExits4) {
     EXPECT_EQ(code_of(quoted(dir / "small.png") + " " + quoted(dir / "missing.png")), 4);
     EXPECT_EQ(code_of(quoted(dir / "junk.png") + " " + quoted(dir / "small.png")), 4);
     EXPECT_EQ(code_of(quoted(dir / "small.png") + " " + quoted(dir / "small.png")), 0);
-    EXPECT_EQ(code_of(quoted(dir / "small.png") + " " + quoted(dir / "small.png") + " -o " + quoted(dir / "no/dir.png")), 4);
+    EXPECT_EQ(
+        code_of(quoted(dir / "small.png") + " " + quoted(dir / "small.png") + " -o " + quoted(dir / "no/dir.png")), 4);
 }

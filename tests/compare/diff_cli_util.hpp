@@ -15,7 +15,8 @@ namespace foldcast::test {
 
 // A textured 8-bit picture and a copy with noise of +/- `noise` levels on `share` of the
 // pixels and one pixel changed by `spike` levels.
-inline void write_pair(const std::filesystem::path& a, const std::filesystem::path& b, int noise, double share, int spike) {
+inline void write_pair(const std::filesystem::path& a, const std::filesystem::path& b, int noise, double share,
+                       int spike) {
     cv::RNG rng(1234);
     cv::Mat img(48, 64, CV_8UC3);
     for (int y = 0; y < img.rows; ++y)
@@ -35,7 +36,8 @@ inline void write_pair(const std::filesystem::path& a, const std::filesystem::pa
     ASSERT_TRUE(cv::imwrite(b.string(), other));
 }
 
-inline nlohmann::json run_ours(const std::string& args, const std::filesystem::path& a, const std::filesystem::path& b, int* exit_code) {
+inline nlohmann::json run_ours(const std::string& args, const std::filesystem::path& a, const std::filesystem::path& b,
+                               int* exit_code) {
     const CommandResult r = run_command(foldcast_binary() + " diff --json " + args + " " + quoted(a) + " " + quoted(b));
     *exit_code = r.exit_code;
     return nlohmann::json::parse(r.out);

@@ -56,8 +56,10 @@ TEST(DiffMetrics, IdenticalImagesPassWithInfinitePsnr) {
 }
 
 TEST(DiffMetrics, SizeOrChannelMismatchThrows) {
-    EXPECT_THROW(compare::diff_images(constant_image(4, 4, 3, 0), constant_image(5, 4, 3, 0), {}), compare::SizeMismatch);
-    EXPECT_THROW(compare::diff_images(constant_image(4, 4, 3, 0), constant_image(4, 4, 4, 0), {}), compare::SizeMismatch);
+    EXPECT_THROW(compare::diff_images(constant_image(4, 4, 3, 0), constant_image(5, 4, 3, 0), {}),
+                 compare::SizeMismatch);
+    EXPECT_THROW(compare::diff_images(constant_image(4, 4, 3, 0), constant_image(4, 4, 4, 0), {}),
+                 compare::SizeMismatch);
 }
 
 TEST(Ssim, ConstantImagesGiveLuminanceTermOnly) {
@@ -86,9 +88,8 @@ TEST(Flip, BlackAgainstWhiteMatchesHandComputedColourError) {
     // Constant images: CSF filtering keeps them, features are zero, so FLIP = colour term.
     // CIELAB of sRGB primaries (D65): green (87.737, -86.185, 83.181), blue (32.303, 79.197, -107.864).
     auto hunt_ab = [](double L, double v) { return 0.01 * L * v; };
-    const double hyab_gb = std::abs(87.737 - 32.303) +
-                           std::hypot(hunt_ab(87.737, -86.185) - hunt_ab(32.303, 79.197),
-                                      hunt_ab(87.737, 83.181) - hunt_ab(32.303, -107.864));
+    const double hyab_gb = std::abs(87.737 - 32.303) + std::hypot(hunt_ab(87.737, -86.185) - hunt_ab(32.303, 79.197),
+                                                                  hunt_ab(87.737, 83.181) - hunt_ab(32.303, -107.864));
     const double cmax = std::pow(hyab_gb, 0.7);
     const double de = std::pow(100.0, 0.7);  // white L=100 vs black L=0, a=b=0
     const double expected = 0.95 + (de - 0.4 * cmax) / (cmax - 0.4 * cmax) * 0.05;

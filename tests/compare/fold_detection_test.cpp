@@ -158,7 +158,8 @@ compare::Image printed_cloth(double crest_y, bool with_print) {
             const float* albedo = navy;
             if (with_print) {
                 const bool stem = x >= 30 && x < 40 && y >= 20 && y < 130;
-                const bool bars = x >= 30 && x < 80 && ((y >= 20 && y < 30) || (y >= 70 && y < 80) || (y >= 120 && y < 130));
+                const bool bars =
+                    x >= 30 && x < 80 && ((y >= 20 && y < 30) || (y >= 70 && y < 80) || (y >= 120 && y < 130));
                 if (stem || bars) albedo = white;
                 if (std::hypot(x - 140, y - 100) < 25) albedo = yellow;
             }
@@ -176,7 +177,8 @@ TEST(FoldDetection, PrintsAreNotFoldsButTheFoldIsFound) {
     auto on_print = [](const Eigen::Vector2d& p) {
         auto inside = [](double x, double y) {
             const bool stem = x >= 30 && x < 40 && y >= 20 && y < 130;
-            const bool bars = x >= 30 && x < 80 && ((y >= 20 && y < 30) || (y >= 70 && y < 80) || (y >= 120 && y < 130));
+            const bool bars =
+                x >= 30 && x < 80 && ((y >= 20 && y < 30) || (y >= 70 && y < 80) || (y >= 120 && y < 130));
             return stem || bars || std::hypot(x - 140, y - 100) < 25;
         };
         for (double dy = -3; dy <= 3; dy += 1)

@@ -53,18 +53,18 @@ TEST(DiffCli, AgreesWithIdiffOnExitCodesAndFailCounts) {
     write_pair(a, same, 0, 0.0, 0);
     // Thresholds avoid ties with multiples of 1/255 (idiff compares in float).
     const std::vector<std::string> cases = {
-        "",                                                        // defaults: any change fails
-        "--fail 0.02",                                             // only the spike fails
-        "--fail 0.02 --failpercent 1",                             // 1 of 3072 allowed
-        "--fail 0.02 --failpercent 1 --warn 0.005 --warnpercent 50",  // noise warns, share allowed
-        "--fail 0.02 --failpercent 1 --warn 0.005 --warnpercent 5",   // too many warnings
-        "--fail 0.5 --hardfail 0.1",                               // the spike exceeds hardfail
-        "--fail 0.5 --warn 0.5 --hardwarn 0.1",                    // ... or hardwarn
-        "--fail 0.12 --hardfail 0.1",                              // the spike fails and is over hardfail
-        "--fail 0.1 --failpercent 1 --hardfail 0.12",              // within failpercent, over hardfail
-        "--fail 0.1 --failpercent 1 --hardfail 0.2",               // warning only
+        "",                                                             // defaults: any change fails
+        "--fail 0.02",                                                  // only the spike fails
+        "--fail 0.02 --failpercent 1",                                  // 1 of 3072 allowed
+        "--fail 0.02 --failpercent 1 --warn 0.005 --warnpercent 50",    // noise warns, share allowed
+        "--fail 0.02 --failpercent 1 --warn 0.005 --warnpercent 5",     // too many warnings
+        "--fail 0.5 --hardfail 0.1",                                    // the spike exceeds hardfail
+        "--fail 0.5 --warn 0.5 --hardwarn 0.1",                         // ... or hardwarn
+        "--fail 0.12 --hardfail 0.1",                                   // the spike fails and is over hardfail
+        "--fail 0.1 --failpercent 1 --hardfail 0.12",                   // within failpercent, over hardfail
+        "--fail 0.1 --failpercent 1 --hardfail 0.2",                    // warning only
         "--fail 0.002 --failpercent 30 --warn 0.002 --warnpercent 30",  // all within allowances
-        "--fail 0.002 --allowfailures 700",                        // idiff's allowance by count
+        "--fail 0.002 --allowfailures 700",                             // idiff's allowance by count
     };
     for (const std::string& args : cases) {
         std::string idiff_args;  // idiff spells its options with one dash

@@ -56,27 +56,27 @@ Eigen::Vector2d seen_at(const RenderedDrape& r, const Eigen::Vector3d& point) {
 // The scene, camera, model and overlay; `with_render` also path-traces the scene (once per
 // process: CTest runs each test in its own).
 RenderedDrape make_drape(bool with_render) {
-        RenderedDrape r;
-        r.scene = render::load_scene(std::filesystem::path(FOLDCAST_SOURCE_DIR) /
-                                     "tests/regression/scenes/front_drape.toml");
-        if (with_render) {
-            render::RenderOptions options;
-            options.aovs = {render::Aov::depth};
-            r.result = render::render_still(r.scene, options);
-            r.depth = &r.result.aovs.at(0).image;
-        }
-        r.camera = render::frame_camera(r.scene.camera, {}, double(r.scene.width) / r.scene.height);
-        const auto& g = r.scene.garment;
-        r.params = drape::cloth_from_look(r.scene.look.mechanics, g.width_m, g.height_m, g.inset_m);
-        r.solution = drape::solve_folds(r.params);
-        // The supports in pixels, where the camera sees them, as a user would click them.
-        const double half_span = 0.5 * r.params.support_span_m();
-        r.supports.first = seen_at(r, Eigen::Vector3d(-half_span, 0, 0));
-        r.supports.second = seen_at(r, Eigen::Vector3d(half_span, 0, 0));
-        // What `foldcast overlay --supports ... --width-m --height-m --inset-m` draws.
-        r.map = compare::similarity_from_supports(r.supports, r.params.support_span_m());
-        r.lines = compare::project_fold_lines(drape::fold_lines(r.params, r.solution, 513), r.solution.folds, r.map);
-        return r;
+    RenderedDrape r;
+    r.scene =
+        render::load_scene(std::filesystem::path(FOLDCAST_SOURCE_DIR) / "tests/regression/scenes/front_drape.toml");
+    if (with_render) {
+        render::RenderOptions options;
+        options.aovs = {render::Aov::depth};
+        r.result = render::render_still(r.scene, options);
+        r.depth = &r.result.aovs.at(0).image;
+    }
+    r.camera = render::frame_camera(r.scene.camera, {}, double(r.scene.width) / r.scene.height);
+    const auto& g = r.scene.garment;
+    r.params = drape::cloth_from_look(r.scene.look.mechanics, g.width_m, g.height_m, g.inset_m);
+    r.solution = drape::solve_folds(r.params);
+    // The supports in pixels, where the camera sees them, as a user would click them.
+    const double half_span = 0.5 * r.params.support_span_m();
+    r.supports.first = seen_at(r, Eigen::Vector3d(-half_span, 0, 0));
+    r.supports.second = seen_at(r, Eigen::Vector3d(half_span, 0, 0));
+    // What `foldcast overlay --supports ... --width-m --height-m --inset-m` draws.
+    r.map = compare::similarity_from_supports(r.supports, r.params.support_span_m());
+    r.lines = compare::project_fold_lines(drape::fold_lines(r.params, r.solution, 513), r.solution.folds, r.map);
+    return r;
 }
 
 const RenderedDrape& model_only() {
@@ -161,8 +161,8 @@ TEST(OverlayOnRender, PredictedLinesMatchThePerspectiveProjectionOfTheFoldLines)
 // The rendered folds measured against a set of predicted lines, column by column.
 struct FoldMatch {
     int checked = 0, crests = 0, valleys = 0, lowest = 0;
-    int missed = 0;           // no extremum in the search window
-    int wrong_height = 0;     // an extremum whose z is far from the model's
+    int missed = 0;        // no extremum in the search window
+    int wrong_height = 0;  // an extremum whose z is far from the model's
     double max_px = 0.0, sum_px = 0.0;
     std::string worst;
 };
@@ -261,7 +261,8 @@ FoldMatch match_rendered_folds(const RenderedDrape& r, const std::vector<compare
             if (error > m.max_px) {
                 m.max_px = error;
                 m.worst = "column " + std::to_string(column) + ", line " + std::to_string(line.index) +
-                          ": predicted row " + std::to_string(rows[i]) + ", rendered fold at row " + std::to_string(found);
+                          ": predicted row " + std::to_string(rows[i]) + ", rendered fold at row " +
+                          std::to_string(found);
             }
         }
     }
@@ -271,9 +272,10 @@ FoldMatch match_rendered_folds(const RenderedDrape& r, const std::vector<compare
 TEST(OverlayOnRender, PredictedLinesLieOnTheRenderedFoldsWithinTwoPixelsAndAScaleErrorDoesNot) {
     const auto& r = rendered_drape();
     const FoldMatch m = match_rendered_folds(r, r.lines);
-    std::printf("overlay vs render: %d column crossings (%d crest, %d valley, %d on the lowest fold), "
-                "mean %.2f px, max %.2f px (%s)\n",
-                m.checked, m.crests, m.valleys, m.lowest, m.checked ? m.sum_px / m.checked : 0.0, m.max_px, m.worst.c_str());
+    std::printf(
+        "overlay vs render: %d column crossings (%d crest, %d valley, %d on the lowest fold), "
+        "mean %.2f px, max %.2f px (%s)\n",
+        m.checked, m.crests, m.valleys, m.lowest, m.checked ? m.sum_px / m.checked : 0.0, m.max_px, m.worst.c_str());
     EXPECT_GT(m.crests, 100);
     EXPECT_GT(m.valleys, 100);
     EXPECT_GT(m.lowest, 50);
@@ -284,7 +286,8 @@ TEST(OverlayOnRender, PredictedLinesLieOnTheRenderedFoldsWithinTwoPixelsAndAScal
     // The check can fail: the overlay drawn for a support span 4 % too long (as if the inset
     // were misjudged by 7 mm) misses the rendered folds by more than 2 px.
     const auto wrong_map = compare::similarity_from_supports(r.supports, 1.04 * r.params.support_span_m());
-    const auto wrong = compare::project_fold_lines(drape::fold_lines(r.params, r.solution, 513), r.solution.folds, wrong_map);
+    const auto wrong =
+        compare::project_fold_lines(drape::fold_lines(r.params, r.solution, 513), r.solution.folds, wrong_map);
     const FoldMatch off = match_rendered_folds(r, wrong);
     std::printf("overlay with a 4 %% span error vs render: max %.2f px, mean %.2f px\n", off.max_px,
                 off.checked ? off.sum_px / off.checked : 0.0);
@@ -337,7 +340,8 @@ TEST(OverlayOnRender, DrawnCrestsLieOnTheirPredictedPixels) {
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const int x = int(std::lround(p.x())) + dx, y = int(std::lround(p.y())) + dy;
-                    darkest = std::min(darkest, std::max({overlay.at(x, y, 0), overlay.at(x, y, 1), overlay.at(x, y, 2)}));
+                    darkest =
+                        std::min(darkest, std::max({overlay.at(x, y, 0), overlay.at(x, y, 1), overlay.at(x, y, 2)}));
                 }
             if (darkest < 0.05f) ++black;
         }
@@ -345,7 +349,6 @@ TEST(OverlayOnRender, DrawnCrestsLieOnTheirPredictedPixels) {
     ASSERT_GT(checked, 50);
     EXPECT_EQ(black, checked);
 }
-
 
 // The detector against a render of the same drape with a printed texture (a white block
 // letter and a yellow disc on navy, one tile over the whole cloth) under a uniform sky only:
@@ -374,7 +377,8 @@ const PrintedRender& printed_render() {
                 const bool stem = u > 0.20 && u < 0.26 && v > 0.15 && v < 0.65;
                 const bool bars = u > 0.20 && u < 0.45 && ((v > 0.15 && v < 0.21) || (v > 0.37 && v < 0.43));
                 const bool disc = std::hypot(u - 0.68, v - 0.45) < 0.12;
-                const float navy[3] = {0.10f, 0.12f, 0.45f}, white[3] = {0.9f, 0.9f, 0.9f}, yellow[3] = {0.9f, 0.85f, 0.1f};
+                const float navy[3] = {0.10f, 0.12f, 0.45f}, white[3] = {0.9f, 0.9f, 0.9f},
+                            yellow[3] = {0.9f, 0.85f, 0.1f};
                 const float* c = stem || bars ? white : disc ? yellow : navy;
                 for (int k = 0; k < 3; ++k) texture.at(x, y, k) = c[k];
             }
@@ -410,7 +414,8 @@ const PrintedRender& printed_render() {
                 if (change > 0.2 && cloth)
                     for (int dy = -2; dy <= 2; ++dy)
                         for (int dx = -2; dx <= 2; ++dx) {
-                            const int xx = std::clamp(x + dx, 0, scene.width - 1), yy = std::clamp(y + dy, 0, scene.height - 1);
+                            const int xx = std::clamp(x + dx, 0, scene.width - 1),
+                                      yy = std::clamp(y + dy, 0, scene.height - 1);
                             out.print_edge[size_t(yy) * scene.width + xx] = true;
                         }
             }
@@ -430,7 +435,7 @@ TEST(DetectorOnRender, FindsThePrintedDrapesFoldsWithinTwoPixelsAndNoneOnThePrin
             mask.at(x, y, 0) = printed.result.beauty.at(x, y)[3] > 0.5f ? 1.0f : 0.0f;
             print_edge_pixels += printed.print_edge[size_t(y) * w + x];
         }
-    ASSERT_GT(print_edge_pixels, 300);  // the print is in the picture
+    ASSERT_GT(print_edge_pixels, 300);            // the print is in the picture
     const compare::FoldDetectionOptions options;  // the defaults `foldcast folds` uses
     const auto detection = compare::detect_folds(printed.photo, mask, options);
     auto off_fold = [&](const Eigen::Vector2d& p) {
@@ -447,14 +452,16 @@ TEST(DetectorOnRender, FindsThePrintedDrapesFoldsWithinTwoPixelsAndNoneOnThePrin
             const double d = off_fold(p);
             worst = std::max(worst, d);
             far += d > kTolerancePx;
-            const int x = std::clamp(int(std::lround(p.x())), 0, w - 1), y = std::clamp(int(std::lround(p.y())), 0, h - 1);
+            const int x = std::clamp(int(std::lround(p.x())), 0, w - 1),
+                      y = std::clamp(int(std::lround(p.y())), 0, h - 1);
             on_print_edge += printed.print_edge[size_t(y) * w + x] && d > kTolerancePx;
             ++points;
             if (i > 0) length += (p - f.points_px[i - 1]).norm();
         }
-    std::printf("detector on the printed render: %zu lines, %.0f px long, %d points, worst %.2f px from a fold, "
-                "%d farther than 2 px, %d on the print's outlines\n",
-                detection.folds.size(), length, points, worst, far, on_print_edge);
+    std::printf(
+        "detector on the printed render: %zu lines, %.0f px long, %d points, worst %.2f px from a fold, "
+        "%d farther than 2 px, %d on the print's outlines\n",
+        detection.folds.size(), length, points, worst, far, on_print_edge);
     // Under a uniform sky the folds in the middle of the cloth shade softly: the default
     // thresholds find the strongest fold (beside the right support, ~75 px), not all of them.
     EXPECT_GT(length, 50.0);
@@ -471,7 +478,8 @@ TEST(DetectorOnRender, FindsThePrintedDrapesFoldsWithinTwoPixelsAndNoneOnThePrin
     int on_print_kept = 0;
     for (const auto& f : compare::detect_folds(printed.photo, mask, keep).folds)
         for (const auto& p : f.points_px) {
-            const int x = std::clamp(int(std::lround(p.x())), 0, w - 1), y = std::clamp(int(std::lround(p.y())), 0, h - 1);
+            const int x = std::clamp(int(std::lround(p.x())), 0, w - 1),
+                      y = std::clamp(int(std::lround(p.y())), 0, h - 1);
             on_print_kept += printed.print_edge[size_t(y) * w + x] && off_fold(p) > kTolerancePx;
         }
     std::printf("without the print separation: %d points on the print's outlines\n", on_print_kept);

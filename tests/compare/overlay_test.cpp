@@ -22,8 +22,8 @@ TEST(OverlayMapping, SupportsLandOnTheirPixelsAndScaleIsSpanOverDistance) {
     const auto level = compare::similarity_from_supports({{0, 0}, {100, 0}}, 1.0);
     EXPECT_NEAR(level(0, -0.5).y(), 50.0, 1e-9);
     // A homography through four corners maps them exactly.
-    const std::array<Eigen::Vector2d, 4> c{Eigen::Vector2d(100, 50), Eigen::Vector2d(300, 60), Eigen::Vector2d(290, 330),
-                                           Eigen::Vector2d(110, 320)};
+    const std::array<Eigen::Vector2d, 4> c{Eigen::Vector2d(100, 50), Eigen::Vector2d(300, 60),
+                                           Eigen::Vector2d(290, 330), Eigen::Vector2d(110, 320)};
     const auto h = compare::homography_from_corners(c, 0.4, 0.7);
     EXPECT_LT((h(-0.2, 0) - c[0]).norm(), 1e-3);
     EXPECT_LT((h(0.2, -0.7) - c[2]).norm(), 1e-3);
@@ -61,8 +61,8 @@ TEST(OverlayScore, LinesDrawnFromTheProjectionAreDetectedWithinTwoPixels) {
     const auto detection = compare::detect_folds(photo, constant_image(320, 240, 1, 1.0f));
     const compare::CentreLine centre;
     const auto score = compare::score_folds(lines, detection, centre, map.px_per_m, 2.0);
-    EXPECT_GT(score.recall, 0.95);     // detected points within 2 px of a predicted line
-    EXPECT_GT(score.precision, 0.6);   // the folds crowd near the supports, where lines merge
+    EXPECT_GT(score.recall, 0.95);    // detected points within 2 px of a predicted line
+    EXPECT_GT(score.precision, 0.6);  // the folds crowd near the supports, where lines merge
     EXPECT_LT(score.chamfer_cm, 100.0 * 2.0 / map.px_per_m);
     // A wrong scale scores worse.
     const auto wrong = compare::project_fold_lines(drape::fold_lines(p, solution), solution.folds,
@@ -75,7 +75,9 @@ TEST(OverlayCli, DrawsSameSizeAndRejectsSupportsOutside) {
     const std::string photo = test::quoted(test::test_data("photos/two_point_shirt_s5_half.jpg"));
     const std::string out = test::quoted(dir / "o.png");
     const std::string base = test::foldcast_binary() + " overlay " + photo + " -o " + out;
-    EXPECT_EQ(test::run_command(base + " --supports 197.5,50,357.5,48.5 --width-m 0.5 --height-m 0.7 --inset-m 0.1").exit_code, 0);
+    EXPECT_EQ(test::run_command(base + " --supports 197.5,50,357.5,48.5 --width-m 0.5 --height-m 0.7 --inset-m 0.1")
+                  .exit_code,
+              0);
     const auto img = compare::read_image(dir / "o.png");
     EXPECT_EQ(img.width, 552);
     EXPECT_EQ(img.height, 311);
@@ -85,5 +87,7 @@ TEST(OverlayCli, DrawsSameSizeAndRejectsSupportsOutside) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1);  // one line
     EXPECT_EQ(test::run_command(base + " --supports 1,2,3 --width-m 0.5 --height-m 0.7 2>/dev/null").exit_code, 2);
     EXPECT_EQ(test::run_command(test::foldcast_binary() + " overlay missing.jpg -o " + out +
-                                " --supports 1,2,30,4 --width-m 0.5 --height-m 0.7 2>/dev/null").exit_code, 2);
+                                " --supports 1,2,30,4 --width-m 0.5 --height-m 0.7 2>/dev/null")
+                  .exit_code,
+              2);
 }

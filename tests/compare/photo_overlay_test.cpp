@@ -44,7 +44,8 @@ Synthetic make_synthetic(double inset_m, double young_pa) {
     s.params.young_pa = young_pa;
     s.solution = drape::solve_folds(s.params);
     const double px_per_m = 700.0, span_px = px_per_m * s.params.support_span_m();
-    const int w = static_cast<int>(std::ceil(span_px + 160)), h = static_cast<int>(std::ceil(60 + px_per_m * 0.45 + 60));
+    const int w = static_cast<int>(std::ceil(span_px + 160)),
+              h = static_cast<int>(std::ceil(60 + px_per_m * 0.45 + 60));
     s.supports = {{80, 60}, {80 + span_px, 60}};
     s.map = compare::similarity_from_supports(s.supports, s.params.support_span_m());
     s.lines = compare::project_fold_lines(drape::fold_lines(s.params, s.solution, 257), s.solution.folds, s.map);
@@ -117,7 +118,8 @@ TEST(OverlayScore, ThreeTimesTheVisibleFoldsScoresWorseThanTheRightCount) {
         for (int k = 1; k <= 2; ++k) {
             compare::PredictedLine mid{int(dense.size()), dense.size() % 2 == 0 ? 1 : -1, false, {}};
             for (size_t j = 0; j < all[i].points_px.size(); ++j)
-                mid.points_px.push_back(all[i].points_px[j] + (all[i + 1].points_px[j] - all[i].points_px[j]) * (k / 3.0));
+                mid.points_px.push_back(all[i].points_px[j] +
+                                        (all[i + 1].points_px[j] - all[i].points_px[j]) * (k / 3.0));
             dense.push_back(mid);
         }
     }
@@ -170,8 +172,11 @@ TEST(OverlayFit, FindsTheFoldCountAndInsetTheSyntheticPhotoWasDrawnWith) {
     bounds.young_min_pa = start.young_pa / 10;
     bounds.young_max_pa = start.young_pa * 10;
     bounds.young_steps = 9;
-    auto map_for = [&](const drape::ClothParams& p) { return compare::similarity_from_supports(s.supports, p.support_span_m()); };
-    const auto fit = compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
+    auto map_for = [&](const drape::ClothParams& p) {
+        return compare::similarity_from_supports(s.supports, p.support_span_m());
+    };
+    const auto fit =
+        compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
     EXPECT_EQ(fit.solution.folds, s.solution.folds);
     EXPECT_NEAR(fit.params.inset_m, 0.1, 0.0251);
     EXPECT_LE(fit.inset_m.low, 0.1 + 1e-9);
@@ -186,7 +191,8 @@ TEST(OverlayFit, FindsTheFoldCountAndInsetTheSyntheticPhotoWasDrawnWith) {
     bounds.inset_min_m = 0.0;
     bounds.inset_max_m = 0.05;
     bounds.inset_steps = 3;
-    const auto edge = compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
+    const auto edge =
+        compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
     EXPECT_LT(edge.score.agreement, fit.score.agreement);
     const bool at_bound = std::abs(edge.params.inset_m - bounds.inset_min_m) < 1e-9 ||
                           std::abs(edge.params.inset_m - bounds.inset_max_m) < 1e-9;
@@ -215,12 +221,14 @@ TEST(PhotoOverlay, GeometryFromTheMaskLinesOnTheClothAndErrors) {
     ASSERT_TRUE(result.score.has_value());
     EXPECT_EQ(result.score->count_error, 0);
     for (const auto& l : result.lines)
-        for (const auto& p : l.points_px) EXPECT_EQ(s.mask.at(int(std::lround(p.x())), int(std::lround(p.y())), 0), 1.0f);
+        for (const auto& p : l.points_px)
+            EXPECT_EQ(s.mask.at(int(std::lround(p.x())), int(std::lround(p.y())), 0), 1.0f);
     EXPECT_EQ(result.picture.width, s.photo.width);
     // The legend sits off the cloth: on a photo with room beside the cloth, drawn without
     // lines, the picture changes no cloth pixel away from the support rings.
     const int wide = s.photo.width + 500;
-    compare::Image photo_wide = constant_image(wide, s.photo.height, 3, 0.9f), mask_wide = constant_image(wide, s.photo.height, 1, 0.0f);
+    compare::Image photo_wide = constant_image(wide, s.photo.height, 3, 0.9f),
+                   mask_wide = constant_image(wide, s.photo.height, 1, 0.0f);
     for (int y = 0; y < s.photo.height; ++y)
         for (int x = 0; x < s.photo.width; ++x) {
             mask_wide.at(x, y, 0) = s.mask.at(x, y, 0);

@@ -80,7 +80,7 @@ TEST(OutputTransaction, AllFilesOrNone) {
         t.stage(dir / "a.txt") << "new-a";
         t.stage(dir / "b.txt") << "new-b";
         EXPECT_EQ(entries(dir), 4u);  // two targets, two temporaries
-    }  // abandoned
+    }                                 // abandoned
     EXPECT_EQ(read_all(dir / "a.txt"), "old-a");
     EXPECT_EQ(read_all(dir / "b.txt"), "old-b");
     EXPECT_EQ(entries(dir), 2u);

@@ -38,9 +38,7 @@ TEST(Obj, ReadsBlenderExport) {
     EXPECT_TRUE(m.topology.uvs.empty());
 }
 
-TEST(Obj, MissingFileIsInputError) {
-    EXPECT_THROW(read_obj("/nonexistent/x.obj"), InputError);
-}
+TEST(Obj, MissingFileIsInputError) { EXPECT_THROW(read_obj("/nonexistent/x.obj"), InputError); }
 
 TEST(Ply, HeaderAndSize) {
     const auto dir = test::temp_dir();
@@ -97,9 +95,9 @@ TEST(Pc2, AnimationWithTopologyBeside) {
 }
 
 TEST(Pc2, MismatchedTopologyIsInputError) {
-    EXPECT_THROW(read_pc2_animation(test::test_data("animations/basicCloth.pc2"),
-                                    test::test_data("animations/missing.obj")),
-                 InputError);
+    EXPECT_THROW(
+        read_pc2_animation(test::test_data("animations/basicCloth.pc2"), test::test_data("animations/missing.obj")),
+        InputError);
 }
 
 }  // namespace

@@ -6,9 +6,7 @@
 namespace foldcast {
 namespace {
 
-std::vector<Vec3f> quad_positions() {
-    return {Vec3f(0, 0, 0), Vec3f(1, 0, 0), Vec3f(1, 1, 0), Vec3f(0, 1, 0)};
-}
+std::vector<Vec3f> quad_positions() { return {Vec3f(0, 0, 0), Vec3f(1, 0, 0), Vec3f(1, 1, 0), Vec3f(0, 1, 0)}; }
 
 TEST(VertexNormals, FlatQuadFacesPlusZ) {
     const auto n = vertex_normals(quad_positions(), {{0, 1, 2}, {0, 2, 3}});

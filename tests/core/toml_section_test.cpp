@@ -38,7 +38,8 @@ TEST(TomlSection, WrongTypesAndRangesNameFileLineKeyAndAllowed) {
     std::string m = message_of([&] { s.number("a", {2.0, 3.0, false, true, "mm"}); });
     EXPECT_NE(m.find("scene.toml:1: output.a = 1 is out of range: allowed (2, 3] mm"), std::string::npos) << m;
     m = message_of([&] { s.integer("b", 1, 5); });
-    EXPECT_NE(m.find("scene.toml:2: output.b = \"wide\" has the wrong type: expected an integer"), std::string::npos) << m;
+    EXPECT_NE(m.find("scene.toml:2: output.b = \"wide\" has the wrong type: expected an integer"), std::string::npos)
+        << m;
     m = message_of([&] { s.integers("grid", 2, 2, 4096); });
     EXPECT_NE(m.find("output.grid"), std::string::npos) << m;
     EXPECT_NE(m.find("integers"), std::string::npos) << m;
@@ -52,7 +53,8 @@ TEST(TomlSection, UnknownKeysListTheAllowedOnesInOrder) {
     s.integer("width", 1, 10);
     s.integer("height", 1, 10);
     const std::string m = message_of([&] { s.finish(); });
-    EXPECT_NE(m.find("scene.toml:2: unknown key 'output.widht'; allowed in [output]: width, height"), std::string::npos) << m;
+    EXPECT_NE(m.find("scene.toml:2: unknown key 'output.widht'; allowed in [output]: width, height"), std::string::npos)
+        << m;
     TomlSection early(t, "", "f.toml");
     EXPECT_THROW(early.check_keys({"width"}), InputError);  // before any value is read
 }

@@ -46,8 +46,8 @@ std::string describe(const Fabric& f) {
 // Along a fine sweep of one parameter: S < 1 always gives n >= 1 (a wrinkled answer),
 // S >= 1 gives n = 0, and n never moves against `increasing`.  Returns how many distinct
 // counts the sweep met, so a sweep that changes nothing cannot pass for a trend.
-int check_sweep(const Fabric& base, const std::vector<double>& values,
-                const std::function<void(Fabric&, double)>& set, bool increasing, const char* what) {
+int check_sweep(const Fabric& base, const std::vector<double>& values, const std::function<void(Fabric&, double)>& set,
+                bool increasing, const char* what) {
     int previous = -1, changes = 0;
     for (double value : values) {
         Fabric f = base;
@@ -75,28 +75,37 @@ constexpr int kSteps = 80;
 
 TEST(Closure, ThicknessSweep) {
     for (const Fabric& base : kBases)
-        EXPECT_GE(check_sweep(base, geometric(0.03, 2.0, kSteps), [](Fabric& f, double v) { f.thickness_mm = v; },
-                              false, "thickness_mm"), 3);
+        EXPECT_GE(check_sweep(
+                      base, geometric(0.03, 2.0, kSteps), [](Fabric& f, double v) { f.thickness_mm = v; }, false,
+                      "thickness_mm"),
+                  3);
 }
 TEST(Closure, ModulusSweep) {
     for (const Fabric& base : kBases)
-        EXPECT_GE(check_sweep(base, geometric(0.05, 500.0, kSteps), [](Fabric& f, double v) { f.young_mpa = v; },
-                              false, "young_mpa"), 3);
+        EXPECT_GE(
+            check_sweep(
+                base, geometric(0.05, 500.0, kSteps), [](Fabric& f, double v) { f.young_mpa = v; }, false, "young_mpa"),
+            3);
 }
 TEST(Closure, WeightSweep) {
     for (const Fabric& base : kBases)
-        EXPECT_GE(check_sweep(base, geometric(15.0, 600.0, kSteps), [](Fabric& f, double v) { f.gsm = v; },
-                              true, "gsm"), 2);
+        EXPECT_GE(check_sweep(
+                      base, geometric(15.0, 600.0, kSteps), [](Fabric& f, double v) { f.gsm = v; }, true, "gsm"),
+                  2);
 }
 TEST(Closure, HeightSweep) {
     for (const Fabric& base : kBases)
-        EXPECT_GE(check_sweep(base, geometric(0.05, 2.5, kSteps), [](Fabric& f, double v) { f.height_m = v; },
-                              true, "height_m"), 3);
+        EXPECT_GE(
+            check_sweep(
+                base, geometric(0.05, 2.5, kSteps), [](Fabric& f, double v) { f.height_m = v; }, true, "height_m"),
+            3);
 }
 TEST(Closure, InsetSweep) {  // more slack at the same width: fewer folds
     for (const Fabric& base : kBases)
-        EXPECT_GE(check_sweep(base, geometric(0.002, 0.48 * base.width_m, kSteps),
-                              [](Fabric& f, double v) { f.inset_m = v; }, false, "inset_m"), 3);
+        EXPECT_GE(check_sweep(
+                      base, geometric(0.002, 0.48 * base.width_m, kSteps), [](Fabric& f, double v) { f.inset_m = v; },
+                      false, "inset_m"),
+                  3);
 }
 
 // The example against the thickness: 0.09 mm gave 12 folds, 0.26 mm none, 0.40 mm 2.

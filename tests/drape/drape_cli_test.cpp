@@ -24,8 +24,9 @@ struct Result {
 // `foldcast drape --quiet ARGUMENTS` run in `dir`, stdout and stderr apart.
 Result run(const std::string& arguments, const fs::path& dir) {
     const fs::path err = dir / "stderr.txt";
-    const foldcast::test::CommandResult ran = foldcast::test::run_command(
-        "cd '" + dir.string() + "' && " + foldcast::test::foldcast_binary() + " drape --quiet " + arguments + " 2> '" + err.string() + "'");
+    const foldcast::test::CommandResult ran =
+        foldcast::test::run_command("cd '" + dir.string() + "' && " + foldcast::test::foldcast_binary() +
+                                    " drape --quiet " + arguments + " 2> '" + err.string() + "'");
     Result result{ran.exit_code, ran.out, {}};
     std::ifstream in(err);
     result.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -41,9 +42,10 @@ std::size_t file_count(const fs::path& dir) {
 
 TEST(DrapeCli, JsonReportMatchesTheLibrary) {
     const fs::path dir = foldcast::test::temp_dir();
-    const Result r = run("--json --verbose --width-m 0.6 --height-m 0.9 --inset-m 0.12 --thickness-mm 0.25 "
-                         "--young-mpa 4 --gsm 180 --grid 24x30",
-                         dir);
+    const Result r =
+        run("--json --verbose --width-m 0.6 --height-m 0.9 --inset-m 0.12 --thickness-mm 0.25 "
+            "--young-mpa 4 --gsm 180 --grid 24x30",
+            dir);
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     foldcast::looks::Mechanics m;
@@ -164,9 +166,10 @@ TEST(DrapeCli, LookGivesTheMechanicsAndFlagsOverrideIt) {
 
 TEST(DrapeCli, SupportsAndDrop) {
     const fs::path dir = foldcast::test::temp_dir();
-    const Result r = run("--json --supports 5 --support-drop-m 0.05 --width-m 1.2 --height-m 1 --inset-m 0.08 "
-                         "--grid 33x20 -o curtain.obj",
-                         dir);
+    const Result r =
+        run("--json --supports 5 --support-drop-m 0.05 --width-m 1.2 --height-m 1 --inset-m 0.08 "
+            "--grid 33x20 -o curtain.obj",
+            dir);
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["cloth"]["supports"].get<int>(), 5);
@@ -180,7 +183,8 @@ TEST(DrapeCli, SupportsAndDrop) {
         const Result e = run(bad, dir);
         EXPECT_EQ(e.status, 2) << bad << ": " << e.err;
         EXPECT_NE(e.err.find(std::string(bad).find("grid") != std::string::npos ? "grid" : "--support"),
-                  std::string::npos) << bad << ": " << e.err;
+                  std::string::npos)
+            << bad << ": " << e.err;
     }
     fs::remove_all(dir);
 }

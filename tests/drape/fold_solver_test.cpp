@@ -12,14 +12,13 @@ namespace foldcast::drape {
 namespace {
 
 // Adaptive Simpson quadrature, independent of the elliptic-integral closed form.
-double simpson(const std::function<double(double)>& f, double a, double b, double fa, double fm,
-               double fb, double whole, double tol, int depth) {
+double simpson(const std::function<double(double)>& f, double a, double b, double fa, double fm, double fb,
+               double whole, double tol, int depth) {
     const double m = 0.5 * (a + b), lm = 0.5 * (a + m), rm = 0.5 * (m + b);
     const double flm = f(lm), frm = f(rm);
     const double left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
     const double right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
-    if (depth <= 0 || std::abs(left + right - whole) <= 15.0 * tol)
-        return left + right + (left + right - whole) / 15.0;
+    if (depth <= 0 || std::abs(left + right - whole) <= 15.0 * tol) return left + right + (left + right - whole) / 15.0;
     return simpson(f, a, m, fa, flm, fm, left, 0.5 * tol, depth - 1) +
            simpson(f, m, b, fm, frm, fb, right, 0.5 * tol, depth - 1);
 }
@@ -47,8 +46,8 @@ double centre_fibre(const FoldSolution& s) {
     return sum;
 }
 
-ClothParams fabric(double thickness_mm, double young_mpa, double gsm, double height_m,
-                   double width_m = 0.5, double inset_m = 0.1) {
+ClothParams fabric(double thickness_mm, double young_mpa, double gsm, double height_m, double width_m = 0.5,
+                   double inset_m = 0.1) {
     looks::Mechanics m;
     m.thickness_mm = thickness_mm;
     m.young_mpa = young_mpa;
@@ -81,8 +80,8 @@ TEST(CriticalStress, QSatisfiesTheEquationDirectly) {
                 const ClothParams p = fabric(t_mm, e_mpa, 150.0, h);
                 const double l = p.support_span_m();
                 // sigma_cr written out from docs/drape.md, not through critical_stress_pa.
-                const double sigma_cr = p.load_constant * p.young_pa * std::pow(p.thickness_m, 2) /
-                                        (l * l * (1.0 - p.poisson * p.poisson));
+                const double sigma_cr =
+                    p.load_constant * p.young_pa * std::pow(p.thickness_m, 2) / (l * l * (1.0 - p.poisson * p.poisson));
                 const double s = sigma_cr * p.thickness_m / (p.weight_n_per_m2 * p.height_m);
                 EXPECT_NEAR(stress_ratio(p), s, 1e-12 * s);
                 const FoldSolution sol = solve_folds(p);
@@ -92,8 +91,8 @@ TEST(CriticalStress, QSatisfiesTheEquationDirectly) {
                 }
                 const double q = sol.Q;
                 ASSERT_GT(q, 1.0);
-                const double lhs = p.weight_n_per_m2 * p.height_m * (q - 1.0) * (q - 1.0) /
-                                   (p.thickness_m * q * (q + 1.0));
+                const double lhs =
+                    p.weight_n_per_m2 * p.height_m * (q - 1.0) * (q - 1.0) / (p.thickness_m * q * (q + 1.0));
                 EXPECT_NEAR(lhs, sigma_cr, 1e-10 * sigma_cr) << t_mm << " " << e_mpa << " " << h;
             }
 }

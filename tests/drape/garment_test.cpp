@@ -53,7 +53,8 @@ TEST(Garment, SupportsAtTheSupportPointsAndTopEdgeOnTheTopFoldLine) {
     double hem_length = 0.0;
     for (int i = 1; i < grid.nu; ++i)
         hem_length += (g.mesh.positions[std::size_t((grid.nv - 1) * grid.nu + i)] -
-                       g.mesh.positions[std::size_t((grid.nv - 1) * grid.nu + i - 1)]).norm();
+                       g.mesh.positions[std::size_t((grid.nv - 1) * grid.nu + i - 1)])
+                          .norm();
     EXPECT_NEAR(hem_length, p.width_m, 2e-3 * p.width_m);
 }
 
@@ -131,7 +132,9 @@ TEST(Garment, SmoothAtGridResolution) {
         const Garment g = build_garment(p, solve_folds(p), grid, relax);
         double worst = 0.0;
         for (int j = 1; j + 1 < grid.nv; ++j) {
-            const auto at = [&](int row) { return g.mesh.positions[std::size_t(row * grid.nu + grid.nu / 2)].cast<double>(); };
+            const auto at = [&](int row) {
+                return g.mesh.positions[std::size_t(row * grid.nu + grid.nu / 2)].cast<double>();
+            };
             const Eigen::Vector3d a = at(j) - at(j - 1), b = at(j + 1) - at(j);
             worst = std::max(worst, std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
         }

@@ -59,16 +59,20 @@ void expect_monotone(const std::vector<double>& values, const std::function<void
 }
 
 TEST(Monotonic, MoreFoldsForTallerCloth) {
-    expect_monotone(geometric(0.3, 1.5, 25), [](Fabric& f, double v) { f.height_m = v; }, true, "height_m");
+    expect_monotone(
+        geometric(0.3, 1.5, 25), [](Fabric& f, double v) { f.height_m = v; }, true, "height_m");
 }
 TEST(Monotonic, MoreFoldsForHeavierCloth) {
-    expect_monotone(geometric(50, 400, 25), [](Fabric& f, double v) { f.gsm = v; }, true, "gsm");
+    expect_monotone(
+        geometric(50, 400, 25), [](Fabric& f, double v) { f.gsm = v; }, true, "gsm");
 }
 TEST(Monotonic, FewerFoldsForThickerCloth) {
-    expect_monotone(geometric(0.1, 1.0, 25), [](Fabric& f, double v) { f.thickness_mm = v; }, false, "thickness_mm");
+    expect_monotone(
+        geometric(0.1, 1.0, 25), [](Fabric& f, double v) { f.thickness_mm = v; }, false, "thickness_mm");
 }
 TEST(Monotonic, FewerFoldsForStifferCloth) {
-    expect_monotone(geometric(1, 50, 25), [](Fabric& f, double v) { f.young_mpa = v; }, false, "young_mpa");
+    expect_monotone(
+        geometric(1, 50, 25), [](Fabric& f, double v) { f.young_mpa = v; }, false, "young_mpa");
 }
 
 // Slack L - l with the support span l fixed (so Q is fixed): the folds get fewer and deeper.

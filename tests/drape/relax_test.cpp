@@ -57,8 +57,9 @@ TEST(Relax, FoldLayoutSurvives) {
                 // there (docs/drape.md, "Relaxation"); every other crest holds it.
                 const bool lowest = k + 1 == folds.crest_heights_m.size();
                 EXPECT_NEAR(folds.crest_heights_m[k], model, relax && lowest ? 0.06 : 0.015) << what << " crest " << k;
-                if (relax && lowest) std::printf("%s lowest crest %+.4f m from the model\n", name.c_str(),
-                                                 folds.crest_heights_m[k] - model);
+                if (relax && lowest)
+                    std::printf("%s lowest crest %+.4f m from the model\n", name.c_str(),
+                                folds.crest_heights_m[k] - model);
             }
         }
     }

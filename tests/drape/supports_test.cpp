@@ -130,8 +130,7 @@ TEST(Supports, AnimationEndsOnTheGarment) {
     const Animation anim = animate(p, kGrid, options);
     const Garment g = build_garment(p, solve_folds(p), kGrid, false);
     ASSERT_EQ(anim.frames.back().size(), g.mesh.positions.size());
-    for (std::size_t v = 0; v < g.mesh.positions.size(); ++v)
-        ASSERT_EQ(anim.frames.back()[v], g.mesh.positions[v]);
+    for (std::size_t v = 0; v < g.mesh.positions.size(); ++v) ASSERT_EQ(anim.frames.back()[v], g.mesh.positions[v]);
     // Relaxed, every support of every bay stays where the model puts it in every frame.
     options.relax = true;
     const Animation relaxed = animate(p, kGrid, options);

@@ -38,10 +38,12 @@ protected:
         std::string line;
         for (const auto& a : args) line += " " + a;
         const test::Outcome o = run(args);
-        EXPECT_TRUE(o.exited && o.exit_code == status) << line << ": exit " << o.exit_code << " signal " << o.signal << ": " << o.err;
+        EXPECT_TRUE(o.exited && o.exit_code == status)
+            << line << ": exit " << o.exit_code << " signal " << o.signal << ": " << o.err;
         const std::string first = o.err.substr(0, o.err.find('\n'));
         EXPECT_EQ(first.rfind("foldcast", 0), 0u) << line << ": " << o.err;
-        EXPECT_NE(first.find(needle), std::string::npos) << line << ": the first line does not name '" << needle << "': " << o.err;
+        EXPECT_NE(first.find(needle), std::string::npos)
+            << line << ": the first line does not name '" << needle << "': " << o.err;
         expect_only_our_lines(o, line);
     }
     // Every stderr line is ours: library text (libpng, libjpeg, OpenCV's assertions) only
@@ -78,9 +80,11 @@ TEST_F(BadInput, DiffFailsOnNanAndRefusesNonsenseThresholds) {
     const fs::path one = pfm("one.pfm", 8, 8, 1.0f);
     const test::Outcome o = run({"diff", nan.string(), zero.string()});
     EXPECT_EQ(o.exit_code, 2) << "all-NaN against all-zero must be FAILURE: " << o.err;
-    EXPECT_EQ(run({"diff", zero.string(), nan.string(), "--failpercent", "100", "--allowfailures", "1000"}).exit_code, 2);
+    EXPECT_EQ(run({"diff", zero.string(), nan.string(), "--failpercent", "100", "--allowfailures", "1000"}).exit_code,
+              2);
     EXPECT_EQ(run({"diff", zero.string(), zero.string()}).exit_code, 0);
-    for (const char* value : {"nan", "-1"}) expect_refused({"diff", zero.string(), one.string(), "--fail", value}, 2, "--fail");
+    for (const char* value : {"nan", "-1"})
+        expect_refused({"diff", zero.string(), one.string(), "--fail", value}, 2, "--fail");
     expect_refused({"diff", zero.string(), one.string(), "--failpercent", "nan"}, 2, "--failpercent");
     expect_refused({"diff", zero.string(), one.string(), "--hardfail", "nan"}, 2, "--hardfail");
     expect_refused({"diff", zero.string(), one.string(), "--warn", "nan"}, 2, "--warn");
@@ -99,7 +103,8 @@ TEST_F(BadInput, DiffRefusesToOverwriteAnInput) {
     expect_refused({"diff", a.string(), b.string(), "-o", (dir_ / "." / "b.pfm").string()}, 4, "b.pfm");
     const std::string photo = (dir_ / "photo.jpg").string(), photo_bytes = bytes_of(photo);
     expect_refused({"folds", photo, "-o", photo, "--supports", "197.5,50,357.5,48.5"}, 2, "-o");
-    expect_refused({"overlay", photo, "-o", photo, "--supports", "197.5,50,357.5,48.5", "--scale-px-per-m", "400"}, 2, "-o");
+    expect_refused({"overlay", photo, "-o", photo, "--supports", "197.5,50,357.5,48.5", "--scale-px-per-m", "400"}, 2,
+                   "-o");
     EXPECT_EQ(bytes_of(photo), photo_bytes);
 }
 
@@ -141,11 +146,12 @@ TEST_F(BadInput, ImagesWithHugeHeadersOrCutShortAreOurErrors) {
     EXPECT_NE(cut.err.find(cut_jpg.string()), std::string::npos) << cut.err;
     for (const fs::path& bad : {jpg, png, cut_png}) {
         expect_refused({"folds", bad.string(), "-o", out.string(), "--supports", supports}, 2, bad.string());
-        expect_refused({"overlay", bad.string(), "-o", out.string(), "--supports", supports, "--scale-px-per-m", "400"}, 2,
-                       bad.string());
+        expect_refused({"overlay", bad.string(), "-o", out.string(), "--supports", supports, "--scale-px-per-m", "400"},
+                       2, bad.string());
         expect_refused({"diff", bad.string(), bad.string()}, 4, bad.string());
     }
-    const fs::path scene = write("textured.toml", "look = { base = \"linen\", appearance = { texture = \"" + png.string() + "\" } }\n");
+    const fs::path scene =
+        write("textured.toml", "look = { base = \"linen\", appearance = { texture = \"" + png.string() + "\" } }\n");
     expect_refused({"render", scene.string(), "-o", out.string(), "--width", "16", "--height", "16", "--spp", "1"}, 2,
                    png.string());
 }
@@ -178,11 +184,13 @@ TEST_F(BadInput, ScenesAndValuesThatUsedToBeAccepted) {
 }
 
 TEST_F(BadInput, ManifestValuesThatUsedToBeIgnored) {
-    const fs::path wrong_dir = write("dir.toml", "output_dir = 5\nlooks = [\"linen\"]\n[[garments]]\nname = \"a\"\nscene = \"" +
-                                                     std::string(FOLDCAST_SOURCE_DIR) + "/gallery/default.toml\"\n");
+    const fs::path wrong_dir =
+        write("dir.toml", "output_dir = 5\nlooks = [\"linen\"]\n[[garments]]\nname = \"a\"\nscene = \"" +
+                              std::string(FOLDCAST_SOURCE_DIR) + "/gallery/default.toml\"\n");
     expect_refused({"batch", wrong_dir.string(), "--quiet"}, 2, "output_dir");
-    const fs::path dot = write("dot.toml", "output_dir = \"cat\"\nwidth = 16\nheight = 16\nspp = 1\nlooks = [\"linen\"]\n"
-                                           "[[garments]]\nname = \"a\"\nscene = \".\"\n");
+    const fs::path dot = write("dot.toml",
+                               "output_dir = \"cat\"\nwidth = 16\nheight = 16\nspp = 1\nlooks = [\"linen\"]\n"
+                               "[[garments]]\nname = \"a\"\nscene = \".\"\n");
     expect_refused({"batch", dot.string(), "--quiet"}, 2, "scene");
     EXPECT_FALSE(fs::exists(dir_ / "cat" / "a" / "linen" / "front.png")) << "the default scene was rendered";
 }

@@ -86,14 +86,16 @@ protected:
     test::Outcome decode(const std::string& bytes, const std::string& label) {
         const fs::path in = dir_ / "in.fca";
         std::ofstream(in, std::ios::binary) << bytes;
-        const test::Outcome o = test::run_child({test::foldcast_under_test(), "decode", in.string(), "-o", (dir_ / "out.pc2").string()},
-                                                dir_ / "stderr.txt", kCap);
+        const test::Outcome o =
+            test::run_child({test::foldcast_under_test(), "decode", in.string(), "-o", (dir_ / "out.pc2").string()},
+                            dir_ / "stderr.txt", kCap);
         EXPECT_TRUE(o.exited) << label << ": killed by signal " << o.signal << " after " << o.seconds << " s";
         EXPECT_TRUE(o.exit_code == 0 || o.exit_code == 2) << label << ": exit " << o.exit_code << ": " << o.err;
         if (o.exit_code == 2) {
             EXPECT_EQ(o.err.rfind("foldcast: ", 0), 0u) << label << ": " << o.err;
             EXPECT_EQ(o.err.find('\n'), o.err.size() - 1) << label << ": more than one line: " << o.err;
-            EXPECT_NE(o.err.find(in.string()), std::string::npos) << label << ": the message does not name the file: " << o.err;
+            EXPECT_NE(o.err.find(in.string()), std::string::npos)
+                << label << ": the message does not name the file: " << o.err;
         }
         return o;
     }

@@ -74,8 +74,10 @@ void expect_all_old_or_all_new(const fs::path& dir, const Files& old_files, cons
         const int sig = k % 2 == 0 ? SIGINT : SIGTERM;
         const test::Outcome o = test::interrupt_after(foldcast(args), dir.parent_path() / "stderr.txt", delay, sig);
         const Files now = snapshot(dir);
-        if (now == old_files) ++old_seen;
-        else if (now == new_files) ++new_seen;
+        if (now == old_files)
+            ++old_seen;
+        else if (now == new_files)
+            ++new_seen;
         else
             ADD_FAILURE() << "signal " << sig << " after " << delay.count() << " us left a mix: files" << names(now)
                           << " (old:" << names(old_files) << "; new:" << names(new_files) << ")";
@@ -89,21 +91,30 @@ TEST(Interrupt, DecodeReplacesPc2AndObjTogether) {
     const auto dir = test::temp_dir();
     const fs::path out = dir / "out";
     fs::create_directories(out);
-    ASSERT_EQ(test::run_command(test::foldcast_under_test() + " drape -q --grid 8x8 --frames 4 -o " + (out / "anim.pc2").string() +
-                                " >/dev/null 2>&1").exit_code, 0);
+    ASSERT_EQ(test::run_command(test::foldcast_under_test() + " drape -q --grid 8x8 --frames 4 -o " +
+                                (out / "anim.pc2").string() + " >/dev/null 2>&1")
+                  .exit_code,
+              0);
     const Files old_files = snapshot(out);
-    ASSERT_EQ(test::run_command(test::foldcast_under_test() + " drape -q --grid 128x128 --frames 24 -o " + (dir / "big.fca").string() +
-                                " >/dev/null 2>&1").exit_code, 0);
-    expect_all_old_or_all_new(out, old_files, {"decode", (dir / "big.fca").string(), "-o", (out / "anim.pc2").string()}, 12);
+    ASSERT_EQ(test::run_command(test::foldcast_under_test() + " drape -q --grid 128x128 --frames 24 -o " +
+                                (dir / "big.fca").string() + " >/dev/null 2>&1")
+                  .exit_code,
+              0);
+    expect_all_old_or_all_new(out, old_files, {"decode", (dir / "big.fca").string(), "-o", (out / "anim.pc2").string()},
+                              12);
 }
 
 TEST(Interrupt, DrapeReplacesPc2AndObjTogether) {
     const auto dir = test::temp_dir();
     const fs::path out = dir / "out";
     fs::create_directories(out);
-    ASSERT_EQ(test::run_command(test::foldcast_under_test() + " drape -q --grid 8x8 --frames 4 -o " + (out / "anim.pc2").string() +
-                                " >/dev/null 2>&1").exit_code, 0);
-    expect_all_old_or_all_new(out, snapshot(out), {"drape", "-q", "--grid", "96x96", "--frames", "16", "-o", (out / "anim.pc2").string()}, 10);
+    ASSERT_EQ(test::run_command(test::foldcast_under_test() + " drape -q --grid 8x8 --frames 4 -o " +
+                                (out / "anim.pc2").string() + " >/dev/null 2>&1")
+                  .exit_code,
+              0);
+    expect_all_old_or_all_new(out, snapshot(out),
+                              {"drape", "-q", "--grid", "96x96", "--frames", "16", "-o", (out / "anim.pc2").string()},
+                              10);
 }
 
 TEST(Interrupt, RenderReplacesTheImageAndItsAovsTogether) {
@@ -113,8 +124,20 @@ TEST(Interrupt, RenderReplacesTheImageAndItsAovsTogether) {
         const fs::path out = dir / (std::string("out") + (ext + 1));
         fs::create_directories(out);
         const std::string target = (out / (std::string("still") + ext)).string();
-        const std::vector<std::string> common = {"render", scene, "-o", target, "--quiet", "--width", "64", "--height", "48",
-                                                 "--spp", "2", "--aov", "albedo,normal,depth,fold", "--seed"};
+        const std::vector<std::string> common = {"render",
+                                                 scene,
+                                                 "-o",
+                                                 target,
+                                                 "--quiet",
+                                                 "--width",
+                                                 "64",
+                                                 "--height",
+                                                 "48",
+                                                 "--spp",
+                                                 "2",
+                                                 "--aov",
+                                                 "albedo,normal,depth,fold",
+                                                 "--seed"};
         auto with_seed = [&](const char* seed) {
             auto args = common;
             args.push_back(seed);
@@ -131,8 +154,10 @@ TEST(Interrupt, TurntableReplacesFramesAndVideoTogether) {
     fs::create_directories(out);
     const std::string scene = std::string(FOLDCAST_SOURCE_DIR) + "/gallery/default.toml";
     auto args = [&](const char* spp) {
-        return std::vector<std::string>{"turntable", scene, "-o", (out / "spin.mp4").string(), "--quiet", "--frames", "3",
-                                        "--width", "32", "--height", "32", "--spp", spp};
+        return std::vector<std::string>{"turntable", scene,      "-o", (out / "spin.mp4").string(),
+                                        "--quiet",   "--frames", "3",  "--width",
+                                        "32",        "--height", "32", "--spp",
+                                        spp};
     };
     ASSERT_TRUE(test::run_child(foldcast(args("1")), dir / "stderr.txt").exit_code == 0);
     expect_all_old_or_all_new(out, snapshot(out), args("3"), 8);
@@ -145,8 +170,10 @@ TEST(Interrupt, EncodeAndBatchLeaveNoTemporaries) {
     const std::vector<std::string> encode = {"encode", test::test_data("animations/basicCloth.pc2").string(), "-o",
                                              (dir / "cloth.fca").string()};
     const std::string manifest = (dir / "catalogue.toml").string();
-    std::ofstream(manifest) << "output_dir = \"cat\"\nwidth = 32\nheight = 32\nspp = 1\nlooks = [\"linen\", \"denim\"]\n"
-                               "[[garments]]\nname = \"panel\"\nscene = \"" << FOLDCAST_SOURCE_DIR << "/gallery/default.toml\"\n";
+    std::ofstream(manifest)
+        << "output_dir = \"cat\"\nwidth = 32\nheight = 32\nspp = 1\nlooks = [\"linen\", \"denim\"]\n"
+           "[[garments]]\nname = \"panel\"\nscene = \""
+        << FOLDCAST_SOURCE_DIR << "/gallery/default.toml\"\n";
     const std::vector<std::string> batch = {"batch", manifest, "--quiet"};
     for (const auto& args : {encode, batch}) {
         const test::Outcome full = test::run_child(foldcast(args), dir / "stderr.txt");
@@ -157,7 +184,8 @@ TEST(Interrupt, EncodeAndBatchLeaveNoTemporaries) {
             const auto delay = std::chrono::microseconds(static_cast<long long>(full.seconds * 1e6 * (k + 0.5) / 8));
             test::interrupt_after(foldcast(args), dir / "stderr.txt", delay, k % 2 == 0 ? SIGINT : SIGTERM);
             for (const auto& e : fs::recursive_directory_iterator(dir))
-                EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path() << " after " << delay.count() << " us";
+                EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos)
+                    << e.path() << " after " << delay.count() << " us";
         }
     }
     const test::Outcome resumed = test::run_child(foldcast(batch), dir / "stderr.txt");

@@ -20,9 +20,8 @@ const fs::path kShippedLooks = fs::path(FOLDCAST_SOURCE_DIR) / "looks" / "data";
 
 TEST(LooksLibrary, ShipsTheTwelveRequiredLooks) {
     const Library library = Library::load_directory(kShippedLooks);
-    for (const char* name : {"cotton_poplin", "denim", "linen", "silk_charmeuse", "satin",
-                             "chiffon", "wool_flannel", "wool_crepe", "cotton_jersey", "velvet",
-                             "canvas", "polyester_taffeta"})
+    for (const char* name : {"cotton_poplin", "denim", "linen", "silk_charmeuse", "satin", "chiffon", "wool_flannel",
+                             "wool_crepe", "cotton_jersey", "velvet", "canvas", "polyester_taffeta"})
         EXPECT_TRUE(library.contains(name)) << name;
     EXPECT_GE(library.names().size(), 12u);
 }
@@ -46,8 +45,8 @@ TEST(LooksLibrary, EveryShippedLookIsCompleteAndInRange) {
         // B must come out in the range KES-FB2 reports for apparel fabrics (~0.002-3 gf cm^2/cm).
         const auto& m = look.mechanics;
         const double t_m = m.thickness_mm * 1e-3;
-        const double bending_gf_cm = m.young_mpa * 1e6 * t_m * t_m * t_m /
-                                     (12.0 * (1.0 - m.poisson * m.poisson)) / 9.80665e-5;
+        const double bending_gf_cm =
+            m.young_mpa * 1e6 * t_m * t_m * t_m / (12.0 * (1.0 - m.poisson * m.poisson)) / 9.80665e-5;
         EXPECT_GT(bending_gf_cm, 0.002);
         EXPECT_LT(bending_gf_cm, 3.0);
     }
@@ -129,12 +128,10 @@ TEST(LooksLibrary, JsonHasEveryValue) {
     EXPECT_EQ(json["name"], "silk_charmeuse");
     EXPECT_DOUBLE_EQ(json["mechanics"]["gsm"].get<double>(), 82.0);
     EXPECT_EQ(json["appearance"]["weave"], "satin");
-    for (const char* key : {"thickness_mm", "young_mpa", "poisson", "gsm", "weight_n_per_m2",
-                            "load_constant"})
+    for (const char* key : {"thickness_mm", "young_mpa", "poisson", "gsm", "weight_n_per_m2", "load_constant"})
         EXPECT_TRUE(json["mechanics"].contains(key)) << key;
-    for (const char* key : {"base_colour", "weft_colour", "texture", "weave", "twill_float",
-                            "repeat_mm", "roughness", "sheen_colour", "sheen_roughness",
-                            "specular", "anisotropy", "anisotropy_axis", "normal_map",
-                            "bump_strength"})
+    for (const char* key :
+         {"base_colour", "weft_colour", "texture", "weave", "twill_float", "repeat_mm", "roughness", "sheen_colour",
+          "sheen_roughness", "specular", "anisotropy", "anisotropy_axis", "normal_map", "bump_strength"})
         EXPECT_TRUE(json["appearance"].contains(key)) << key;
 }

@@ -36,9 +36,8 @@ TEST(LookMechanics, DenimFoldsFewerAndBroaderThanChiffon) {
         SCOPED_TRACE(std::to_string(size.width_m) + " x " + std::to_string(size.height_m));
         const auto denim = solve("denim", size.width_m, size.height_m, size.inset_m);
         const auto chiffon = solve("chiffon", size.width_m, size.height_m, size.inset_m);
-        std::printf("%.2f x %.2f m, inset %.2f: denim n=%d Q=%.3f, chiffon n=%d Q=%.3f\n",
-                    size.width_m, size.height_m, size.inset_m, denim.folds, denim.Q,
-                    chiffon.folds, chiffon.Q);
+        std::printf("%.2f x %.2f m, inset %.2f: denim n=%d Q=%.3f, chiffon n=%d Q=%.3f\n", size.width_m, size.height_m,
+                    size.inset_m, denim.folds, denim.Q, chiffon.folds, chiffon.Q);
         ASSERT_EQ(chiffon.regime, drape::FoldSolution::Regime::wrinkled) << chiffon.explanation;
         EXPECT_LT(denim.folds, chiffon.folds);
         EXPECT_GT(denim.Q, chiffon.Q);

@@ -18,10 +18,9 @@ const char* kOrigin = "mem/test_look.toml";
 
 // A valid look; `extra_mechanics` / `extra_appearance` lines are appended to their tables
 // (TOML forbids duplicate keys, so tests replace a key by leaving it out of the base).
-std::string look_text(const std::string& mechanics, const std::string& appearance,
-                      const std::string& top = "") {
-    return top + "description = \"test\"\n[mechanics]\n" + mechanics +
-           "\n[appearance]\nweave = \"plain\"\n" + appearance + "\n";
+std::string look_text(const std::string& mechanics, const std::string& appearance, const std::string& top = "") {
+    return top + "description = \"test\"\n[mechanics]\n" + mechanics + "\n[appearance]\nweave = \"plain\"\n" +
+           appearance + "\n";
 }
 const std::string kMechanics = "thickness_mm = 0.3\nyoung_mpa = 5.0\ngsm = 150\n";
 const std::string kAppearance = "base_colour = \"#808080\"\n";
@@ -40,14 +39,12 @@ void expect_error(const std::string& text, std::initializer_list<const char*> fr
         EXPECT_NE(message.find(kOrigin), std::string::npos) << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
         for (const char* fragment : fragments)
-            EXPECT_NE(message.find(fragment), std::string::npos)
-                << "'" << fragment << "' missing from: " << message;
+            EXPECT_NE(message.find(fragment), std::string::npos) << "'" << fragment << "' missing from: " << message;
     }
 }
 
 std::string mechanics_with(const std::string& line) {
-    return look_text("young_mpa = 5.0\ngsm = 150\npoisson = 0.3\nthickness_mm = 0.3\n" + line,
-                     kAppearance);
+    return look_text("young_mpa = 5.0\ngsm = 150\npoisson = 0.3\nthickness_mm = 0.3\n" + line, kAppearance);
 }
 
 }  // namespace
@@ -61,18 +58,17 @@ TEST(LookParse, MinimalLookParsesWithDefaults) {
 }
 
 TEST(LookParse, LinearTripleAndIntegersAreAccepted) {
-    const Look look = parse_text(look_text("thickness_mm = 1\nyoung_mpa = 2\ngsm = 100\n",
-                                           "base_colour = [0.25, 0.5, 1]\n"));
+    const Look look =
+        parse_text(look_text("thickness_mm = 1\nyoung_mpa = 2\ngsm = 100\n", "base_colour = [0.25, 0.5, 1]\n"));
     EXPECT_DOUBLE_EQ(look.mechanics.thickness_mm, 1.0);
     EXPECT_FLOAT_EQ(look.appearance.base_colour.y(), 0.5f);
 }
 
 TEST(LookParse, WeightInNewtonsPerSquareMillimetreConvertsToGsm) {
-    const Look look = parse_text(
-        look_text("thickness_mm = 0.3\nyoung_mpa = 5\nweight_n_mm2 = 1.470997e-6\n", kAppearance));
+    const Look look =
+        parse_text(look_text("thickness_mm = 0.3\nyoung_mpa = 5\nweight_n_mm2 = 1.470997e-6\n", kAppearance));
     EXPECT_NEAR(look.mechanics.gsm, 150.0, 1e-3);
-    expect_error(look_text(kMechanics + "weight_n_mm2 = 1e-6\n", kAppearance),
-                 {"gsm", "weight_n_mm2", "not both"});
+    expect_error(look_text(kMechanics + "weight_n_mm2 = 1e-6\n", kAppearance), {"gsm", "weight_n_mm2", "not both"});
 }
 
 TEST(LookParse, UnknownKeysAreNamedWithTheAllowedOnes) {
@@ -88,8 +84,7 @@ TEST(LookParse, WrongTypesAreNamed) {
     expect_error(mechanics_with("gsm_x = 1"), {"unknown key 'mechanics.gsm_x'"});
     expect_error(look_text("thickness_mm = \"thin\"\nyoung_mpa = 5\ngsm = 150\n", kAppearance),
                  {"mechanics.thickness_mm", "\"thin\"", "wrong type", "number", "(0, 50] mm"});
-    expect_error(look_text(kMechanics, "base_colour = 5\n"),
-                 {"appearance.base_colour", "wrong type", "#RRGGBB"});
+    expect_error(look_text(kMechanics, "base_colour = 5\n"), {"appearance.base_colour", "wrong type", "#RRGGBB"});
     expect_error(look_text(kMechanics, kAppearance + "anisotropy_axis = 1\n"),
                  {"appearance.anisotropy_axis", "wrong type", "warp, weft"});
     expect_error("description = \"x\"\nmechanics = 3\n[appearance]\nweave=\"plain\"\n",
@@ -109,33 +104,23 @@ TEST(LookParse, ImpossibleMechanicsAreOutOfRange) {
                  {"mechanics.gsm = 0", "(0, 5000] g/m^2"});
     expect_error(look_text("thickness_mm = 0.3\nyoung_mpa = -5\ngsm = 10\n", kAppearance),
                  {"mechanics.young_mpa = -5", "MPa"});
-    expect_error(look_text(kMechanics + "poisson = 0.5\n", kAppearance),
-                 {"mechanics.poisson = 0.5", "(-1, 0.5)"});
-    expect_error(look_text(kMechanics + "poisson = -1\n", kAppearance),
-                 {"mechanics.poisson = -1", "(-1, 0.5)"});
-    expect_error(look_text(kMechanics + "load_constant = 0\n", kAppearance),
-                 {"mechanics.load_constant = 0"});
+    expect_error(look_text(kMechanics + "poisson = 0.5\n", kAppearance), {"mechanics.poisson = 0.5", "(-1, 0.5)"});
+    expect_error(look_text(kMechanics + "poisson = -1\n", kAppearance), {"mechanics.poisson = -1", "(-1, 0.5)"});
+    expect_error(look_text(kMechanics + "load_constant = 0\n", kAppearance), {"mechanics.load_constant = 0"});
 }
 
 TEST(LookParse, ImpossibleAppearanceIsOutOfRange) {
-    expect_error(look_text(kMechanics, kAppearance + "roughness = 1.1\n"),
-                 {"appearance.roughness = 1.1", "[0, 1]"});
-    expect_error(look_text(kMechanics, kAppearance + "roughness = -0.1\n"),
-                 {"appearance.roughness = -0.1", "[0, 1]"});
+    expect_error(look_text(kMechanics, kAppearance + "roughness = 1.1\n"), {"appearance.roughness = 1.1", "[0, 1]"});
+    expect_error(look_text(kMechanics, kAppearance + "roughness = -0.1\n"), {"appearance.roughness = -0.1", "[0, 1]"});
     expect_error(look_text(kMechanics, kAppearance + "sheen_roughness = 2\n"),
                  {"appearance.sheen_roughness = 2", "[0, 1]"});
-    expect_error(look_text(kMechanics, kAppearance + "specular = 3\n"),
-                 {"appearance.specular = 3", "[0, 1]"});
-    expect_error(look_text(kMechanics, kAppearance + "anisotropy = 1.0\n"),
-                 {"appearance.anisotropy = 1.0", "[0, 1)"});
-    expect_error(look_text(kMechanics, kAppearance + "repeat_mm = 0\n"),
-                 {"appearance.repeat_mm = 0", "(0, 1000] mm"});
+    expect_error(look_text(kMechanics, kAppearance + "specular = 3\n"), {"appearance.specular = 3", "[0, 1]"});
+    expect_error(look_text(kMechanics, kAppearance + "anisotropy = 1.0\n"), {"appearance.anisotropy = 1.0", "[0, 1)"});
+    expect_error(look_text(kMechanics, kAppearance + "repeat_mm = 0\n"), {"appearance.repeat_mm = 0", "(0, 1000] mm"});
     expect_error(look_text(kMechanics, kAppearance + "bump_strength = -1\n"),
                  {"appearance.bump_strength = -1", "[0, 10]"});
-    expect_error(look_text(kMechanics, "base_colour = [0.2, 1.5, 0.1]\n"),
-                 {"appearance.base_colour", "1.5", "[0, 1]"});
-    expect_error(look_text(kMechanics, "base_colour = [0.2, 0.5]\n"),
-                 {"appearance.base_colour", "wrong type"});
+    expect_error(look_text(kMechanics, "base_colour = [0.2, 1.5, 0.1]\n"), {"appearance.base_colour", "1.5", "[0, 1]"});
+    expect_error(look_text(kMechanics, "base_colour = [0.2, 0.5]\n"), {"appearance.base_colour", "wrong type"});
     expect_error(look_text(kMechanics, "base_colour = \"#12345g\"\n"),
                  {"appearance.base_colour = \"#12345g\"", "not a colour"});
     expect_error(look_text(kMechanics, kAppearance + "sheen_colour = \"red\"\n"),
@@ -143,26 +128,21 @@ TEST(LookParse, ImpossibleAppearanceIsOutOfRange) {
 }
 
 TEST(LookParse, ChoicesListWhatIsAllowed) {
-    expect_error(look_text(kMechanics, kAppearance).replace(
-                     look_text(kMechanics, kAppearance).find("\"plain\""), 7, "\"herringbone\""),
+    expect_error(look_text(kMechanics, kAppearance)
+                     .replace(look_text(kMechanics, kAppearance).find("\"plain\""), 7, "\"herringbone\""),
                  {"appearance.weave = \"herringbone\"", "none, plain, twill, satin, knit"});
     expect_error(look_text(kMechanics, kAppearance + "anisotropy_axis = \"bias\"\n"),
                  {"appearance.anisotropy_axis = \"bias\"", "warp, weft"});
-    expect_error(look_text(kMechanics, kAppearance + "twill_float = 4\n"),
-                 {"appearance.twill_float = 4", "[2, 3]"});
+    expect_error(look_text(kMechanics, kAppearance + "twill_float = 4\n"), {"appearance.twill_float = 4", "[2, 3]"});
     expect_error(look_text(kMechanics, kAppearance + "twill_float = 2.5\n"),
                  {"appearance.twill_float", "2 (2/1 twill) or 3 (3/1 twill)"});
 }
 
 TEST(LookParse, MissingRequiredKeysAreNamed) {
-    expect_error(look_text("young_mpa = 5\ngsm = 150\n", kAppearance),
-                 {"missing key 'mechanics.thickness_mm'"});
-    expect_error(look_text("thickness_mm = 0.3\ngsm = 150\n", kAppearance),
-                 {"missing key 'mechanics.young_mpa'"});
-    expect_error(look_text("thickness_mm = 0.3\nyoung_mpa = 5\n", kAppearance),
-                 {"missing key 'mechanics.gsm'"});
-    expect_error("description = \"x\"\n[mechanics]\n" + kMechanics,
-                 {"missing key 'appearance'"});
+    expect_error(look_text("young_mpa = 5\ngsm = 150\n", kAppearance), {"missing key 'mechanics.thickness_mm'"});
+    expect_error(look_text("thickness_mm = 0.3\ngsm = 150\n", kAppearance), {"missing key 'mechanics.young_mpa'"});
+    expect_error(look_text("thickness_mm = 0.3\nyoung_mpa = 5\n", kAppearance), {"missing key 'mechanics.gsm'"});
+    expect_error("description = \"x\"\n[mechanics]\n" + kMechanics, {"missing key 'appearance'"});
     expect_error(look_text(kMechanics, ""), {"missing key 'appearance.base_colour'"});
 }
 
@@ -171,14 +151,12 @@ TEST(LookParse, TexturePathsAreRelativeToTheLookFileAndMustExist) {
     fs::remove_all(dir);
     fs::create_directories(dir / "maps");
     std::ofstream(dir / "maps" / "weave.png") << "not really a png; existence is checked here";
-    std::ofstream(dir / "textured.toml")
-        << look_text(kMechanics, kAppearance + "texture = \"maps/weave.png\"\n");
+    std::ofstream(dir / "textured.toml") << look_text(kMechanics, kAppearance + "texture = \"maps/weave.png\"\n");
     const Look look = load_look_file(dir / "textured.toml");
     EXPECT_EQ(look.name, "textured");
     EXPECT_EQ(look.appearance.texture, (dir / "maps" / "weave.png").lexically_normal());
 
-    std::ofstream(dir / "missing.toml")
-        << look_text(kMechanics, kAppearance + "normal_map = \"maps/none.png\"\n");
+    std::ofstream(dir / "missing.toml") << look_text(kMechanics, kAppearance + "normal_map = \"maps/none.png\"\n");
     try {
         load_look_file(dir / "missing.toml");
         ADD_FAILURE() << "missing normal map accepted";

@@ -10,16 +10,14 @@ using foldcast::InputError;
 using namespace foldcast::looks;
 
 namespace {
-toml::table parse_toml(std::string_view text, std::string_view origin) {
-    return toml::parse(text, origin);
-}
+toml::table parse_toml(std::string_view text, std::string_view origin) { return toml::parse(text, origin); }
 
 }  // namespace
 
 TEST(LookOverride, ReplacesOnlyTheGivenKeys) {
     const Look& denim = foldcast::test::shipped_looks().get("denim");
-    const toml::table overrides = parse_toml(
-        "[appearance]\nbase_colour = \"#000000\"\n[mechanics]\ngsm = 300\n", "scene.toml");
+    const toml::table overrides =
+        parse_toml("[appearance]\nbase_colour = \"#000000\"\n[mechanics]\ngsm = 300\n", "scene.toml");
     const Look black = override_look(denim, overrides, "scene.toml");
     EXPECT_EQ(black.name, "denim");
     EXPECT_DOUBLE_EQ(black.mechanics.gsm, 300.0);
@@ -34,8 +32,7 @@ TEST(LookOverride, ValidatesLikeALookFile) {
         override_look(foldcast::test::shipped_looks().get("denim"), overrides, "scene.toml");
         FAIL() << "negative thickness accepted";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("scene.toml:2: mechanics.thickness_mm = -1"),
-                  std::string::npos)
+        EXPECT_NE(std::string(e.what()).find("scene.toml:2: mechanics.thickness_mm = -1"), std::string::npos)
             << e.what();
     }
 }
@@ -47,8 +44,7 @@ TEST(ResolveLook, ByNameOrByTableWithBase) {
         "scene.toml");
     const Look satin = resolve_look(foldcast::test::shipped_looks(), *scene.get("look"), "scene.toml");
     EXPECT_EQ(satin.name, "satin");
-    const Look chiffon =
-        resolve_look(foldcast::test::shipped_looks(), *scene["garment"]["look"].node(), "scene.toml");
+    const Look chiffon = resolve_look(foldcast::test::shipped_looks(), *scene["garment"]["look"].node(), "scene.toml");
     EXPECT_EQ(chiffon.name, "chiffon");
     EXPECT_DOUBLE_EQ(chiffon.appearance.roughness, 0.2);
     EXPECT_DOUBLE_EQ(chiffon.mechanics.gsm, foldcast::test::shipped_looks().get("chiffon").mechanics.gsm);
@@ -70,6 +66,5 @@ TEST(ResolveLook, ErrorsNameTheProblem) {
     EXPECT_NE(message("a").find("unknown look 'velour'"), std::string::npos);
     EXPECT_NE(message("b").find("scene.toml:2: look = 3 has the wrong type"), std::string::npos);
     EXPECT_NE(message("c").find("needs base = \"NAME\""), std::string::npos);
-    EXPECT_NE(message("d").find("scene.toml:4: unknown key 'colour'"), std::string::npos)
-        << message("d");
+    EXPECT_NE(message("d").find("scene.toml:4: unknown key 'colour'"), std::string::npos) << message("d");
 }

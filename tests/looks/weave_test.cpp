@@ -33,8 +33,7 @@ std::vector<Eigen::Vector2d> cell_points(double pitch_m, int count) {
     };
     for (int k = 0; k < count; ++k) {
         const double cell_u = std::floor(next() * 40.0) - 20.0, cell_v = std::floor(next() * 40.0) - 20.0;
-        points.emplace_back((cell_u + 0.05 + 0.9 * next()) * pitch_m,
-                            (cell_v + 0.05 + 0.9 * next()) * pitch_m);
+        points.emplace_back((cell_u + 0.05 + 0.9 * next()) * pitch_m, (cell_v + 0.05 + 0.9 * next()) * pitch_m);
     }
     return points;
 }
@@ -50,8 +49,7 @@ double share_changed(const Appearance& a, double du, double dv) {
     int changed = 0;
     const auto points = cell_points(pitch, 400);
     for (const auto& p : points)
-        if (!same(sample_weave(a, p, 0.0), sample_weave(a, p + Eigen::Vector2d(du, dv) * pitch, 0.0)))
-            ++changed;
+        if (!same(sample_weave(a, p, 0.0), sample_weave(a, p + Eigen::Vector2d(du, dv) * pitch, 0.0))) ++changed;
     return static_cast<double>(changed) / static_cast<double>(points.size());
 }
 
@@ -60,8 +58,8 @@ struct Case {
     int twill_float;
     int period_yarns;
 };
-const Case kCases[] = {{Weave::plain, 3, 2}, {Weave::twill, 2, 3}, {Weave::twill, 3, 4},
-                       {Weave::satin, 3, 5}, {Weave::knit, 3, 1}};
+const Case kCases[] = {
+    {Weave::plain, 3, 2}, {Weave::twill, 2, 3}, {Weave::twill, 3, 4}, {Weave::satin, 3, 5}, {Weave::knit, 3, 1}};
 
 double std_dev_of_albedo(const Appearance& a, double footprint_yarns) {
     const double pitch = a.repeat_mm * 1e-3;

@@ -51,7 +51,7 @@ TEST(Preview, DepthIsDistanceFromTheCamera) {
     const PreviewImage image = renderer.render(scene_with({&quad}));
     for (int y : {20, 31, 40})
         for (int x : {20, 32, 45}) {
-            const float px = ((x + 0.5f) / 64.0f * 2.0f - 1.0f);   // metres at z = 0
+            const float px = ((x + 0.5f) / 64.0f * 2.0f - 1.0f);  // metres at z = 0
             const float py = -((y + 0.5f) / 64.0f * 2.0f - 1.0f);
             const float expected = std::sqrt(9.0f + px * px + py * py);
             EXPECT_NEAR(image.depth[y * 64 + x], expected, 1e-4f) << x << "," << y;
@@ -76,8 +76,7 @@ TEST(Preview, KeyLightCastsShadows) {
     auto red = [&](int x, int y) { return image.rgba[(y * 64 + x) * 4]; };
     // The blocker's shadow falls on the back square down-left of the blocker: towards
     // -x/-y from it along the light direction.
-    const Vec3f shadow_point = Vec3f(0.45f, 0.45f, 1.0f) +
-                               (Vec3f(0.45f, 0.45f, 1.0f) - Vec3f(1.8f, 1.8f, 4.0f)) / 3.0f;
+    const Vec3f shadow_point = Vec3f(0.45f, 0.45f, 1.0f) + (Vec3f(0.45f, 0.45f, 1.0f) - Vec3f(1.8f, 1.8f, 4.0f)) / 3.0f;
     ASSERT_NEAR(shadow_point.z(), 0.0f, 1e-5f);
     // Project onto the image: the back square lies in z = 0 where the view is 2 m high.
     const int sx = static_cast<int>((shadow_point.x() + 1.0f) / 2.0f * 64.0f);

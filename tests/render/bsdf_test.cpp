@@ -94,7 +94,8 @@ double gamma_q(double a, double x) {
 
 V3 direction(double cos_theta, double phi) {
     const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
-    return V3(static_cast<float>(s * std::cos(phi)), static_cast<float>(s * std::sin(phi)), static_cast<float>(cos_theta));
+    return V3(static_cast<float>(s * std::cos(phi)), static_cast<float>(s * std::sin(phi)),
+              static_cast<float>(cos_theta));
 }
 
 // The p-value of the sampled histogram against the pdf.
@@ -218,8 +219,8 @@ TEST(ClothBsdf, ChiSquareRejectsAWrongPdf) {
         }
     };
     EXPECT_LT(WrongPdf::p_value(20000), 1e-6);
-    EXPECT_NEAR(gamma_q(1.0, 2.0), std::exp(-2.0), 1e-12);    // Q(1, x) = e^-x
-    EXPECT_NEAR(gamma_q(5.0, 4.0), 0.628836935, 1e-8);       // tabulated
+    EXPECT_NEAR(gamma_q(1.0, 2.0), std::exp(-2.0), 1e-12);  // Q(1, x) = e^-x
+    EXPECT_NEAR(gamma_q(5.0, 4.0), 0.628836935, 1e-8);      // tabulated
 }
 
 TEST(ClothBsdf, DarkerDiffuseReflectsLess) {

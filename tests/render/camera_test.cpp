@@ -28,8 +28,7 @@ Box projected(const Camera& cam, int w, int h, const std::vector<Vec3f>& pts) {
 TEST(AutoFraming, BoundingBoxFillsTheShareAndIsCentred) {
     std::vector<Vec3f> pts;
     for (int i = 0; i <= 20; ++i)
-        for (int j = 0; j <= 20; ++j)
-            pts.emplace_back(-0.3f + 0.03f * i, -0.04f * j, 0.05f * std::sin(0.7f * j));
+        for (int j = 0; j <= 20; ++j) pts.emplace_back(-0.3f + 0.03f * i, -0.04f * j, 0.05f * std::sin(0.7f * j));
     for (const double share : {0.5, 0.8})
         for (const auto& [w, h] : {std::pair{1280, 720}, std::pair{480, 640}}) {
             CameraSpec spec;
@@ -57,8 +56,10 @@ TEST(AutoFraming, RenderedGarmentCoversTheShare) {
     for (int y = 0; y < r.beauty.height; ++y)
         for (int x = 0; x < r.beauty.width; ++x)
             if (r.beauty.at(x, y)[3] > 0.5f) {
-                x0 = std::min(x0, x); x1 = std::max(x1, x);
-                y0 = std::min(y0, y); y1 = std::max(y1, y);
+                x0 = std::min(x0, x);
+                x1 = std::max(x1, x);
+                y0 = std::min(y0, y);
+                y1 = std::max(y1, y);
             }
     ASSERT_GE(x1, 0);
     const double fx = (x1 - x0 + 1) / 160.0, fy = (y1 - y0 + 1) / 120.0;

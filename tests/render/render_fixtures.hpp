@@ -10,13 +10,15 @@
 namespace foldcast::test {
 
 // A UV sphere of radius r at the origin, written as OBJ.
-inline std::filesystem::path write_sphere(const std::filesystem::path& dir, float r, int rings = 64, int segments = 128) {
+inline std::filesystem::path write_sphere(const std::filesystem::path& dir, float r, int rings = 64,
+                                          int segments = 128) {
     Mesh m;
     for (int i = 0; i <= rings; ++i)
         for (int j = 0; j <= segments; ++j) {
             const float th = 3.14159265f * static_cast<float>(i) / rings;
             const float ph = 6.2831853f * static_cast<float>(j) / segments;
-            m.positions.emplace_back(r * std::sin(th) * std::cos(ph), r * std::cos(th), r * std::sin(th) * std::sin(ph));
+            m.positions.emplace_back(r * std::sin(th) * std::cos(ph), r * std::cos(th),
+                                     r * std::sin(th) * std::sin(ph));
             m.topology.uvs.emplace_back(static_cast<float>(j) / segments, static_cast<float>(i) / rings);
         }
     for (int i = 0; i < rings; ++i)

@@ -30,8 +30,7 @@ TEST(Render, ByteIdenticalForAnyThreadCount) {
     ASSERT_EQ(a.beauty.pixels.size(), b.beauty.pixels.size());
     EXPECT_EQ(0, std::memcmp(a.beauty.pixels.data(), b.beauty.pixels.data(), a.beauty.pixels.size() * sizeof(float)));
     EXPECT_EQ(0, std::memcmp(a.beauty.pixels.data(), c.beauty.pixels.data(), a.beauty.pixels.size() * sizeof(float)));
-    for (std::size_t i = 0; i < a.aovs.size(); ++i)
-        EXPECT_EQ(a.aovs[i].image.pixels, c.aovs[i].image.pixels);
+    for (std::size_t i = 0; i < a.aovs.size(); ++i) EXPECT_EQ(a.aovs[i].image.pixels, c.aovs[i].image.pixels);
     EXPECT_EQ(a.stats.rays, c.stats.rays);
     // A different seed gives a different image (the streams really depend on it).
     RenderOptions other = one;
@@ -220,7 +219,8 @@ TEST(RenderCli, JsonReportAndExitStatuses) {
     const test::CommandResult ok = test::run_command(bin + " render " + (dir / "s.toml").string() + " -o " +
                                                      (dir / "o.png").string() + " --json --threads 2 2>&1");
     EXPECT_EQ(ok.exit_code, 0) << ok.out;
-    for (const char* key : {"\"width\":32", "\"height\":24", "\"spp\":2", "\"seconds\"", "\"rays\"", "\"rays_per_second\""})
+    for (const char* key :
+         {"\"width\":32", "\"height\":24", "\"spp\":2", "\"seconds\"", "\"rays\"", "\"rays_per_second\""})
         EXPECT_NE(ok.out.find(key), std::string::npos) << key << " in " << ok.out;
     EXPECT_TRUE(std::filesystem::exists(dir / "o.png"));
     std::ofstream(dir / "bad.toml") << "[output]\nwidht = 3\n";

@@ -125,9 +125,7 @@ TEST(SceneFile, SyntaxErrorNamesLine) {
     EXPECT_NE(e.find("scene.toml:2"), std::string::npos) << e;
 }
 
-TEST(SceneFile, MissingFileIsAnInputError) {
-    EXPECT_THROW(load_scene("/nonexistent/scene.toml"), InputError);
-}
+TEST(SceneFile, MissingFileIsAnInputError) { EXPECT_THROW(load_scene("/nonexistent/scene.toml"), InputError); }
 
 TEST(SceneFile, ParsesAovList) {
     EXPECT_EQ(parse_aovs("albedo,fold").size(), 2u);

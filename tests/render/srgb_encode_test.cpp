@@ -28,7 +28,8 @@ TEST(SrgbEncode, EveryCodeStepsUpAtTheSameFloat) {
     for (int code = 1; code < 256; ++code) {
         float lo = x, hi = 1.0f;
         while (std::nextafter(lo, 2.0f) < hi) {
-            const float mid = std::bit_cast<float>((std::bit_cast<std::uint32_t>(lo) + std::bit_cast<std::uint32_t>(hi)) / 2);
+            const float mid =
+                std::bit_cast<float>((std::bit_cast<std::uint32_t>(lo) + std::bit_cast<std::uint32_t>(hi)) / 2);
             (encode_srgb8_by_formula(mid) >= code ? hi : lo) = mid;
         }
         EXPECT_EQ(encode_srgb8(lo), code - 1) << "below the step to " << code;

@@ -13,7 +13,7 @@
 namespace foldcast::test {
 
 struct HttpReply {
-    int status = 0;  // 0: no reply (connection closed or timed out)
+    int status = 0;                              // 0: no reply (connection closed or timed out)
     std::map<std::string, std::string> headers;  // names lower-cased
     std::string body;
 };
@@ -60,7 +60,8 @@ inline HttpReply raw_http(int port, const std::string& request) {
 }
 
 inline HttpReply http_get(int port, const std::string& target, const std::string& extra_headers = "") {
-    return raw_http(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n" + extra_headers + "\r\n");
+    return raw_http(port,
+                    "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n" + extra_headers + "\r\n");
 }
 
 }  // namespace foldcast::test

@@ -41,9 +41,10 @@ TEST(ResolveInside, FilesBelowRootAndSymlinksThatStayInside) {
 TEST(ResolveInside, RefusesEveryWayOut) {
     const Tree t = make_tree();
     const std::string secret = fs::canonical(t.outside / "secret.fca").string();
-    for (const std::string& path : std::vector<std::string>{"../outside/secret.fca", "sub/../../outside/secret.fca", "..", "sub/..", secret,
-                                   "/" + secret, "link_out.fca", "dir_out/secret.fca", "sub\\..\\..\\outside\\secret.fca",
-                                   std::string("a.fca\0x", 7), "", ".", "sub", "sub/", "./a.fca", "sub//b.fca", "missing.fca"})
+    for (const std::string& path : std::vector<std::string>{
+             "../outside/secret.fca", "sub/../../outside/secret.fca", "..", "sub/..", secret, "/" + secret,
+             "link_out.fca", "dir_out/secret.fca", "sub\\..\\..\\outside\\secret.fca", std::string("a.fca\0x", 7), "",
+             ".", "sub", "sub/", "./a.fca", "sub//b.fca", "missing.fca"})
         EXPECT_FALSE(resolve_inside(t.root, path).has_value()) << path;
 }
 

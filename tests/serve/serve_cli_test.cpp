@@ -28,7 +28,8 @@ struct ServeProcess {
             ::dup2(out[1], STDOUT_FILENO);
             ::close(out[0]);
             const std::string binary = test::foldcast_binary(), root = dir.string();
-            ::execl(binary.c_str(), binary.c_str(), "serve", root.c_str(), "--port", "0", "--bind", "127.0.0.1", nullptr);
+            ::execl(binary.c_str(), binary.c_str(), "serve", root.c_str(), "--port", "0", "--bind", "127.0.0.1",
+                    nullptr);
             ::_exit(127);
         }
         ::close(out[1]);

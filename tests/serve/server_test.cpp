@@ -112,7 +112,8 @@ TEST(Server, RangeRequestsGiveExactlyTheBytesAsked) {
 
 TEST(Server, MissingFilesAndOtherTypesAre404) {
     Running s;
-    for (const char* target : {"/files/missing.fca", "/files/notes.txt", "/files/sub%20dir", "/files/", "/nope.js", "/api/nope"})
+    for (const char* target :
+         {"/files/missing.fca", "/files/notes.txt", "/files/sub%20dir", "/files/", "/nope.js", "/api/nope"})
         EXPECT_EQ(http_get(s.port(), target).status, 404) << target;
 }
 
@@ -120,12 +121,25 @@ TEST(Server, MissingFilesAndOtherTypesAre404) {
 TEST(Server, TraversalAttemptsNeverReachAFileOutsideRoot) {
     Running s;
     const std::string secret = fs::canonical(s.outside / "secret.fca").string();
-    std::vector<std::string> targets = {
-        "/files/../outside/secret.fca", "/files/%2e%2e/outside/secret.fca", "/files/%2E%2E%2Foutside%2Fsecret.fca",
-        "/files/sub%20dir/../../outside/secret.fca", "/files/..%2f..%2foutside%2fsecret.fca", "/files/%252e%252e/outside/secret.fca",
-        "/files/" + secret, "/files//" + secret, "/files/%2f" + secret.substr(1), "/files/link_out.fca", "/files/dir_out/secret.fca",
-        "/files/..%5c..%5coutside%5csecret.fca", "/files/a.fca%00.fca", "/../outside/secret.fca", "/%2e%2e/outside/secret.fca",
-        "/..%2f..%2f..%2f..%2f..%2f..%2fetc%2fpasswd", "/" + secret, "//etc/passwd", "/files/../../../../../../etc/passwd"};
+    std::vector<std::string> targets = {"/files/../outside/secret.fca",
+                                        "/files/%2e%2e/outside/secret.fca",
+                                        "/files/%2E%2E%2Foutside%2Fsecret.fca",
+                                        "/files/sub%20dir/../../outside/secret.fca",
+                                        "/files/..%2f..%2foutside%2fsecret.fca",
+                                        "/files/%252e%252e/outside/secret.fca",
+                                        "/files/" + secret,
+                                        "/files//" + secret,
+                                        "/files/%2f" + secret.substr(1),
+                                        "/files/link_out.fca",
+                                        "/files/dir_out/secret.fca",
+                                        "/files/..%5c..%5coutside%5csecret.fca",
+                                        "/files/a.fca%00.fca",
+                                        "/../outside/secret.fca",
+                                        "/%2e%2e/outside/secret.fca",
+                                        "/..%2f..%2f..%2f..%2f..%2f..%2fetc%2fpasswd",
+                                        "/" + secret,
+                                        "//etc/passwd",
+                                        "/files/../../../../../../etc/passwd"};
     for (const auto& target : targets) {
         const auto reply = http_get(s.port(), target);
         EXPECT_TRUE(reply.status == 404 || reply.status == 400) << target << " -> " << reply.status;
@@ -141,10 +155,20 @@ TEST(Server, OversizedAndUnexpectedRequestsAreRefused) {
     for (int i = 0; i < 200; ++i) many += "X-Filler-" + std::to_string(i) + ": 1\r\n";
     EXPECT_EQ(http_get(s.port(), "/files/a.fca", many).status, 431);
     const auto long_line = http_get(s.port(), "/files/a.fca", "X-Long: " + std::string(20000, 'b') + "\r\n").status;
-    EXPECT_TRUE(long_line == 400 || long_line == 431 || long_line == 0) << long_line;  // cpp-httplib drops the line's connection
-    EXPECT_EQ(test::raw_http(s.port(), "DELETE /files/a.fca HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").status, 405);
-    EXPECT_EQ(test::raw_http(s.port(), "POST /files/a.fca HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Length: 4\r\n\r\nabcd").status, 413);
-    EXPECT_EQ(test::raw_http(s.port(), "GET /files/a.fca HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Length: 100000000\r\n\r\n").status, 413);
+    EXPECT_TRUE(long_line == 400 || long_line == 431 || long_line == 0)
+        << long_line;  // cpp-httplib drops the line's connection
+    EXPECT_EQ(test::raw_http(s.port(), "DELETE /files/a.fca HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").status,
+              405);
+    EXPECT_EQ(
+        test::raw_http(s.port(),
+                       "POST /files/a.fca HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Length: 4\r\n\r\nabcd")
+            .status,
+        413);
+    EXPECT_EQ(
+        test::raw_http(s.port(),
+                       "GET /files/a.fca HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Length: 100000000\r\n\r\n")
+            .status,
+        413);
     // Still serving afterwards.
     EXPECT_EQ(http_get(s.port(), "/files/a.fca").body, s.a);
 }

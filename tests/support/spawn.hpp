@@ -26,7 +26,7 @@ inline std::string foldcast_under_test() {
 }
 
 struct Limits {
-    int cpu_seconds = 0;             // RLIMIT_CPU: SIGXCPU past it; 0 = none
+    int cpu_seconds = 0;                  // RLIMIT_CPU: SIGXCPU past it; 0 = none
     unsigned long long memory_bytes = 0;  // RLIMIT_AS; 0 = none (ignored under sanitizers)
 };
 
@@ -84,7 +84,8 @@ struct Outcome {
     double seconds = 0;  // wall time, for messages only
 };
 
-inline Outcome wait_for(const Child& child, std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now()) {
+inline Outcome wait_for(const Child& child,
+                        std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now()) {
     int status = 0;
     ::waitpid(child.pid, &status, 0);
     Outcome o;
@@ -98,7 +99,8 @@ inline Outcome wait_for(const Child& child, std::chrono::steady_clock::time_poin
 }
 
 // Runs to completion.
-inline Outcome run_child(const std::vector<std::string>& argv, const std::filesystem::path& stderr_path, Limits limits = {}) {
+inline Outcome run_child(const std::vector<std::string>& argv, const std::filesystem::path& stderr_path,
+                         Limits limits = {}) {
     const auto start = std::chrono::steady_clock::now();
     return wait_for(spawn(argv, stderr_path, limits), start);
 }

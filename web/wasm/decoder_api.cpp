@@ -13,9 +13,9 @@ namespace {
 struct Player {
     foldcast::codec::StreamingDecoder decoder;
     std::string error;
-    std::vector<foldcast::Vec3f> frame;        // the last frame asked for
-    std::vector<std::uint32_t> triangles;      // flattened, valid once the header is in
-    std::vector<std::uint8_t> input;           // the caller writes the next chunk here
+    std::vector<foldcast::Vec3f> frame;    // the last frame asked for
+    std::vector<std::uint32_t> triangles;  // flattened, valid once the header is in
+    std::vector<std::uint8_t> input;       // the caller writes the next chunk here
     double status[6] = {};
 };
 
@@ -49,9 +49,8 @@ std::uint8_t* fca_input(Player* p, std::uint32_t bytes) {
     return p->input.data();
 }
 int fca_feed(Player* p, std::uint32_t bytes) {
-    return guarded(p, [&] {
-        p->decoder.feed(std::string_view(reinterpret_cast<const char*>(p->input.data()), bytes));
-    });
+    return guarded(p,
+                   [&] { p->decoder.feed(std::string_view(reinterpret_cast<const char*>(p->input.data()), bytes)); });
 }
 const char* fca_error(Player* p) { return p->error.c_str(); }
 
@@ -74,7 +73,9 @@ std::uint32_t fca_vertex_count(Player* p) { return static_cast<std::uint32_t>(p-
 std::uint32_t fca_frame_count(Player* p) { return static_cast<std::uint32_t>(p->decoder.frame_count()); }
 double fca_fps(Player* p) { return p->decoder.fps(); }
 int fca_profile(Player* p) { return static_cast<int>(p->decoder.profile()); }
-std::uint32_t fca_triangle_count(Player* p) { return static_cast<std::uint32_t>(p->decoder.topology().triangles.size()); }
+std::uint32_t fca_triangle_count(Player* p) {
+    return static_cast<std::uint32_t>(p->decoder.topology().triangles.size());
+}
 const std::uint32_t* fca_triangles(Player* p) {
     const auto& tris = p->decoder.topology().triangles;
     p->triangles.resize(tris.size() * 3);

@@ -8,13 +8,9 @@
 #if !defined(__cpp_lib_smart_ptr_for_overwrite)
 namespace std {
 template <class T>
-    requires(!is_array_v<T>)
-unique_ptr<T> make_unique_for_overwrite() {
-    return unique_ptr<T>(new T);
-}
+requires(!is_array_v<T>) unique_ptr<T> make_unique_for_overwrite() { return unique_ptr<T>(new T); }
 template <class T>
-    requires is_unbounded_array_v<T>
-unique_ptr<T> make_unique_for_overwrite(size_t n) {
+requires is_unbounded_array_v<T> unique_ptr<T> make_unique_for_overwrite(size_t n) {
     return unique_ptr<T>(new remove_extent_t<T>[n]);
 }
 }  // namespace std

@@ -26,7 +26,7 @@ enum class Profile : std::uint8_t {
     paper = 0,       // reference method: velocity + cubic B-spline wavelets + Huffman
     predictive = 1,  // the `default` profile (docs/codec.md): error-bounded hierarchical prediction
 };
-std::string profile_name(Profile p);         // "paper" / "default"
+std::string profile_name(Profile p);             // "paper" / "default"
 Profile parse_profile(const std::string& name);  // throws InputError
 
 struct EncodeOptions {
@@ -56,10 +56,10 @@ void decode(std::string_view bytes, Animation& out, const std::string& what = "f
 
 struct StreamStatus {
     bool header_ready = false;
-    bool complete = false;          // the end packet arrived: every frame is final
+    bool complete = false;            // the end packet arrived: every frame is final
     std::size_t playable_frames = 0;  // frames [0, playable_frames) are final
-    std::size_t packets = 0;        // packets accepted so far
-    std::size_t bytes_used = 0;     // bytes of accepted packets (a partial packet waits)
+    std::size_t packets = 0;          // packets accepted so far
+    std::size_t bytes_used = 0;       // bytes of accepted packets (a partial packet waits)
 };
 
 class StreamingDecoder {
@@ -106,11 +106,11 @@ private:
 
 struct Metrics {
     std::size_t frames = 0, vertices = 0, bytes = 0;
-    double bpvf = 0.0;            // bits per vertex per frame
-    double rms_error_rel = 0.0;   // RMS vertex error / bounding-box diagonal
-    double max_error_rel = 0.0;   // max vertex error / bounding-box diagonal
+    double bpvf = 0.0;           // bits per vertex per frame
+    double rms_error_rel = 0.0;  // RMS vertex error / bounding-box diagonal
+    double max_error_rel = 0.0;  // max vertex error / bounding-box diagonal
     double max_error_m = 0.0;
-    double kg_error = 0.0;        // Karni-Gotsman, percent
+    double kg_error = 0.0;  // Karni-Gotsman, percent
 };
 // Throws InputError if the animations differ in shape.
 Metrics measure(const Animation& original, const Animation& decoded, std::size_t bytes);

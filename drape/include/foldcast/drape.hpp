@@ -14,13 +14,13 @@
 namespace foldcast::drape {
 
 struct ClothParams {
-    double width_m = 0.5;    // L: top edge length
-    double height_m = 0.7;   // h
-    double inset_m = 0.1;    // d: supports are l = L - 2d apart
+    double width_m = 0.5;   // L: top edge length
+    double height_m = 0.7;  // h
+    double inset_m = 0.1;   // d: supports are l = L - 2d apart
     double thickness_m = 0.3e-3;
     double young_pa = 5e6;
     double poisson = 0.3;
-    double weight_n_per_m2 = 1.47;  // w
+    double weight_n_per_m2 = 1.47;                          // w
     double load_constant = looks::default_load_constant();  // c
     // More supports (docs/drape.md): `supports` equally spaced under the top edge, the
     // outer two at the corners moved in by inset_m, so supports - 1 bays share their inner
@@ -37,8 +37,7 @@ struct ClothParams {
 // the stress ratio are those of a bay.
 ClothParams bay_params(const ClothParams& params);
 
-ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, double height_m,
-                            double inset_m);
+ClothParams cloth_from_look(const looks::Mechanics& mechanics, double width_m, double height_m, double inset_m);
 
 // Throws InputError naming the parameter and the allowed range: sizes, thickness, modulus,
 // weight and load constant finite and > 0, 0 <= inset < width/2, 0 <= poisson < 0.5,
@@ -60,19 +59,19 @@ double top_edge_amplitude_m(double span_m, double length_m);
 // One candidate number of folds and its solve of the length equations.
 struct FoldCandidate {
     int folds = 0;
-    bool solved = false;    // the top edge and hem length equations have a solution (zmax > 0, a_0 > 0)
-    bool feasible = false;  // solved with a zig-zag that fits the centre fibre (fold_length_m <= h)
-    double top_amplitude_m = 0.0;  // a_n
+    bool solved = false;              // the top edge and hem length equations have a solution (zmax > 0, a_0 > 0)
+    bool feasible = false;            // solved with a zig-zag that fits the centre fibre (fold_length_m <= h)
+    double top_amplitude_m = 0.0;     // a_n
     double lowest_amplitude_m = 0.0;  // a_0 = a_n Q^n
     double zmax_m = 0.0;
-    double fold_length_m = 0.0;    // Z: length of the centre fibre's zig-zag through the n folds
-    double residual = 0.0;         // max relative residual of the length equations
-    std::string why_not;           // when not feasible
+    double fold_length_m = 0.0;  // Z: length of the centre fibre's zig-zag through the n folds
+    double residual = 0.0;       // max relative residual of the length equations
+    std::string why_not;         // when not feasible
 };
 
 struct FoldSolution {
-    int folds = 0;      // n (per bay); 0 = no wrinkles (smooth sag) or no slack
-    double Q = 1.0;     // amplitude ratio a_{i-1}/a_i
+    int folds = 0;   // n (per bay); 0 = no wrinkles (smooth sag) or no slack
+    double Q = 1.0;  // amplitude ratio a_{i-1}/a_i
     double zmax_m = 0.0;
     // Z, the centre fibre's zig-zag length; the rest h - Z hangs straight below the lowest
     // fold line.  Z > h only when even one fold is longer than the cloth: the hem cuts it.
@@ -80,11 +79,11 @@ struct FoldSolution {
     std::vector<double> amplitudes_m;  // a_0 (lowest fold line) .. a_n (top edge sag)
     std::vector<int> feasible_folds;
     std::vector<FoldCandidate> candidates;  // every n tried, for verbose output
-    double residual = 0.0;     // max relative residual of the chosen solution
-    double stress_ratio = 0.0; // S = sigma_cr t / (w h); S >= 1: no wrinkles
-    double slack_amplitude_m = 0.0;  // A = sqrt(a_n^2 + zmax^2), fixed by the top edge length
+    double residual = 0.0;                  // max relative residual of the chosen solution
+    double stress_ratio = 0.0;              // S = sigma_cr t / (w h); S >= 1: no wrinkles
+    double slack_amplitude_m = 0.0;         // A = sqrt(a_n^2 + zmax^2), fixed by the top edge length
     enum class Regime { wrinkled, no_wrinkles, no_feasible_folds } regime = Regime::wrinkled;
-    std::string explanation;   // one sentence for users, always set
+    std::string explanation;  // one sentence for users, always set
 };
 
 // Pure function: no I/O.  Throws InputError for invalid params (see validate).
@@ -99,8 +98,7 @@ struct FoldLine {
     int bay = 0;
     std::vector<Eigen::Vector3d> points;
 };
-std::vector<FoldLine> fold_lines(const ClothParams& params, const FoldSolution& solution,
-                                 int samples = 129);
+std::vector<FoldLine> fold_lines(const ClothParams& params, const FoldSolution& solution, int samples = 129);
 
 struct GridSize {
     int nu = 64;  // vertices across
@@ -113,19 +111,18 @@ struct Stretch {
 };
 
 struct Garment {
-    Mesh mesh;                        // positions, triangles, UVs in metres, normals
-    std::vector<float> fold_sign;     // per vertex in [-1,1]: which way the local fold bulges
+    Mesh mesh;                          // positions, triangles, UVs in metres, normals
+    std::vector<float> fold_sign;       // per vertex in [-1,1]: which way the local fold bulges
     std::vector<int> support_vertices;  // fixed points: every support, inner ones too (row 0)
-    Stretch stretch;                  // of the grid returned (relaxed unless relax = false)
-    Stretch stretch_analytical;       // of the model's surface before relaxation
+    Stretch stretch;                    // of the grid returned (relaxed unless relax = false)
+    Stretch stretch_analytical;         // of the model's surface before relaxation
     int relax_iterations = 0;
 };
 
 // Needs (grid.nu - 1) divisible by the bays, so that every support is a grid vertex.
 // relax: bring the analytical grid towards isometry (drape_relax.hpp), every support pinned;
 // false keeps the model's surface as it is.
-Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid,
-                      bool relax = true);
+Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid, bool relax = true);
 
 struct AnimationOptions {
     int frames = 60;

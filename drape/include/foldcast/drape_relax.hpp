@@ -29,8 +29,7 @@ struct RelaxReport {
 // vertices; relax() may be called for many frames of that grid (the animation does).
 class GridRelaxer {
 public:
-    GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned,
-                RelaxSettings settings = {});
+    GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned, RelaxSettings settings = {});
     ~GridRelaxer();
     GridRelaxer(GridRelaxer&&) noexcept;
     GridRelaxer& operator=(GridRelaxer&&) noexcept;

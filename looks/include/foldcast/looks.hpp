@@ -16,7 +16,7 @@ namespace toml {
 inline namespace v3 {
 class node;
 class table;
-}
+}  // namespace v3
 }  // namespace toml
 
 namespace foldcast::looks {
@@ -44,15 +44,15 @@ struct Appearance {
     Eigen::Vector3f base_colour{0.6f, 0.6f, 0.6f};  // linear RGB; the warp yarns' colour
     // Weft yarns' colour where it differs (denim's white weft, shot taffeta); unset = base.
     std::optional<Eigen::Vector3f> weft_colour;
-    std::filesystem::path texture;                  // optional image, tiled every repeat_mm
+    std::filesystem::path texture;  // optional image, tiled every repeat_mm
     Weave weave = Weave::plain;
-    int twill_float = 3;            // twill only: warp floats over this many picks (2/1 or 3/1)
-    double repeat_mm = 1.0;         // yarn spacing (weaves) or texture tile size
-    double roughness = 0.8;         // GGX, [0,1]
+    int twill_float = 3;     // twill only: warp floats over this many picks (2/1 or 3/1)
+    double repeat_mm = 1.0;  // yarn spacing (weaves) or texture tile size
+    double roughness = 0.8;  // GGX, [0,1]
     Eigen::Vector3f sheen_colour{0.0f, 0.0f, 0.0f};
-    double sheen_roughness = 0.5;   // Charlie sheen, [0,1]
-    double specular = 0.5;          // [0,1], scales F0 around 0.04
-    double anisotropy = 0.0;        // [0,1)
+    double sheen_roughness = 0.5;  // Charlie sheen, [0,1]
+    double specular = 0.5;         // [0,1], scales F0 around 0.04
+    double anisotropy = 0.0;       // [0,1)
     AnisotropyAxis anisotropy_axis = AnisotropyAxis::warp;
     std::filesystem::path normal_map;  // optional tangent-space normal map
     double bump_strength = 1.0;

@@ -61,17 +61,17 @@ struct PreviewScene {
     std::vector<PreviewObject> objects;
     std::vector<PreviewLight> lights;  // at most 4 are used
     PreviewCamera camera;
-    Vec3f ambient{0.05f, 0.05f, 0.05f};    // uniform environment radiance
-    Vec3f background{0.0f, 0.0f, 0.0f};    // linear RGB behind everything
-    bool transparent_background = false;   // alpha 0 where nothing was drawn
-    bool want_depth = true;                // false skips the depth pass (PreviewImage::depth empty)
+    Vec3f ambient{0.05f, 0.05f, 0.05f};   // uniform environment radiance
+    Vec3f background{0.0f, 0.0f, 0.0f};   // linear RGB behind everything
+    bool transparent_background = false;  // alpha 0 where nothing was drawn
+    bool want_depth = true;               // false skips the depth pass (PreviewImage::depth empty)
 };
 
 struct PreviewImage {
     int width = 0;
     int height = 0;
-    std::vector<float> rgba;         // linear RGB + alpha (straight), top row first
-    std::vector<float> depth;        // distance from the camera in metres; +inf where empty
+    std::vector<float> rgba;   // linear RGB + alpha (straight), top row first
+    std::vector<float> depth;  // distance from the camera in metres; +inf where empty
 };
 
 // Owns one EGL context and its framebuffers; render() may be called for many frames
@@ -101,8 +101,7 @@ RenderResult preview_still(const SceneSpec& scene, const RenderOptions& options,
 
 // One frame of a placed studio (render::StudioSetup::geometry) through the rasteriser, as a
 // RenderResult (beauty, and the depth AOV if asked): what turntables use frame by frame.
-RenderResult preview_frame(PreviewRenderer& renderer, const SceneSpec& lit_scene,
-                           const FrameGeometry& geometry, const Camera& camera,
-                           const std::vector<Aov>& aovs);
+RenderResult preview_frame(PreviewRenderer& renderer, const SceneSpec& lit_scene, const FrameGeometry& geometry,
+                           const Camera& camera, const std::vector<Aov>& aovs);
 
 }  // namespace foldcast::preview

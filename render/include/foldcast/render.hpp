@@ -24,14 +24,14 @@ class OutputTransaction;  // foldcast/core/atomic_file.hpp
 namespace foldcast::render {
 
 struct CameraSpec {
-    bool auto_frame = true;      // place the camera so the garment fills frame_share
-    double frame_share = 0.75;   // share of the frame's limiting side the garment's bbox spans
-    double azimuth_deg = 0.0;    // orbit angle about the vertical axis; 0 = in front (+z)
-    double elevation_deg = 4.0;  // above the garment's centre
+    bool auto_frame = true;            // place the camera so the garment fills frame_share
+    double frame_share = 0.75;         // share of the frame's limiting side the garment's bbox spans
+    double azimuth_deg = 0.0;          // orbit angle about the vertical axis; 0 = in front (+z)
+    double elevation_deg = 4.0;        // above the garment's centre
     Vec3f position{0.0f, 0.0f, 2.0f};  // used when auto_frame is false
     Vec3f target{0.0f, 0.0f, 0.0f};
-    double fov_deg = 30.0;       // vertical field of view
-    double aperture_m = 0.0;     // thin-lens aperture diameter; 0 = pinhole
+    double fov_deg = 30.0;          // vertical field of view
+    double aperture_m = 0.0;        // thin-lens aperture diameter; 0 = pinhole
     double focus_distance_m = 0.0;  // 0 = focus on the target
 };
 
@@ -52,18 +52,18 @@ struct GarmentSpec {
     double width_m = 0.6;
     double height_m = 0.8;
     double inset_m = 0.12;
-    int supports = 2;                // equally spaced under the top edge (drape's --supports)
-    double support_drop_m = 0.0;     // the last support this much lower than the first
+    int supports = 2;             // equally spaced under the top edge (drape's --supports)
+    double support_drop_m = 0.0;  // the last support this much lower than the first
     int grid_nu = 96;
     int grid_nv = 128;
-    int animation_frames = 0;        // > 0: turntables sway the drape over this many frames
+    int animation_frames = 0;  // > 0: turntables sway the drape over this many frames
     double sway_amplitude_m = 0.0;
-    bool relax = true;               // relax the drape towards isometry (docs/drape.md)
+    bool relax = true;  // relax the drape towards isometry (docs/drape.md)
     // Files: .obj (a mesh), .pc2 (+ the .obj topology of the same stem, or `topology`), .fca.
     std::filesystem::path path;
     std::filesystem::path topology;
-    int frame = 0;                   // stills use this frame of an animation
-    double scale = 1.0;              // multiplies file positions (to metres)
+    int frame = 0;       // stills use this frame of an animation
+    double scale = 1.0;  // multiplies file positions (to metres)
 };
 
 struct SceneSpec {
@@ -71,20 +71,20 @@ struct SceneSpec {
     GarmentSpec garment;
     looks::Look look;
     CameraSpec camera;
-    std::vector<AreaLight> lights;  // explicit area lights
-    bool studio_preset = true;      // add key/fill/rim lights placed around the garment
+    std::vector<AreaLight> lights;        // explicit area lights
+    bool studio_preset = true;            // add key/fill/rim lights placed around the garment
     Vec3f environment{0.0f, 0.0f, 0.0f};  // uniform environment radiance
     enum class Backdrop { cyclorama, none };
     Backdrop backdrop = Backdrop::cyclorama;
     Vec3f backdrop_colour{0.8f, 0.8f, 0.8f};
-    bool transparent = false;    // camera rays that see the backdrop or the sky get alpha 0
+    bool transparent = false;  // camera rays that see the backdrop or the sky get alpha 0
     enum class Supports { rod, clips, none };
     Supports supports = Supports::rod;
     int width = 1280;
     int height = 720;
     int spp = 64;
     std::uint64_t seed = 1;
-    int max_depth = 5;           // path vertices after the camera
+    int max_depth = 5;  // path vertices after the camera
     double exposure_ev = 0.0;
     int turntable_frames = 36;
     double turntable_fps = 24.0;
@@ -122,8 +122,7 @@ struct Camera {
 // The scene's camera for an image of this aspect (width / height).  Auto-framing places it
 // so the projected bounding box of all the points of all `fit_frames` spans
 // spec.frame_share of the frame's limiting side, centred.
-Camera frame_camera(const CameraSpec& spec, const std::vector<std::vector<Vec3f>>& fit_frames,
-                    double aspect);
+Camera frame_camera(const CameraSpec& spec, const std::vector<std::vector<Vec3f>>& fit_frames, double aspect);
 // Projects a world point to pixel coordinates (x right, y down); false if behind the camera.
 bool project(const Camera& camera, int width, int height, const Vec3f& point, Eigen::Vector2d* pixel);
 
@@ -133,7 +132,7 @@ std::vector<Aov> parse_aovs(const std::string& list);
 const char* aov_name(Aov aov);
 
 struct RenderOptions {
-    int width = 0;    // 0 = the scene's
+    int width = 0;  // 0 = the scene's
     int height = 0;
     int spp = 0;
     std::optional<std::uint64_t> seed;
@@ -156,9 +155,7 @@ struct Image {
     int channels = 0;
     std::vector<float> pixels;
     float* at(int x, int y) { return &pixels[(static_cast<std::size_t>(y) * width + x) * channels]; }
-    const float* at(int x, int y) const {
-        return &pixels[(static_cast<std::size_t>(y) * width + x) * channels];
-    }
+    const float* at(int x, int y) const { return &pixels[(static_cast<std::size_t>(y) * width + x) * channels]; }
 };
 
 struct AovImage {
@@ -169,15 +166,15 @@ struct AovImage {
 struct RenderStats {
     int width = 0;
     int height = 0;
-    int spp = 0;             // samples per pixel asked for (the most, when adaptive)
-    double mean_spp = 0.0;   // samples per pixel taken, on average
+    int spp = 0;            // samples per pixel asked for (the most, when adaptive)
+    double mean_spp = 0.0;  // samples per pixel taken, on average
     double seconds = 0.0;
     std::uint64_t rays = 0;  // every ray traced: camera, bounce and shadow
     double rays_per_second() const { return seconds > 0.0 ? static_cast<double>(rays) / seconds : 0.0; }
 };
 
 struct RenderResult {
-    Image beauty;  // RGBA, linear, straight (not premultiplied) alpha
+    Image beauty;              // RGBA, linear, straight (not premultiplied) alpha
     std::optional<Image> raw;  // before denoising, when asked to keep it
     std::vector<AovImage> aovs;
     RenderStats stats;
@@ -185,15 +182,14 @@ struct RenderResult {
 
 // Renders the scene's still (garment.frame).  Deterministic: the same scene, seed and spp
 // give the same pixels whatever `threads` is.
-RenderResult render_still(const SceneSpec& scene, const RenderOptions& options,
-                          const ProgressFn& progress = {});
+RenderResult render_still(const SceneSpec& scene, const RenderOptions& options, const ProgressFn& progress = {});
 
 // Writes OUT.png (8-bit sRGB; with alpha when the scene is transparent) or OUT.exr (linear
 // float RGBA), each AOV beside it as OUT.<aov>.png / OUT.<aov>.exr and the image before
 // denoising, when kept, as OUT.raw.png / OUT.raw.exr.  Atomic writes.
 // Returns the paths written.
-std::vector<std::filesystem::path> write_render(const std::filesystem::path& out,
-                                                const RenderResult& result, const SceneSpec& scene);
+std::vector<std::filesystem::path> write_render(const std::filesystem::path& out, const RenderResult& result,
+                                                const SceneSpec& scene);
 // The same files staged in `outputs`, replaced when the caller commits it.
 std::vector<std::filesystem::path> write_render(OutputTransaction& outputs, const std::filesystem::path& out,
                                                 const RenderResult& result, const SceneSpec& scene);

@@ -25,11 +25,11 @@ struct Options {
     std::filesystem::path root;     // the .fca files
     std::filesystem::path web_dir;  // the built player (build/web); may be missing
     std::string bind = "127.0.0.1";
-    int port = 8080;                // 0: any free port (see Server::port())
+    int port = 8080;                      // 0: any free port (see Server::port())
     std::optional<double> throttle_kbps;  // kilobits per second shared by all .fca downloads
-    std::size_t workers = 8;        // connections served at once
-    std::size_t queued = 32;        // accepted connections waiting for a worker
-    bool log = false;               // one line per request on stderr
+    std::size_t workers = 8;              // connections served at once
+    std::size_t queued = 32;              // accepted connections waiting for a worker
+    bool log = false;                     // one line per request on stderr
 };
 
 // The file `url_path` (already %-decoded, relative to root, '/'-separated) names inside

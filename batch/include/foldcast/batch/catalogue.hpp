@@ -14,7 +14,7 @@ namespace foldcast::batch {
 
 struct BatchView {
     std::string name;
-    double azimuth_deg = 0.0;    // camera orbit around the garment, 0 = front
+    double azimuth_deg = 0.0;  // camera orbit around the garment, 0 = front
     double elevation_deg = 0.0;
 };
 
@@ -82,8 +82,8 @@ struct BatchOutput {
 // image at job.output), writes each sidecar hash, and records every output of the shard in
 // `<output_dir>/outputs-<I>-of-<N>.json` (or outputs.json unsharded).  Returns the outputs.
 using JobRenderer = std::function<void(const BatchJob& job, const BatchManifest& manifest)>;
-std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard,
-                                   const JobRenderer& render_job, const ProgressFn& progress = {});
+std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, const JobRenderer& render_job,
+                                   const ProgressFn& progress = {});
 
 // The JSON list of outputs of a run (what run_batch writes), for reports.
 std::string outputs_json(const BatchManifest& manifest, const std::vector<BatchOutput>& outputs);

@@ -18,17 +18,17 @@ struct SwatchOptions {
     double width_m = 0.5;            // the same drape for every look
     double height_m = 0.7;
     double inset_m = 0.1;
-    int tile_width = 240;            // pixels of each rendered tile (the label strip is extra)
+    int tile_width = 240;  // pixels of each rendered tile (the label strip is extra)
     int tile_height = 300;
-    int columns = 0;                 // 0 = about twice as many columns as rows (12 looks: 6 x 2)
+    int columns = 0;  // 0 = about twice as many columns as rows (12 looks: 6 x 2)
     int spp = 32;
     std::uint64_t seed = 1;
-    int threads = 0;                 // 0 = all cores
+    int threads = 0;  // 0 = all cores
 };
 
 struct SwatchTile {
     std::string look;
-    int folds = 0;      // drape's fold count for this look and size
+    int folds = 0;  // drape's fold count for this look and size
     double gsm = 0.0;
 };
 
@@ -37,7 +37,7 @@ struct SwatchSheet {
     int height = 0;
     std::vector<std::uint8_t> rgb;  // 8-bit sRGB, row-major from the top, 3 bytes per pixel
     std::vector<SwatchTile> tiles;  // in sheet order: left to right, top to bottom
-    render::RenderStats stats;              // summed over tiles
+    render::RenderStats stats;      // summed over tiles
 };
 
 // Throws InputError for unknown look names or impossible sizes.  Deterministic: the same

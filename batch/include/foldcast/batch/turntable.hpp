@@ -16,11 +16,11 @@ using render::SceneSpec;
 
 struct TurntableOptions {
     RenderOptions render;
-    int total_frames = 0;      // 0 = the scene's turntable_frames
-    int first_frame = 0;       // render frames [first_frame, last_frame)
-    int last_frame = -1;       // -1 = total_frames
-    bool preview = false;      // rasterise each frame through EGL instead of path tracing
-    int msaa_samples = 4;      // preview only
+    int total_frames = 0;  // 0 = the scene's turntable_frames
+    int first_frame = 0;   // render frames [first_frame, last_frame)
+    int last_frame = -1;   // -1 = total_frames
+    bool preview = false;  // rasterise each frame through EGL instead of path tracing
+    int msaa_samples = 4;  // preview only
 };
 struct TurntableResult {
     std::vector<std::filesystem::path> written;
@@ -33,8 +33,7 @@ struct TurntableResult {
 TurntableResult render_turntable(const SceneSpec& scene, const std::filesystem::path& out,
                                  const TurntableOptions& options, const ProgressFn& progress = {});
 // Encodes a complete PNG sequence (frame_0000.png ...) into an MP4 at `fps`.
-void encode_mp4(const std::filesystem::path& frames_dir, int frame_count, double fps,
-                const std::filesystem::path& mp4);
+void encode_mp4(const std::filesystem::path& frames_dir, int frame_count, double fps, const std::filesystem::path& mp4);
 std::filesystem::path turntable_frame_path(const std::filesystem::path& dir, int frame);
 
 }  // namespace foldcast::batch

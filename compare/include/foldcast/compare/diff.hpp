@@ -41,14 +41,14 @@ struct DiffReport {
     double max_abs_error = 0.0;
     int max_x = 0, max_y = 0, max_channel = 0;  // where max_abs_error occurs (first in scan order)
     double rms_error = 0.0;
-    double psnr_db = 0.0;        // 20 log10(1 / rms); +inf for identical images
-    double ssim = 1.0;           // mean SSIM of the Rec.709 luma (Gaussian 11x11, sigma 1.5)
-    double flip_mean = 0.0;      // mean LDR-FLIP error in [0,1] (RGB, alpha ignored)
+    double psnr_db = 0.0;    // 20 log10(1 / rms); +inf for identical images
+    double ssim = 1.0;       // mean SSIM of the Rec.709 luma (Gaussian 11x11, sigma 1.5)
+    double flip_mean = 0.0;  // mean LDR-FLIP error in [0,1] (RGB, alpha ignored)
     double flip_max = 0.0;
     long long warn_pixels = 0;
     long long fail_pixels = 0;
-    long long nan_values = 0;    // channels where either image holds NaN: always FAILURE
-    double warn_percent = 0.0;   // 100 * warn_pixels / pixels
+    long long nan_values = 0;   // channels where either image holds NaN: always FAILURE
+    double warn_percent = 0.0;  // 100 * warn_pixels / pixels
     double fail_percent = 0.0;
     DiffVerdict verdict = DiffVerdict::pass;
 };
@@ -63,8 +63,8 @@ enum class HeatMapKind {
 void validate(const DiffThresholds& thresholds);
 
 // Compares `test` against `reference` (validating the thresholds first).  A channel where
-// either image holds NaN counts as an infinite difference, so it fails at any threshold.  Throws SizeMismatch when sizes or channel counts
-// differ.  When `heat_map` is given it receives an RGB picture of the differences.
+// either image holds NaN counts as an infinite difference, so it fails at any threshold.  Throws SizeMismatch when
+// sizes or channel counts differ.  When `heat_map` is given it receives an RGB picture of the differences.
 DiffReport diff_images(const Image& reference, const Image& test, const DiffThresholds& thresholds,
                        Image* heat_map = nullptr, HeatMapKind kind = HeatMapKind::flip);
 

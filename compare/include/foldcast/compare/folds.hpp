@@ -47,10 +47,10 @@ void validate(const FoldDetectionOptions& options);
 
 struct FoldDetection {
     std::vector<DetectedFold> folds;
-    Image mask;               // 1 channel, 1 = cloth
-    Image search_region;      // 1 channel, 1 = where lines were looked for (mask minus border, prints)
-    Image print_mask;         // 1 channel, 1 = printed motif (chromaticity far from the cloth's), dilated
-    Image shading;            // 1 channel: the luma the ridge filter saw (prints filled in from around them)
+    Image mask;           // 1 channel, 1 = cloth
+    Image search_region;  // 1 channel, 1 = where lines were looked for (mask minus border, prints)
+    Image print_mask;     // 1 channel, 1 = printed motif (chromaticity far from the cloth's), dilated
+    Image shading;        // 1 channel: the luma the ridge filter saw (prints filled in from around them)
     std::vector<double> sigmas_px;
     double high_threshold = 0.0, low_threshold = 0.0;
 };

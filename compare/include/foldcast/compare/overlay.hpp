@@ -34,8 +34,8 @@ ClothToImage similarity_from_supports(const SupportPixels& supports, double span
 ClothToImage homography_from_corners(const std::array<Eigen::Vector2d, 4>& corners_px, double span_m, double height_m);
 
 struct PredictedLine {
-    int index = 0;       // drape's i: 0 lowest; index == n is the top edge
-    int sign = 1;        // +1 towards the viewer (crest), -1 away (valley)
+    int index = 0;  // drape's i: 0 lowest; index == n is the top edge
+    int sign = 1;   // +1 towards the viewer (crest), -1 away (valley)
     bool top_edge = false;
     std::vector<Eigen::Vector2d> points_px;
 };
@@ -74,19 +74,19 @@ struct CentreLine {
 CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixels& supports);
 
 struct FoldScore {
-    int predicted_folds = 0;   // n of the prediction (the top edge is not a fold)
-    int detected_lines = 0;    // lines the detector found
-    int measured_folds = 0;    // n on the centre line (CentreLine::folds)
-    int count_error = 0;       // predicted_folds - measured_folds
-    double precision = 0.0;    // share of predicted line length on the cloth within tolerance of a detected line
-    double recall = 0.0;       // share of detected line length within tolerance of a predicted line
+    int predicted_folds = 0;  // n of the prediction (the top edge is not a fold)
+    int detected_lines = 0;   // lines the detector found
+    int measured_folds = 0;   // n on the centre line (CentreLine::folds)
+    int count_error = 0;      // predicted_folds - measured_folds
+    double precision = 0.0;   // share of predicted line length on the cloth within tolerance of a detected line
+    double recall = 0.0;      // share of detected line length within tolerance of a predicted line
     double f1 = 0.0;
     // What the fit maximises, in [0, 1]: the mean of F1 (where the lines are) and
     // 1 / (1 + |count_error|) (how many there are).  More lines than the photo shows lower
     // the precision and the count term, so covering the cloth does not pay; the count term
     // still ranks parameter sets whose lines all miss (F1 = 0).
     double agreement = 0.0;
-    double chamfer_cm = 0.0;   // symmetric, truncated at `truncation_cm`
+    double chamfer_cm = 0.0;  // symmetric, truncated at `truncation_cm`
     double truncation_cm = 0.0;
     double tolerance_px = 0.0, tolerance_cm = 0.0;
 };

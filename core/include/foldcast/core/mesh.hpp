@@ -39,8 +39,7 @@ struct Animation {
 };
 
 // Area-weighted vertex normals (a vertex in no triangle gets +z).
-std::vector<Vec3f> vertex_normals(const std::vector<Vec3f>& positions,
-                                  const std::vector<Triangle>& triangles);
+std::vector<Vec3f> vertex_normals(const std::vector<Vec3f>& positions, const std::vector<Triangle>& triangles);
 
 // Throws InputError (prefixed by `what`) unless every index is in range, every frame has
 // the same vertex count, UVs are absent or one per vertex and all positions are finite.

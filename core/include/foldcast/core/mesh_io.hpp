@@ -25,15 +25,13 @@ struct Pc2Info {
     float start_frame = 0.0f;
     float sampling = 1.0f;
 };
-void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<Vec3f>>& frames,
-               Pc2Info info = {});
+void write_pc2(const std::filesystem::path& path, const std::vector<std::vector<Vec3f>>& frames, Pc2Info info = {});
 void write_pc2(std::ostream& out, const std::vector<std::vector<Vec3f>>& frames, Pc2Info info = {});
 // Frames only: PC2 carries no topology.  Rejects files whose header disagrees with their size.
 std::vector<std::vector<Vec3f>> read_pc2(const std::filesystem::path& path, Pc2Info* info = nullptr);
 
 // PC2 frames + topology from an OBJ with the same vertex order.
-Animation read_pc2_animation(const std::filesystem::path& pc2, const std::filesystem::path& obj,
-                             double fps = 30.0);
+Animation read_pc2_animation(const std::filesystem::path& pc2, const std::filesystem::path& obj, double fps = 30.0);
 // Writes `path` (.pc2) and the topology (first frame) as the .obj of the same stem beside it,
 // both or neither (one OutputTransaction).
 void write_pc2_animation(const std::filesystem::path& pc2, const Animation& anim);

@@ -30,14 +30,14 @@ struct LookKey {
     LookSection section = LookSection::mechanics;
     std::string_view name;
     Type type = Type::number;
-    ValueRange range{};                      // number, integer
-    std::vector<std::string_view> choices;   // choice
+    ValueRange range{};                     // number, integer
+    std::vector<std::string_view> choices;  // choice
     // A look file must give the key, or its alternative (e.g. gsm or weight_n_mm2); overrides
     // in scene files never have to.
     bool required = false;
     std::string_view alternative;
     bool alternative_excludes = false;  // the alternative is the same value spelt otherwise
-    bool written = true;  // by format_look_toml and JSON (false: an alternative spelling)
+    bool written = true;                // by format_look_toml and JSON (false: an alternative spelling)
     // The docs' columns (and messages): unit; what is allowed where the type and range do not
     // say it; the default of an optional key; what it means.
     std::string_view unit, allowed, default_text, meaning;

@@ -14,10 +14,10 @@
 namespace foldcast::looks {
 
 struct WeaveSample {
-    float albedo_scale = 1.0f;              // multiplies the yarn colour (weave_albedo)
+    float albedo_scale = 1.0f;                 // multiplies the yarn colour (weave_albedo)
     Eigen::Vector3f normal{0.0f, 0.0f, 1.0f};  // tangent space: x along warp (u), y along weft (v)
-    int yarn = 0;                           // 0 none/gap/mixed, 1 warp on top, 2 weft on top
-    float weft_cover = 0.0f;  // share of weft yarn showing here (filtered), for weft_colour
+    int yarn = 0;                              // 0 none/gap/mixed, 1 warp on top, 2 weft on top
+    float weft_cover = 0.0f;                   // share of weft yarn showing here (filtered), for weft_colour
     // Variance of the surface slope that the footprint filter averaged away (0 when the
     // pixel resolves the yarns); a renderer may widen its specular lobe by it (Toksvig/LEAN).
     float slope_variance = 0.0f;

@@ -10,8 +10,8 @@
 namespace foldcast::render {
 
 struct FrameGeometry {
-    Mesh garment;                 // positions, normals, triangles, UVs (metres; may be empty)
-    std::vector<float> fold_sign; // per garment vertex, may be empty
+    Mesh garment;                  // positions, normals, triangles, UVs (metres; may be empty)
+    std::vector<float> fold_sign;  // per garment vertex, may be empty
     std::vector<StudioMesh> studio;
 };
 
@@ -35,8 +35,7 @@ public:
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;
 
-    RenderResult render(const Camera& camera, const TraceSettings& settings,
-                        const ProgressFn& progress = {}) const;
+    RenderResult render(const Camera& camera, const TraceSettings& settings, const ProgressFn& progress = {}) const;
 
     // Primary visibility only (packets of 16 coherent camera rays, closest hit, no
     // shading): the benchmark's "foldcast primary pass".  Returns the number of hits.
