@@ -46,6 +46,16 @@ function(foldcast_test name)
     set(ARG_LABELS unit)
   endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}/tests
-                       PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "${ARG_ENVIRONMENT}"
-                       DISCOVERY_TIMEOUT 60)
+                       TEST_LIST ${name}_TESTS DISCOVERY_TIMEOUT 60)
+  # Labels and environment are set by a script of our own that CTest reads after the
+  # discovered tests: gtest_discover_tests' PROPERTIES flattens list values, so a second
+  # label (`hostile slow`) became a stray property name and was lost.
+  set(properties_script ${CMAKE_CURRENT_BINARY_DIR}/${name}_properties.cmake)
+  set(environment "")
+  if(ARG_ENVIRONMENT)
+    set(environment " ENVIRONMENT [==[${ARG_ENVIRONMENT}]==]")
+  endif()
+  file(GENERATE OUTPUT ${properties_script} CONTENT
+       "if(${name}_TESTS)\n  set_tests_properties(\${${name}_TESTS} PROPERTIES LABELS [==[${ARG_LABELS}]==]${environment})\nendif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${properties_script})
 endfunction()
