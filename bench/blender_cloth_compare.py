@@ -85,9 +85,23 @@ def positions(scene, obj):
     return [tuple(v.co) for v in evaluated.data.vertices]
 
 
+def lowest_crest_vertex(height, depth, begin, end):
+    """The lowest crest, below which the fibre hangs straight to the hem: the first vertex
+    below the segment's steepest flank with |d depth / d height| <= 0.1 (as foldcast's)."""
+    def slope(j):
+        dh = height[j + 1] - height[j]
+        return 0.0 if dh == 0.0 else abs((depth[j + 1] - depth[j]) / dh)
+    steepest = max(range(begin, end - 1), key=slope, default=begin)
+    for j in range(steepest + 1, end - 1):
+        if slope(j) <= 0.1:
+            return j
+    return max(range(begin, end), key=lambda j: abs(depth[j]))
+
+
 def centre_fibre_folds(column_y, column_z):
     """Sign changes of the out-of-plane displacement down the fibre and the height of each
-    crest (largest |y| between two sign changes, parabola-refined): as foldcast's
+    crest (largest |y| between two sign changes, parabola-refined; the top of a plateau within
+    0.5 mm of it; the lowest crest where the fibre stops folding): as foldcast's
     centre_fibre_folds, with Blender's y as foldcast's z and Blender's z as foldcast's y."""
     plane = 1e-4
     sign, start, segments, changes = 0, 0, [], 0
@@ -103,9 +117,15 @@ def centre_fibre_folds(column_y, column_z):
     segments.append((start, len(column_y)))
     crests = []
     for begin, end in segments:
-        best = max(range(begin, end), key=lambda j: abs(column_y[j]))
+        if len(segments) > 1 and end == len(column_y):
+            crests.append(column_z[lowest_crest_vertex(column_z, column_y, begin, end)])
+            continue
+        deepest = max(range(begin, end), key=lambda j: abs(column_y[j]))
+        best = begin  # the top of a plateau within 0.5 mm of the deepest point
+        while abs(column_y[best]) < abs(column_y[deepest]) - 5e-4:
+            best += 1
         height = column_z[best]
-        if 0 < best < len(column_y) - 1:
+        if best == deepest and 0 < best < len(column_y) - 1:
             zm, z0, zp = (abs(column_y[best - 1]), abs(column_y[best]), abs(column_y[best + 1]))
             curvature = zm - 2.0 * z0 + zp
             if curvature < 0.0:

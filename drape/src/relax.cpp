@@ -308,6 +308,32 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     return report;
 }
 
+namespace {
+
+// Below the lowest fold line the fibre hangs straight to the hem at the fold's depth: the
+// lowest crest is where the fibre stops folding, the first vertex below the segment's steepest
+// flank where the fibre runs nearly straight down (|dz/dy| <= 0.1). Its deepest point is no
+// measure of it: a relaxed grid bulges a few tenths of a millimetre anywhere along that
+// straight run, which moved a deepest-point crest by centimetres.
+int lowest_crest_vertex(const std::vector<double>& y, const std::vector<double>& z, int begin, int end) {
+    constexpr double kStraightSlope = 0.1;
+    auto slope = [&](int j) {
+        const double dy = y[std::size_t(j + 1)] - y[std::size_t(j)];
+        return dy == 0.0 ? 0.0 : std::abs((z[std::size_t(j + 1)] - z[std::size_t(j)]) / dy);
+    };
+    int steepest = begin;
+    for (int j = begin; j + 1 < end; ++j)
+        if (slope(j) > slope(steepest)) steepest = j;
+    for (int j = steepest + 1; j + 1 < end; ++j)
+        if (slope(j) <= kStraightSlope) return j;
+    int deepest = begin;  // no straight run: the fold's deepest point
+    for (int j = begin; j < end; ++j)
+        if (std::abs(z[std::size_t(j)]) > std::abs(z[std::size_t(deepest)])) deepest = j;
+    return deepest;
+}
+
+}  // namespace
+
 CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSize grid) {
     detail::validate_grid(grid);
     if (positions.size() != std::size_t(grid.nu) * std::size_t(grid.nv))
@@ -339,6 +365,10 @@ CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSiz
     }
     segments.emplace_back(segment_start, grid.nv);
     for (const auto& [begin, end] : segments) {
+        if (segments.size() > 1 && end == grid.nv) {
+            out.crest_heights_m.push_back(y[std::size_t(lowest_crest_vertex(y, z, begin, end))]);
+            continue;
+        }
         int deepest = begin;
         for (int j = begin; j < end; ++j)
             if (std::abs(z[std::size_t(j)]) > std::abs(z[std::size_t(deepest)])) deepest = j;

@@ -47,9 +47,10 @@ private:
 // What a grid's centre fibre (the middle column, or the mean of the two middle ones) shows
 // of its folds: how often the out-of-plane displacement z changes sign going down, and the
 // height y of each crest (the vertex of largest |z| between two sign changes, refined by a
-// parabola; for a plateau within 0.5 mm of that depth, such as the fibre hanging straight
-// below the lowest fold line, its top), top first.  The same analysis runs on Blender's
-// cloth (bench/).
+// parabola; for a plateau within 0.5 mm of that depth, its top), top first.  The lowest crest,
+// below which the fibre hangs straight to the hem, is where the fibre stops folding: the first
+// vertex below that segment's steepest flank with |dz/dy| <= 0.1.  The same analysis runs on
+// Blender's cloth (bench/).
 struct CentreFibreFolds {
     int sign_changes = 0;
     std::vector<double> crest_heights_m;  // y of each crest, from the top edge down
