@@ -45,7 +45,8 @@ Command render_command(CLI::App& app) {
                     "display units (e.g. 0.01); --spp is then the most a pixel takes")
         ->check(finite_in(0.0, 1.0));
     sub->add_flag("--json", args->json,
-                  "Print width, height, spp, mean_spp, seconds, rays, rays_per_second and the files as JSON");
+                  "Print width, height, spp, mean_spp (also garment_mean_spp, backdrop_mean_spp), seconds, rays, "
+                  "rays_per_second and the files as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args, seed] {
                 render::RenderOptions options;
@@ -72,6 +73,8 @@ Command render_command(CLI::App& app) {
                                         {"height", s.height},
                                         {"spp", s.spp},
                                         {"mean_spp", s.mean_spp},
+                                        {"garment_mean_spp", s.garment_mean_spp},
+                                        {"backdrop_mean_spp", s.backdrop_mean_spp},
                                         {"seconds", s.seconds},
                                         {"rays", s.rays},
                                         {"rays_per_second", s.rays_per_second()}};

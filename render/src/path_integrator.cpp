@@ -73,7 +73,8 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
             out.normal = hit.ns;
             out.shading_normal = frame.n;
             out.depth = hit.t;
-            out.fold = hit.material == MaterialId::garment ? hit.fold : 0.0f;
+            out.garment = hit.material == MaterialId::garment;
+            out.fold = out.garment ? hit.fold : 0.0f;
             if (transparent_ && hit.material == MaterialId::backdrop) out.foreground = false;
         }
         if (depth + 1 >= max_depth_) break;

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "camera_model.hpp"
@@ -30,10 +31,15 @@ namespace {
 
 constexpr int kTile = 32;  // tile side in pixels (16-32 px: no false sharing between tiles)
 constexpr int kBlock = 4;  // 4x4 pixel packets for camera rays
-// Adaptive sampling trusts a pixel's own variance estimate only from this many samples on
-// (fewer can miss a rare bright path entirely), and checks it at powers of two, where the
-// Sobol' points of the pixel are a complete stratification.
-constexpr int kMinAdaptiveSpp = 16;
+// Adaptive sampling decides for a whole 4x4 packet at powers of two from this many samples
+// on: there the Sobol' points of each pixel are a complete stratification, and so are the
+// first half of them, so the difference between the pixel's mean over all its samples and
+// over the first half is an estimate of the error of the stratified mean (the sample
+// variance is not: it counts the variance that stratification removes, such as which light
+// a sample picks, and over-states the error several times).  One pixel's difference is a
+// one-sample estimate; the packet's 16 together are a fair one, and 16 pixels x 4 samples
+// rarely all miss a bright path that one of them would have found.
+constexpr int kMinAdaptiveSpp = 4;
 
 // Display units (sRGB, 0-1) per unit of linear radiance at `linear`: the slope of the
 // transfer curve, so noise is judged as it will be seen.
@@ -45,7 +51,7 @@ float srgb_slope(float linear) {
 // What one pixel has gathered so far.
 struct PixelSums {
     V3 all = V3::Zero(), fg = V3::Zero();
-    int fg_count = 0, n = 0;
+    int fg_count = 0, garment_count = 0, n = 0;
     double lum = 0.0, lum2 = 0.0;  // luminance sums for the variance
     V3 albedo = V3::Zero(), normal = V3::Zero(), shading_normal = V3::Zero();
     float depth = 0.0f, fold = 0.0f;
@@ -54,6 +60,7 @@ struct PixelSums {
     void add(const PathSample& s) {
         ++n;
         all += s.radiance;
+        garment_count += s.garment ? 1 : 0;
         if (s.foreground) {
             fg += s.radiance;
             ++fg_count;
@@ -72,11 +79,67 @@ struct PixelSums {
         const double mean = lum / n;
         return static_cast<float>(std::max(0.0, (lum2 - lum * mean) / (n - 1)) / n);
     }
-    float standard_error_display(float gain) const {
-        const float mean = static_cast<float>(lum / n) * gain;
-        return std::sqrt(variance_of_mean()) * gain * srgb_slope(mean);
+    // The error of the mean in display units, from its difference to the mean of the first
+    // half of the samples (the last power-of-two checkpoint); infinite where n is not twice it.
+    double lum_checkpoint = 0.0;
+    int n_checkpoint = 0;
+    float half_difference_display(float gain) const {
+        if (n_checkpoint == 0 || 2 * n_checkpoint != n) return std::numeric_limits<float>::infinity();
+        const double mean = lum / n, half = lum_checkpoint / n_checkpoint;
+        return static_cast<float>(std::abs(mean - half)) * gain * srgb_slope(static_cast<float>(mean) * gain);
     }
+    void checkpoint() { lum_checkpoint = lum, n_checkpoint = n; }
 };
+
+// Whether the denoiser will average the packet's pixels together: their first hits agree
+// in shading normal, depth and albedo (its edge-stopping features), as on the flat backdrop.
+bool packet_is_smooth(const std::array<PixelSums, 16>& sums, const std::array<bool, 16>& inside) {
+    V3 normal = V3::Zero(), albedo = V3::Zero();
+    double depth = 0.0;
+    int count = 0;
+    for (int k = 0; k < 16; ++k)
+        if (inside[k]) {
+            const PixelSums& p = sums[k];
+            normal += p.shading_normal.normalized();
+            albedo += p.albedo / static_cast<float>(p.n);
+            depth += p.depth / p.n;
+            ++count;
+        }
+    if (count == 0 || normal.squaredNorm() == 0.0f) return false;
+    normal.normalize(), albedo /= static_cast<float>(count), depth /= count;
+    for (int k = 0; k < 16; ++k)
+        if (inside[k]) {
+            const PixelSums& p = sums[k];
+            if (p.shading_normal.normalized().dot(normal) < 0.98f) return false;
+            if (std::abs(p.depth / p.n - depth) > 0.02 * depth) return false;
+            if ((p.albedo / static_cast<float>(p.n) - albedo).cwiseAbs().maxCoeff() > 0.05f) return false;
+        }
+    return true;
+}
+
+// A packet is done when the RMS of its pixels' estimated errors is below the threshold and
+// none is above four times it (a lone bright path keeps the packet going).  When the image
+// will be denoised and the packet is smooth, the error that will be seen is that of the
+// packet's mean, which the denoiser's averaging leaves: the errors count 1/sqrt(pixels).
+bool packet_error_below(const std::array<PixelSums, 16>& sums, const std::array<bool, 16>& inside, float gain,
+                        float threshold, bool denoise) {
+    double sum_squares = 0.0, largest = 0.0;
+    int count = 0;
+    for (int k = 0; k < 16; ++k) {
+        if (!inside[k]) continue;
+        const double e = sums[k].half_difference_display(gain);
+        if (!std::isfinite(e)) return false;
+        sum_squares += e * e, largest = std::max(largest, e);
+        ++count;
+    }
+    if (count == 0) return false;
+    double rms = std::sqrt(sum_squares / count);
+    if (denoise && packet_is_smooth(sums, inside)) {
+        const double averaged = std::sqrt(static_cast<double>(count));
+        rms /= averaged, largest /= averaged;
+    }
+    return rms < threshold && largest < 4.0 * threshold;
+}
 
 GeometryData garment_geometry(FrameGeometry& geometry) {
     GeometryData garment;
@@ -186,13 +249,14 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
     const int tile_count = tiles_x * tiles_y;
     std::atomic<std::uint64_t> total_rays{0}, total_samples{0};
+    std::atomic<std::uint64_t> garment_pixels{0}, garment_samples{0};
     std::atomic<int> tiles_done{0};
 
     auto render_tile = [&](int tile) {
         set_ftz_daz();
         const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
         const int x1 = std::min(width, x0 + kTile), y1 = std::min(height, y0 + kTile);
-        std::uint64_t rays = 0, samples = 0;
+        std::uint64_t rays = 0, samples = 0, tile_garment_pixels = 0, tile_garment_samples = 0;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -236,15 +300,18 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                                                        pixel_angle, *sampler[k], rays));
                     }
                     const int taken = s + 1;
-                    if (threshold > 0.0f && taken >= kMinAdaptiveSpp && (taken & (taken - 1)) == 0)
-                        for (PixelSums& p : sums)
-                            if (!p.done) p.done = p.standard_error_display(gain) < threshold;
+                    if (threshold > 0.0f && (taken & (taken - 1)) == 0) {
+                        if (taken >= kMinAdaptiveSpp && packet_error_below(sums, inside, gain, threshold, settings.denoise))
+                            for (PixelSums& p : sums) p.done = true;
+                        for (PixelSums& p : sums) p.checkpoint();
+                    }
                 }
                 for (int k = 0; k < 16; ++k) {
                     if (!inside[k]) continue;
                     const int x = bx + k % kBlock, y = by + k / kBlock;
                     const PixelSums& p = sums[k];
                     const float inv = 1.0f / static_cast<float>(p.n);
+                    if (2 * p.garment_count > p.n) ++tile_garment_pixels, tile_garment_samples += std::uint64_t(p.n);
                     float* px = result.beauty.at(x, y);
                     const V3 c = m.transparent
                                      ? (p.fg_count > 0 ? V3(p.fg / static_cast<float>(p.fg_count)) : V3::Zero())
@@ -275,6 +342,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
             }
         total_rays += rays;
         total_samples += samples;
+        garment_pixels += tile_garment_pixels;
+        garment_samples += tile_garment_samples;
         const int done = ++tiles_done;
         if (progress) progress("render", static_cast<double>(done) / tile_count);
     };
@@ -296,6 +365,12 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     result.stats.height = height;
     result.stats.spp = spp;
     result.stats.mean_spp = static_cast<double>(total_samples.load()) / static_cast<double>(pixel_count);
+    const auto mean = [](std::uint64_t samples, std::uint64_t pixels) {
+        return pixels > 0 ? static_cast<double>(samples) / static_cast<double>(pixels) : 0.0;
+    };
+    result.stats.garment_mean_spp = mean(garment_samples.load(), garment_pixels.load());
+    result.stats.backdrop_mean_spp =
+        mean(total_samples.load() - garment_samples.load(), pixel_count - garment_pixels.load());
     result.stats.rays = total_rays.load();
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

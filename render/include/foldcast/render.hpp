@@ -168,6 +168,9 @@ struct RenderStats {
     int height = 0;
     int spp = 0;            // samples per pixel asked for (the most, when adaptive)
     double mean_spp = 0.0;  // samples per pixel taken, on average
+    // ... over the pixels whose camera rays mostly hit the garment, and over all the others
+    // (backdrop, supports, sky): where adaptive sampling spent its samples (0 without pixels).
+    double garment_mean_spp = 0.0, backdrop_mean_spp = 0.0;
     double seconds = 0.0;
     std::uint64_t rays = 0;  // every ray traced: camera, bounce and shadow
     double rays_per_second() const { return seconds > 0.0 ? static_cast<double>(rays) / seconds : 0.0; }
