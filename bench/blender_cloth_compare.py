@@ -17,6 +17,7 @@
 # are stiff (the cloth barely stretches).  The two top corners are pinned and moved in by
 # the inset over the first 1.5 s (a shape key), then the cloth settles for 2.5 s more.
 import math
+import os
 import random
 import sys
 import time
@@ -24,7 +25,7 @@ import time
 import bpy
 
 FIELDS = ["name", "width_m", "height_m", "inset_m", "thickness_mm", "young_mpa", "gsm", "poisson",
-          "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s"]
+          "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s", "centre_fibre"]
 
 
 def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
@@ -53,7 +54,7 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
     key = obj.shape_key_add(name="in")
     key.data[0].co.x += inset
     key.data[nu - 1].co.x -= inset
-    move_frames, settle_frames = 36, 60
+    move_frames, settle_frames = 36, int(os.environ.get("SETTLE_FRAMES", "60"))
     key.value = 0.0
     key.keyframe_insert("value", frame=1)
     key.value = 1.0
@@ -156,7 +157,10 @@ def main():
     # Out-of-plane displacement and height; the supports sit at z = 0 in both tools.
     changes, crests = centre_fibre_folds([p[1] for p in column], [p[2] for p in column])
     row = [name, width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv, changes,
-           ";".join(f"{c:.4f}" for c in crests), f"{speed:.4g}", f"{elapsed:.2f}"]
+           ";".join(f"{c:.4f}" for c in crests), f"{speed:.4g}", f"{elapsed:.2f}",
+           # The whole centre fibre, height:depth per row (m), so that the table can count
+           # folds by another rule without running Blender again.
+           ";".join(f"{p[2]:.5f}:{p[1]:.5f}" for p in column)]
     print("RESULT," + ",".join(str(v) for v in row), flush=True)
 
 

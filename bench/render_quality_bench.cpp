@@ -7,8 +7,8 @@
 //   flicker: frames 0-4 of the default scene's 36-frame turntable at 96x96: RMSE against
 //            reference frames, and flicker = RMS over pixels and frame pairs of the change
 //            from frame to frame minus the reference's change (0 = the noise does not move);
-//   adaptive: the default scene at 320x180 with --noise-threshold, mean spp, RMSE and where
-//            the samples went (backdrop vs garment, by the first hit's depth).
+//   adaptive: the default scene at 640x360 with --noise-threshold, plain and denoised: time,
+//            mean spp, where the samples went (garment vs backdrop) and RMSE.
 // References are rendered once and kept in --out.  Timed figures are wall clock on whatever
 // load the machine has; never asserts anything.
 //   bench_render_quality [rmse|twill|flicker|adaptive|all] [--out DIR] [--threads N] [--ref-spp N]
@@ -210,13 +210,25 @@ void part_flicker(const Args& args) {
 
 void part_adaptive(const Args& args) {
     const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
-    const compare::Image ref = reference("default_320x180", scene, 320, 180, args);
-    std::printf("adaptive sampling, default scene 320x180 (max 256 spp)\n%10s %8s %8s %8s\n", "threshold", "seconds",
-                "mean spp", "RMSE");
-    for (const double t : {0.0, 0.005, 0.01, 0.02}) {
-        const Rendered r = render(scene, 320, 180, t > 0.0 ? 256 : 64, false, args, t);
-        std::printf("%10.3f %8.2f %8.1f %8.4f%s\n", t, r.seconds, r.result.stats.mean_spp,
-                    rmse(ref, display(r.result.beauty)), t > 0.0 ? "" : "  (plain 64 spp)");
+    constexpr int kWidth = 640, kHeight = 360;
+    const compare::Image ref = reference("default_640x360", scene, kWidth, kHeight, args);
+    std::printf("adaptive sampling, default scene %dx%d, against %d spp\n%-30s %8s %8s %8s %8s %8s\n", kWidth, kHeight,
+                args.ref_spp, "render", "seconds", "mean spp", "garment", "backdrop", "RMSE");
+    struct Row {
+        const char* name;
+        int spp;
+        bool denoise;
+        double threshold;
+    };
+    for (const Row row : {Row{"plain 64 spp", 64, false, 0.0}, Row{"256 spp, threshold 0.01", 256, false, 0.01},
+                          Row{"256 spp, threshold 0.02", 256, false, 0.02}, Row{"4 spp + denoise", 4, true, 0.0},
+                          Row{"8 spp + denoise", 8, true, 0.0}, Row{"16 spp + denoise", 16, true, 0.0},
+                          Row{"16 spp + denoise, 0.01", 16, true, 0.01}, Row{"16 spp + denoise, 0.02", 16, true, 0.02},
+                          Row{"16 spp + denoise, 0.04", 16, true, 0.04}}) {
+        const Rendered r = render(scene, kWidth, kHeight, row.spp, row.denoise, args, row.threshold);
+        const render::RenderStats& s = r.result.stats;
+        std::printf("%-30s %8.2f %8.2f %8.2f %8.2f %8.4f\n", row.name, r.seconds, s.mean_spp, s.garment_mean_spp,
+                    s.backdrop_mean_spp, rmse(ref, display(r.result.beauty)));
         std::fflush(stdout);
     }
 }
