@@ -25,7 +25,7 @@ import time
 import bpy
 
 FIELDS = ["name", "width_m", "height_m", "inset_m", "thickness_mm", "young_mpa", "gsm", "poisson",
-          "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s", "centre_fibre"]
+          "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s", "centre_fibre", "top_edge_m", "centre_fibre_m"]
 
 
 def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
@@ -160,7 +160,11 @@ def main():
            ";".join(f"{c:.4f}" for c in crests), f"{speed:.4g}", f"{elapsed:.2f}",
            # The whole centre fibre, height:depth per row (m), so that the table can count
            # folds by another rule without running Blender again.
-           ";".join(f"{p[2]:.5f}:{p[1]:.5f}" for p in column)]
+           ";".join(f"{p[2]:.5f}:{p[1]:.5f}" for p in column),
+           # Lengths of the top edge and the centre fibre as Blender left them: the cloth's
+           # are width and height; much shorter means it compressed instead of buckling.
+           f"{sum(math.dist(final[i], final[i + 1]) for i in range(nu - 1)):.4f}",
+           f"{sum(math.dist(column[j], column[j + 1]) for j in range(nv - 1)):.4f}"]
     print("RESULT," + ",".join(str(v) for v in row), flush=True)
 
 
