@@ -14,7 +14,7 @@ nv="${3:-35}"
 foldcast="${FOLDCAST:-$root/build/foldcast}"
 width=0.5 height=0.7
 if [ ! -s "$csv" ]; then
-  echo "name,width_m,height_m,inset_m,thickness_mm,young_mpa,gsm,poisson,nu,nv,sign_changes,crest_heights_m,settle_speed_m_s,blender_s" > "$csv"
+  echo "name,width_m,height_m,inset_m,thickness_mm,young_mpa,gsm,poisson,nu,nv,sign_changes,crest_heights_m,settle_speed_m_s,blender_s,centre_fibre,top_edge_m,centre_fibre_m" > "$csv"
 fi
 for look in $("$foldcast" looks --json | python3 -c 'import json,sys; print(" ".join(l["name"] for l in json.load(sys.stdin)["looks"]))'); do
   read -r t e gsm nu_p < <("$foldcast" looks show "$look" --json | python3 -c \
