@@ -3,13 +3,12 @@
 //   sum_edges |x_i - x_j - p_e|^2 + anchor sum_vertices |x_k - t_k|^2
 // over the free vertices, alternating the local step (p_e = the edge's current direction at
 // its rest length) with the global step, a linear solve whose matrix (graph Laplacian +
-// anchor) depends only on the grid and the pinned set: it is factored once (sparse
-// Cholesky) and reused for every iteration and every frame.
+// anchor) depends only on the grid and the pinned set: diagonal in the grid's DCT basis, it is
+// solved by two DCTs and a small system for the pins (grid_solver.hpp), set up once and
+// reused for every iteration and every frame.
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -17,6 +16,7 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape_relax.hpp"
 #include "fold_surface.hpp"
+#include "grid_solver.hpp"
 
 namespace foldcast::drape {
 
@@ -27,8 +27,8 @@ struct GridRelaxer::Impl {
     double anchor = 0.0;          // the matrix's anchor term, scaled so that it does not grow with nu
     std::vector<int> free_index;  // per vertex: row in the system, or -1 when pinned
     std::vector<int> free_vertices;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-    Eigen::SparseMatrix<double, Eigen::RowMajor> coupling;  // free rows x all vertices: pinned columns only
+    std::vector<int> pinned_vertices;  // in vertex order, each once
+    std::unique_ptr<detail::GridSolver> solver;
 };
 
 namespace {
@@ -66,43 +66,12 @@ GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<i
             m.free_index[std::size_t(k)] = int(m.free_vertices.size());
             m.free_vertices.push_back(k);
         }
-    // The whole system over every vertex: edges (graph Laplacian) and the anchor on the
-    // diagonal; then split into the free block (factored) and the free-pinned coupling.
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(std::size_t(n) * 9);
-    const auto edge = [&](int a, int b) {
-        entries.emplace_back(a, a, 1.0), entries.emplace_back(b, b, 1.0);
-        entries.emplace_back(a, b, -1.0), entries.emplace_back(b, a, -1.0);
-    };
-    for (int j = 0; j < grid.nv; ++j)
-        for (int i = 0; i < grid.nu; ++i) {
-            const int k = j * grid.nu + i;
-            entries.emplace_back(k, k, m.anchor);
-            if (i + 1 < grid.nu) edge(k, k + 1);
-            if (j + 1 < grid.nv) edge(k, k + grid.nu);
-        }
-    Eigen::SparseMatrix<double, Eigen::RowMajor> whole(n, n);
-    whole.setFromTriplets(entries.begin(), entries.end());
-    const int free = int(m.free_vertices.size());
-    std::vector<Eigen::Triplet<double>> free_entries, pinned_entries;
-    for (int r = 0; r < n; ++r) {
-        const int row = m.free_index[std::size_t(r)];
-        if (row < 0) continue;
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(whole, r); it; ++it) {
-            const int col = m.free_index[std::size_t(it.col())];
-            if (col >= 0)
-                free_entries.emplace_back(row, col, it.value());
-            else
-                pinned_entries.emplace_back(row, int(it.col()), it.value());
-        }
-    }
-    Eigen::SparseMatrix<double> a(free, free);
-    a.setFromTriplets(free_entries.begin(), free_entries.end());
-    m.coupling.resize(free, n);
-    m.coupling.setFromTriplets(pinned_entries.begin(), pinned_entries.end());
-    m.solver.compute(a);
-    if (m.solver.info() != Eigen::Success)
-        throw std::runtime_error("relaxation: the grid's system could not be factored (is every part pinned?)");
+    for (int k = 0; k < n; ++k)
+        if (m.free_index[std::size_t(k)] < 0) m.pinned_vertices.push_back(k);
+    if (m.free_vertices.empty())
+        throw std::runtime_error("relaxation: every vertex of the grid is pinned, nothing to relax");
+    // The matrix: the graph Laplacian of the warp/weft edges plus the anchor on the diagonal.
+    m.solver = std::make_unique<detail::GridSolver>(grid, m.anchor, m.pinned_vertices);
 }
 
 GridRelaxer::~GridRelaxer() = default;
@@ -184,10 +153,10 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // is pulled to its target, any other to where it is (a proximal term: the same fixed
     // points, and the matrix stays the same for every frame).  Gathered per row, summed in
     // row order: the result does not depend on the thread count.
-    // The pinned vertices' share of the system: fixed for the whole relaxation.
-    Eigen::MatrixXd pinned_positions(Eigen::Index(n), 3);
-    for (std::size_t k = 0; k < n; ++k) pinned_positions.row(Eigen::Index(k)) = x[k].transpose();
-    const Eigen::MatrixXd pinned_rhs = m.coupling * pinned_positions;
+    // Where the pinned vertices are held: fixed for the whole relaxation.
+    Eigen::MatrixXd pinned_positions(Eigen::Index(m.pinned_vertices.size()), 3);
+    for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
+        pinned_positions.row(Eigen::Index(i)) = x[std::size_t(m.pinned_vertices[i])].transpose();
     double anchor_scale = 1.0;
     constexpr int kSoftenEvery = 30;
     Eigen::MatrixXd rhs(free, 3);
@@ -227,14 +196,14 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                 }
                 b *= anchor;
                 for_each_neighbour(grid, i, j, m.rest_u, m.rest_v, [&](int other, double rest) {
-                    // Edge term |x_k - x_o - p|^2, p the edge at its rest length: a free
-                    // neighbour sits in the matrix, a pinned one moves to this side.
+                    // Edge term |x_k - x_o - p|^2, p the edge at its rest length (the
+                    // neighbour itself, free or pinned, sits in the matrix).
                     const Eigen::Vector3d& xo = x[std::size_t(other)];
                     const Eigen::Vector3d d = xk - xo;
                     const double len = d.norm();
                     if (len > 0.0) b += d * (rest / len);
                 });
-                rhs.row(row) = b.transpose() - pinned_rhs.row(row);
+                rhs.row(row) = b.transpose();
             }
             row_sum[std::size_t(j)] = sum, row_max[std::size_t(j)] = max, row_energy[std::size_t(j)] = energy;
         });
@@ -267,7 +236,12 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             accepted_energy = state.energy;
         }
         ++iteration;
-        tbb::parallel_for(0, 3, [&](int c) { g.col(c) = m.solver.solve(rhs.col(c)); });
+        tbb::parallel_for(0, 3, [&](int c) {
+            Eigen::VectorXd b = Eigen::VectorXd::Zero(Eigen::Index(n));
+            for (int row = 0; row < free; ++row) b[m.free_vertices[std::size_t(row)]] = rhs(row, c);
+            const Eigen::VectorXd solved = m.solver->solve(b, pinned_positions.col(c));
+            for (int row = 0; row < free; ++row) g(row, c) = solved[m.free_vertices[std::size_t(row)]];
+        });
         f = g - current;
         if (iteration > 1) {
             if (int(dg.size()) == kHistory) dg.erase(dg.begin()), df.erase(df.begin());

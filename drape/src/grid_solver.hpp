@@ -1,0 +1,34 @@
+#pragma once
+// The relaxation's global step: (L + anchor I) x = b on an nu x nv grid, L the graph
+// Laplacian of the warp/weft edges (every edge weight 1, free edges), with some vertices
+// pinned to given positions.  L + anchor I is diagonal in the 2-D DCT-II basis, so a solve is
+// a forward and an inverse DCT (FFTW) instead of a sparse Cholesky factor's two triangular
+// solves; the pins are met by the capacitance-matrix method (a k x k system for k pins).
+#include <Eigen/Dense>
+#include <memory>
+#include <vector>
+
+#include "foldcast/drape.hpp"
+
+namespace foldcast::drape::detail {
+
+class GridSolver {
+public:
+    // anchor > 0 (the plain Laplacian of a free grid is singular); pinned: distinct vertices.
+    GridSolver(GridSize grid, double anchor, std::vector<int> pinned);
+    ~GridSolver();
+    GridSolver(const GridSolver&) = delete;
+    GridSolver& operator=(const GridSolver&) = delete;
+
+    // rhs: one entry per vertex (those of pinned vertices are ignored); pinned_values: one
+    // per pinned vertex, in the constructor's order.  Returns x with (L + anchor I) x = rhs on
+    // every free vertex and x = pinned_values on the pinned ones (to rounding).  Safe to call
+    // from several threads at once; the result does not depend on the thread.
+    Eigen::VectorXd solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace foldcast::drape::detail
