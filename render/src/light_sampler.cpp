@@ -7,6 +7,7 @@
 #include "foldcast/core/math.hpp"
 #include "foldcast/core/sampling.hpp"
 #include "shading.hpp"
+#include "spherical_rectangle.hpp"
 
 namespace foldcast::render {
 
@@ -21,6 +22,7 @@ LightSampler::LightSampler(const std::vector<AreaLight>& lights, const V3& envir
         l.half_w = 0.5f * a.width_m;
         l.half_h = 0.5f * a.height_m;
         l.area = a.width_m * a.height_m;
+        l.corner = l.centre - l.half_w * l.ex - l.half_h * l.ey;
         l.radiance = a.radiance;
         lights_.push_back(l);
     }
@@ -57,13 +59,19 @@ std::optional<LightSample> LightSampler::sample(const LightChoice& choice, const
     LightSample s;
     if (pick < count()) {
         const Light& l = lights_[pick];
-        const Vec3f q = l.centre + (2.0f * u_a - 1.0f) * l.half_w * l.ex + (2.0f * u_b - 1.0f) * l.half_h * l.ey;
+        if (!((p - l.centre).dot(l.normal) > 0.0f)) return std::nullopt;  // behind the one-sided light
+        const auto cone = SphericalRectangle::make(p, l.corner, l.ex, l.ey, 2.0f * l.half_w, 2.0f * l.half_h);
+        const Vec3f q =
+            cone ? cone->sample(u_a, u_b)
+                 : Vec3f(l.centre + (2.0f * u_a - 1.0f) * l.half_w * l.ex + (2.0f * u_b - 1.0f) * l.half_h * l.ey);
         const Vec3f to = q - p;
         s.distance = to.norm();
+        if (!(s.distance > 0.0f)) return std::nullopt;
         s.wi = to / s.distance;
         const float cos_l = -s.wi.dot(l.normal);
         if (!(cos_l > 0.0f)) return std::nullopt;
-        s.pdf = choice.prob[pick] * s.distance * s.distance / (l.area * cos_l);
+        s.pdf =
+            choice.prob[pick] * (cone ? float(1.0 / cone->solid_angle()) : s.distance * s.distance / (l.area * cos_l));
         s.radiance = l.radiance;
     } else {
         const V3 local = sample_cosine_hemisphere(u_a, u_b);
@@ -93,10 +101,15 @@ LightHit LightSampler::hit(const Vec3f& o, const Vec3f& d, float tmax) const {
     return best;
 }
 
-float LightSampler::pdf(const LightChoice& choice, int index, const Vec3f& d, float t) const {
+float LightSampler::pdf(const LightChoice& choice, int index, const Vec3f& p, const Vec3f& q) const {
     const Light& l = lights_[index];
-    const float cos_l = -d.dot(l.normal);
-    return choice.prob[index] * t * t / (l.area * cos_l);
+    if (!(choice.prob[index] > 0.0f)) return 0.0f;
+    if (const auto cone = SphericalRectangle::make(p, l.corner, l.ex, l.ey, 2.0f * l.half_w, 2.0f * l.half_h))
+        return choice.prob[index] * float(1.0 / cone->solid_angle());
+    const Vec3f to = q - p;
+    const float dist2 = to.squaredNorm();
+    const float cos_l = -to.dot(l.normal) / std::sqrt(dist2);
+    return cos_l > 0.0f ? choice.prob[index] * dist2 / (l.area * cos_l) : 0.0f;
 }
 
 float LightSampler::environment_pdf(const LightChoice& choice, const Vec3f& d, const Vec3f& n) const {

@@ -16,6 +16,7 @@ constexpr int kMaxLights = 16;
 
 struct Light {
     Vec3f centre, normal, ex, ey;  // ex, ey: unit axes
+    Vec3f corner;                  // centre - half_w ex - half_h ey
     float half_w = 0, half_h = 0, area = 0;
     V3 radiance;
 };
@@ -47,15 +48,16 @@ public:
     const V3& environment() const { return environment_; }
 
     LightChoice choose(const Vec3f& p, const Vec3f& n) const;
-    // Picks by u_pick and samples a point on it (or a cosine direction about `n` for the
-    // environment) with (u_a, u_b); nothing when the pick has no probability or the light
-    // faces away.
+    // Picks by u_pick and samples a point on it, uniformly in the solid angle it subtends at
+    // p (uniformly over its area where that is too small to measure), or a cosine direction
+    // about `n` for the environment, with (u_a, u_b); nothing when the pick has no
+    // probability or the light faces away.
     std::optional<LightSample> sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n, const Vec3f& tangent,
                                       float u_pick, float u_a, float u_b) const;
     // The nearest light's front face along o + t d, t < tmax.
     LightHit hit(const Vec3f& o, const Vec3f& d, float tmax) const;
-    // What sample() would have given for light `index` hit at distance t along d.
-    float pdf(const LightChoice& choice, int index, const Vec3f& d, float t) const;
+    // What sample() at p would have given for the point q on light `index`.
+    float pdf(const LightChoice& choice, int index, const Vec3f& p, const Vec3f& q) const;
     const V3& radiance(int index) const { return lights_[index].radiance; }
     // What sample() would have given for the environment in direction d, with n the normal
     // the choice was made for.

@@ -36,7 +36,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
     float prev_bsdf_pdf = 0.0f;
     bool prev_specular_only = true;  // camera ray: lights are not seen directly
     LightChoice prev_choice;
-    Vec3f prev_n = Vec3f::UnitY();
+    Vec3f prev_n = Vec3f::UnitY(), prev_p = Vec3f::Zero();
     float cone = 0.0f, spread = pixel_angle;
     for (int depth = 0;; ++depth) {
         // Emission seen along the ray: lights (not for camera rays) and the environment.
@@ -44,7 +44,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         if (depth > 0 && !lights_.empty()) {
             const LightHit lh = lights_.hit(o, d, t_surface);
             if (lh.index >= 0) {
-                const float pdf_light = lights_.pdf(prev_choice, lh.index, d, lh.t);
+                const float pdf_light = lights_.pdf(prev_choice, lh.index, prev_p, o + lh.t * d);
                 const float w = prev_specular_only ? 1.0f : power_heuristic(prev_bsdf_pdf, pdf_light);
                 add(out.radiance, beta.cwiseProduct(lights_.radiance(lh.index)) * w, depth);
                 break;
@@ -104,6 +104,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         prev_specular_only = false;
         prev_choice = choice;
         prev_n = hit.ns;
+        prev_p = hit.p;
         spread += 0.2f;  // a rough bounce widens the footprint cone
         o = offset_origin(hit.p, hit.ng, wi);
         d = wi;
