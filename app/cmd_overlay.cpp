@@ -39,7 +39,8 @@ nlohmann::json fitted_json(const compare::FittedValue& v) {
             {"high", v.high},
             {"search_min", v.bound_min},
             {"search_max", v.bound_max},
-            {"on_bound", v.on_bound}};
+            {"on_bound", v.on_bound},
+            {"constrained", v.constrained}};
 }
 
 int run_overlay(const OverlayOptions& o) {

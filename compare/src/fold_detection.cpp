@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 
@@ -134,6 +135,47 @@ cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth, int grow_px) {
     if (grow_px > 0)
         cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1)));
     return out;
+}
+
+// Where a fold's band lies across the line: the midpoint of the two places where the
+// brightness profile across it (along the normal, averaged over 3 px along the line) crosses
+// half the band's depth.  The extremum of the brightness, and with it the strongest ridge
+// response, sits off the band's middle when the walls are unequal (a valley seen obliquely)
+// or its floor is lit (a valley's floor faces the sky, the walls shade its feet): the
+// half-level crossings are set by the whole band, not by its darkest or brightest pixel.
+// The profile is read from the finest smoothing; `reach_px` bounds where the extremum may
+// be (the point's own scale), the shoulders are looked for out to 2.5 times that.  Returns
+// the offset along the normal, or nothing when the profile holds no band (too shallow).
+std::optional<float> band_centre(const cv::Mat& image, float x, float y, float nx, float ny, double reach_px,
+                                 int sign) {
+    constexpr float kStepPx = 0.25f;
+    const int half = static_cast<int>(std::ceil(2.5 * reach_px / kStepPx));
+    const int extremum_half = static_cast<int>(std::ceil(reach_px / kStepPx));
+    std::vector<float> q(2 * half + 1);
+    for (int i = -half; i <= half; ++i) {
+        const float t = i * kStepPx;
+        float sum = 0.0f;
+        for (int u = -1; u <= 1; ++u) sum += sample(image, x + t * nx - u * ny, y + t * ny + u * nx);
+        q[i + half] = sign * sum / 3.0f;  // the band is a peak of q: crest bright, valley dark
+    }
+    int peak = half - extremum_half;
+    for (int i = half - extremum_half; i <= half + extremum_half; ++i)
+        if (q[i] > q[peak]) peak = i;
+    const int left = static_cast<int>(std::min_element(q.begin(), q.begin() + peak + 1) - q.begin());
+    const int right = static_cast<int>(std::min_element(q.begin() + peak, q.end()) - q.begin());
+    const float floor_level = std::max(q[left], q[right]);
+    if (!(q[peak] - floor_level > 1e-4f)) return std::nullopt;
+    const float level = 0.5f * (q[peak] + floor_level);
+    // From each shoulder inwards to the first sample at or above the level; linear between.
+    int a = left;
+    while (q[a + 1] < level) ++a;
+    int b = right;
+    while (q[b - 1] < level) --b;
+    const float t_left = (a - half + (level - q[a]) / (q[a + 1] - q[a])) * kStepPx;
+    const float t_right = (b - half - (level - q[b]) / (q[b - 1] - q[b])) * kStepPx;
+    const float centre = 0.5f * (t_left + t_right);
+    if (!(std::abs(centre) <= reach_px)) return std::nullopt;
+    return centre;
 }
 
 const int kDx[8] = {1, 1, 0, -1, -1, -1, 0, 1};
@@ -287,6 +329,8 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     };
     const double min_length = options.min_length_px > 0 ? options.min_length_px : std::max(10.0, 0.03 * diagonal);
     cv::Mat unvisited = kept.clone();
+    const size_t finest =
+        static_cast<size_t>(std::min_element(out.sigmas_px.begin(), out.sigmas_px.end()) - out.sigmas_px.begin());
     auto trace = [&](cv::Point start) {
         DetectedFold fold;
         fold.sign = field.sign.at<schar>(start.y, start.x);
@@ -294,8 +338,11 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
         double strength_sum = 0.0;
         while (true) {
             unvisited.at<uchar>(p.y, p.x) = 0;
-            const float o = offset.at<float>(p.y, p.x);
-            fold.points_px.emplace_back(p.x + o * field.nx.at<float>(p.y, p.x), p.y + o * field.ny.at<float>(p.y, p.x));
+            const float nx = field.nx.at<float>(p.y, p.x), ny = field.ny.at<float>(p.y, p.x);
+            const float o = band_centre(field.smooth[finest], static_cast<float>(p.x), static_cast<float>(p.y), nx, ny,
+                                        out.sigmas_px[field.scale.at<uchar>(p.y, p.x)], fold.sign)
+                                .value_or(offset.at<float>(p.y, p.x));
+            fold.points_px.emplace_back(p.x + o * nx, p.y + o * ny);
             strength_sum += field.strength.at<float>(p.y, p.x);
             const auto next = neighbours(p.x, p.y, unvisited);
             if (next.empty()) break;

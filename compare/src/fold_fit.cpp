@@ -28,6 +28,15 @@ double step_value(double lo, double hi, int i, int steps, bool log_spaced) {
     return log_spaced ? lo * std::pow(hi / lo, t) : lo + (hi - lo) * t;
 }
 
+// How far a set lies from the start, each axis as a share of its box (E on a log scale).
+double distance_from_start(const drape::ClothParams& p, const drape::ClothParams& start, const FitBounds& b) {
+    const double inset_span = b.inset_max_m - b.inset_min_m;
+    const double young_span = std::log(b.young_max_pa / b.young_min_pa);
+    const double di = inset_span > 0 ? (p.inset_m - start.inset_m) / inset_span : 0.0;
+    const double dy = young_span > 0 ? std::log(p.young_pa / start.young_pa) / young_span : 0.0;
+    return std::hypot(di, dy);
+}
+
 }  // namespace
 
 FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, const GeometryFn& geometry_for,
@@ -40,6 +49,7 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
     std::vector<Tried> tried;
     FitResult best;
     bool have = false;
+    double best_chamfer_px = 0.0, best_from_start = 0.0;
     for (int i = 0; i < bounds.inset_steps; ++i)
         for (int j = 0; j < bounds.young_steps; ++j) {
             drape::ClothParams p = start;
@@ -64,10 +74,18 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
             score.agreement = agreement(score.f1, score.count_error);
             tried.push_back({p.inset_m, p.young_pa, score.agreement});
             ++best.evaluated;
-            const bool better =
-                !have || score.agreement > best.score.agreement + 1e-12 ||
-                (std::abs(score.agreement - best.score.agreement) <= 1e-12 && score.chamfer_cm < best.score.chamfer_cm);
+            const double chamfer_px = score.chamfer_cm * score.tolerance_px / score.tolerance_cm;
+            const double from_start = distance_from_start(p, start, bounds);
+            bool better = !have || score.agreement > best.score.agreement + 1e-12;
+            if (have && std::abs(score.agreement - best.score.agreement) <= 1e-12) {
+                if (chamfer_px < best_chamfer_px - 1e-6)
+                    better = true;
+                else if (std::abs(chamfer_px - best_chamfer_px) <= 1e-6 && from_start < best_from_start)
+                    better = true;
+            }
             if (better) {
+                best_chamfer_px = chamfer_px;
+                best_from_start = from_start;
                 best.params = p;
                 best.solution = solution;
                 best.score = score;
@@ -94,6 +112,7 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
             }
         const double eps = 1e-9 * std::max(1.0, std::abs(hi));
         v.on_bound = hi > lo && (std::abs(best_value - lo) <= eps || std::abs(best_value - hi) <= eps);
+        v.constrained = !(hi > lo && v.low <= lo + eps && v.high >= hi - eps);
         return v;
     };
     best.inset_m = range(&Tried::inset_m, best.params.inset_m, bounds.inset_min_m, bounds.inset_max_m);

@@ -20,6 +20,15 @@ void check_positive(const std::optional<double>& v, const char* name) {
                          "; it must be a finite number > 0");
 }
 
+// Why the model draws no fold, in the legend's few words; the same cause as drape's
+// one-sentence explanation (printed beside it on the console).  drape reports a taut top
+// edge (inset 0, no slack) as no_feasible_folds.
+std::string no_folds_reason(const drape::FoldSolution& s, const drape::ClothParams& p) {
+    if (s.regime == drape::FoldSolution::Regime::no_wrinkles) return "too stiff: S >= 1";
+    if (p.inset_m == 0.0) return "no slack: inset 0, the top edge is taut";
+    return "no n solves the model";
+}
+
 }  // namespace
 
 ClothExtent measure_cloth(const Image& mask, const SupportPixels& s) {
@@ -175,12 +184,7 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
     const auto& s = out.solution;
     out.legend.push_back(s.folds > 0 ? "predicted: n = " + std::to_string(s.folds) + ", Q = " + fixed(s.Q, 2) +
                                            " (zmax " + fixed(100 * s.zmax_m, 1) + " cm)"
-                                     : std::string("predicted: no folds (") +
-                                           (s.regime == drape::FoldSolution::Regime::no_wrinkles ? "too stiff: S >= 1"
-                                            : s.regime == drape::FoldSolution::Regime::no_feasible_folds
-                                                ? "no n solves the model"
-                                                : "no slack to fold") +
-                                           ")");
+                                     : "predicted: no folds (" + no_folds_reason(s, params) + ")");
     const CentreLine& c = *out.centre;
     out.legend.push_back("measured: n = " + std::to_string(c.folds) +
                          (c.Q ? ", Q = " + fixed(*c.Q, 2) : std::string(", Q n/a")) + " (centre line)");
@@ -189,12 +193,21 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
                              fixed(out.score->f1, 2) + " (within " + fixed(out.score->tolerance_cm, 1) + " cm)");
     if (out.fit) {
         const auto& f = *out.fit;
-        auto mark = [](const FittedValue& v) { return v.on_bound ? std::string("*") : std::string(); };
-        out.legend.push_back("fit: E " + fixed(f.young_pa.best / 1e6, 2) + mark(f.young_pa) + " MPa [" +
-                             fixed(f.young_pa.low / 1e6, 2) + ", " + fixed(f.young_pa.high / 1e6, 2) + "], inset " +
-                             fixed(100 * f.inset_m.best, 1) + mark(f.inset_m) + " cm [" +
-                             fixed(100 * f.inset_m.low, 1) + ", " + fixed(100 * f.inset_m.high, 1) + "]");
-        if (f.young_pa.on_bound || f.inset_m.on_bound) out.legend.push_back("* on a bound of the search");
+        // A value the photo does not decide (its 5 % range is the whole box) is shown as "?"
+        // with the box, not as a precise-looking number; "*": the best lies on a bound.
+        auto value = [](const FittedValue& v, double unit, int digits, const std::string& name) {
+            if (!v.constrained)
+                return "? " + name + " [" + fixed(v.bound_min / unit, digits) + ", " +
+                       fixed(v.bound_max / unit, digits) + "]";
+            return fixed(v.best / unit, digits) + (v.on_bound ? "*" : "") + " " + name + " [" +
+                   fixed(v.low / unit, digits) + ", " + fixed(v.high / unit, digits) + "]";
+        };
+        out.legend.push_back("fit: E " + value(f.young_pa, 1e6, 2, "MPa") + ", inset " +
+                             value(f.inset_m, 0.01, 1, "cm"));
+        if ((f.young_pa.on_bound && f.young_pa.constrained) || (f.inset_m.on_bound && f.inset_m.constrained))
+            out.legend.push_back("* on a bound of the search");
+        if (!f.young_pa.constrained || !f.inset_m.constrained)
+            out.legend.push_back("? not decided: the whole search range scores within 5 %");
         if (f.nothing_matched) out.legend.push_back("no line on a detected fold: only n fitted");
     }
     out.legend.push_back(r.look_name + ": " + fixed(100 * params.width_m, 0) + " x " + fixed(100 * params.height_m, 0) +

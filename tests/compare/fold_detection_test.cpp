@@ -1,6 +1,7 @@
 // Fold detection on synthetic ridges of known position, and the cloth mask on a real photo.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -61,6 +62,35 @@ TEST(FoldDetection, StraightCrestAndValleyFoundWithinOnePixel) {
     }
     EXPECT_EQ(crests, 1);
     EXPECT_EQ(valleys, 1);
+}
+
+TEST(FoldDetection, ValleyWithALighterFloorAndUnequalWallsFoundAtItsCentre) {
+    // A valley band whose half-depth edges are x = 49 and x = 68 (centre 58.5): a gentle left
+    // wall (0.7 to 0.3 over 6 px), a steep right wall (0.3 to 0.7 over 2 px), and a floor lit
+    // in its middle (0.42 at x = 58, 0.3 at both feet).  The extremum and the ridge response
+    // are pulled off the middle (the previous detector put the line at x = 60.8, towards the
+    // steeper wall); the band's half-depth crossings are not.
+    const double centre_x = 58.5;
+    auto brightness = [](double x) {
+        const double knots_x[] = {46, 52, 58, 67, 69}, knots_v[] = {0.7, 0.3, 0.42, 0.3, 0.7};
+        if (x <= knots_x[0]) return knots_v[0];
+        for (int k = 0; k < 4; ++k)
+            if (x <= knots_x[k + 1])
+                return knots_v[k] + (knots_v[k + 1] - knots_v[k]) * (x - knots_x[k]) / (knots_x[k + 1] - knots_x[k]);
+        return knots_v[4];
+    };
+    compare::Image img = constant_image(120, 80, 3, 0.5f);
+    for (int y = 0; y < 80; ++y)
+        for (int x = 0; x < 120; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = static_cast<float>(brightness(x));
+    const auto det = compare::detect_folds(img, constant_image(120, 80, 1, 1.0f));
+    double valley_length = 0.0;
+    for (const auto& f : det.folds) {
+        if (f.sign > 0) continue;
+        valley_length += f.length_px();
+        for (const auto& p : f.points_px) EXPECT_NEAR(p.x(), centre_x, 1.0) << "at y " << p.y();
+    }
+    EXPECT_GT(valley_length, 40.0);
 }
 
 TEST(FoldDetection, CurvedFoldLineFollowedWithinOneAndAHalfPixels) {

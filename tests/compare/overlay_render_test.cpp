@@ -445,12 +445,14 @@ TEST(DetectorOnRender, FindsThePrintedDrapesFoldsWithinTwoPixelsAndNoneOnThePrin
         return d;
     };
     double length = 0.0, worst = 0.0;
+    std::vector<double> distances;
     int points = 0, on_print_edge = 0, far = 0;
     for (const auto& f : detection.folds)
         for (size_t i = 0; i < f.points_px.size(); ++i) {
             const Eigen::Vector2d& p = f.points_px[i];
             const double d = off_fold(p);
             worst = std::max(worst, d);
+            distances.push_back(d);
             far += d > kTolerancePx;
             const int x = std::clamp(int(std::lround(p.x())), 0, w - 1),
                       y = std::clamp(int(std::lround(p.y())), 0, h - 1);
@@ -458,19 +460,24 @@ TEST(DetectorOnRender, FindsThePrintedDrapesFoldsWithinTwoPixelsAndNoneOnThePrin
             ++points;
             if (i > 0) length += (p - f.points_px[i - 1]).norm();
         }
+    std::sort(distances.begin(), distances.end());
+    const double median = distances.empty() ? 0.0 : distances[distances.size() / 2];
     std::printf(
         "detector on the printed render: %zu lines, %.0f px long, %d points, worst %.2f px from a fold, "
-        "%d farther than 2 px, %d on the print's outlines\n",
-        detection.folds.size(), length, points, worst, far, on_print_edge);
+        "median %.2f px, %d farther than 2 px, %d on the print's outlines\n",
+        detection.folds.size(), length, points, worst, median, far, on_print_edge);
     // Under a uniform sky the folds in the middle of the cloth shade softly: the default
     // thresholds find the strongest fold (beside the right support, ~75 px), not all of them.
     EXPECT_GT(length, 50.0);
     EXPECT_EQ(on_print_edge, 0);
-    // The target is every point within 2 px; with the hem closure's drape this
-    // render gives a worst point of 2.73 px (23 of 112 beyond 2 px, docs/compare.md), so the
-    // test holds what is achieved, 3 px, and the 2 px target is reported as missed.
-    EXPECT_LE(worst, 3.0);
-    EXPECT_LE(far, points / 4);
+    // The target is every point within 2 px.  With the band's centre (half-level
+    // crossings) this render gives a worst point of 2.47 px, median 0.15 px, 2 of 112 beyond
+    // 2 px: the first points of one valley, where it ends against the yellow disc
+    // (docs/compare.md).  The test holds what is achieved, and the 2 px target is reported
+    // as missed.  (Before the band's centre: worst 2.73 px, 23 of 112 beyond 2 px.)
+    EXPECT_LE(worst, 2.5);
+    EXPECT_LE(median, 0.5);
+    EXPECT_LE(far, points / 20);
     // The same picture without the print separation: the letter and disc come back as lines
     // (so the check above can fail).
     compare::FoldDetectionOptions keep = options;

@@ -157,6 +157,35 @@ TEST(OverlayClip, NothingIsDrawnOutsideTheCloth) {
     }
 }
 
+TEST(OverlayFit, AScoreFlatOverTheWholeBoxIsReportedNotDecidedAndTheStartIsKept) {
+    // No detected line and the measured n equal to the model's: every set in a narrow box
+    // (the same n throughout) scores the same, so neither value is decided by the photo, and
+    // the tie goes to the start (the physical default), the middle of the grid.
+    const auto& s = synthetic();
+    auto detection = compare::detect_folds(s.photo, s.mask);
+    detection.folds.clear();
+    compare::CentreLine centre;
+    centre.folds = s.solution.folds;
+    compare::FitBounds bounds;
+    bounds.inset_min_m = 0.098;
+    bounds.inset_max_m = 0.102;
+    bounds.inset_steps = 5;
+    bounds.young_min_pa = s.params.young_pa / 1.02;
+    bounds.young_max_pa = s.params.young_pa * 1.02;
+    bounds.young_steps = 5;
+    auto map_for = [&](const drape::ClothParams& p) {
+        return compare::similarity_from_supports(s.supports, p.support_span_m());
+    };
+    const auto fit =
+        compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
+    ASSERT_EQ(fit.solution.folds, s.solution.folds);
+    EXPECT_DOUBLE_EQ(fit.score.agreement, 0.5);  // F1 0, count error 0
+    EXPECT_FALSE(fit.inset_m.constrained);
+    EXPECT_FALSE(fit.young_pa.constrained);
+    EXPECT_NEAR(fit.params.inset_m, 0.1, 1e-9);
+    EXPECT_NEAR(fit.params.young_pa, s.params.young_pa, 1e-6 * s.params.young_pa);
+}
+
 TEST(OverlayFit, FindsTheFoldCountAndInsetTheSyntheticPhotoWasDrawnWith) {
     // Drawn with inset 0.1 m and E 5 MPa; the fit starts from 3x too stiff a fabric.
     const auto& s = synthetic();
@@ -183,6 +212,7 @@ TEST(OverlayFit, FindsTheFoldCountAndInsetTheSyntheticPhotoWasDrawnWith) {
     EXPECT_GE(fit.inset_m.high, 0.1 - 0.0251);
     EXPECT_FALSE(fit.nothing_matched);
     EXPECT_FALSE(fit.inset_m.on_bound);
+    EXPECT_TRUE(fit.inset_m.constrained);  // the photo decides the inset (the check below can fail)
     EXPECT_GT(fit.score.f1, 0.7);
     EXPECT_LE(fit.young_pa.low, fit.young_pa.best);
     EXPECT_GE(fit.young_pa.high, fit.young_pa.best);

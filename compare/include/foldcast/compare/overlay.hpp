@@ -111,11 +111,14 @@ struct FitBounds {
 };
 
 // A fitted value with the range of the parameter sets whose agreement is within 5 % of the
-// best one, and whether the best lies on an end of the search box.
+// best one, and whether the best lies on an end of the search box.  When that range spans
+// the whole box (and the box is not a single value) the photo does not decide the value:
+// `constrained` is false, and `best` is only the tie-break's pick (the set nearest the start).
 struct FittedValue {
     double best = 0.0, low = 0.0, high = 0.0;
     double bound_min = 0.0, bound_max = 0.0;
     bool on_bound = false;
+    bool constrained = true;
 };
 
 struct FitResult {
@@ -127,7 +130,10 @@ struct FitResult {
     bool nothing_matched = false;  // no set put any line on a detected fold (F1 = 0): only the count was fitted
 };
 
-// Grid search of the box for the highest agreement (ties: lower chamfer distance).
+// Grid search of the box for the highest agreement.  Ties: the lower chamfer distance in
+// pixels (in centimetres it would favour the sets whose scale makes a pixel small), then
+// the set nearest the start (inset on its share of the box, E on the log of its range):
+// the photo does not tell them apart, the physical default is the honest pick.
 // `geometry_for` completes a parameter set for its inset (the photo fixes pixels, not metres:
 // a new inset may change the width, or the scale and with it the height read off the mask);
 // empty: width and height stay.  `map_for` gives the photo mapping of a parameter set;
