@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "validators.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/looks.hpp"
@@ -112,6 +113,11 @@ Command looks_command(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--spp", options->swatch.spp, "With --swatches: samples per pixel")
         ->check(CLI::Range(1, 1 << 16))
+        ->capture_default_str();
+    sub->add_flag("--denoise", options->swatch.denoise, "With --swatches: denoise each tile (as render --denoise)");
+    sub->add_option("--noise-threshold", options->swatch.noise_threshold,
+                    "With --swatches: adaptive sampling, as render --noise-threshold (0 = off)")
+        ->check(finite_in(0.0, 1.0))
         ->capture_default_str();
     sub->add_option("--seed", options->swatch.seed, "With --swatches: random seed")
         ->capture_default_str()

@@ -41,8 +41,9 @@ Command render_command(CLI::App& app) {
     sub->add_flag("--keep-raw", args->keep_raw, "With --denoise: also write the image before it as OUT.raw.png|exr")
         ->needs("--denoise");
     sub->add_option("--noise-threshold", args->noise_threshold,
-                    "Adaptive sampling: a pixel stops once the standard error of its mean is below this, in sRGB "
-                    "display units (e.g. 0.01); --spp is then the most a pixel takes")
+                    "Adaptive sampling: from 4 samples on, each 4x4 block of pixels stops once its estimated error "
+                    "(in sRGB display units; with --denoise, the error left after denoising) is below this, e.g. 0.02; "
+                    "--spp is then the most a pixel takes")
         ->check(finite_in(0.0, 1.0));
     sub->add_flag("--json", args->json,
                   "Print width, height, spp, mean_spp (also garment_mean_spp, backdrop_mean_spp), seconds, rays, "

@@ -72,8 +72,9 @@ Command turntable_command(CLI::App& app) {
     sub->add_flag("--keep-raw", args->keep_raw, "With --denoise: also write each frame before it (frame_NNNN.raw.png)")
         ->needs("--denoise");
     sub->add_option("--noise-threshold", args->noise_threshold,
-                    "Adaptive sampling: a pixel stops once the standard error of its mean is below this, in sRGB "
-                    "display units; --spp is then the most a pixel takes")
+                    "Adaptive sampling: from 4 samples on, each 4x4 block of pixels stops once its estimated error "
+                    "(in sRGB display units; with --denoise, the error left after denoising) is below this, e.g. 0.02; "
+                    "--spp is then the most a pixel takes")
         ->check(CLI::Range(0.0, 1.0));
     sub->add_flag("--preview", args->preview,
                   "Rasterise the frames with OpenGL through EGL (fast preview) instead of path tracing");

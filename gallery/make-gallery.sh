@@ -10,27 +10,33 @@ out=gallery/out
 [ -x "$fc" ] || { echo "make-gallery: build first (cmake -S . -B build && cmake --build build)" >&2; exit 2; }
 quick=0
 [ "${1:-}" = "--quick" ] && quick=1
-if [ $quick = 1 ]; then spp=4; tt_spp=2; swatch_spp=4; else spp=64; tt_spp=16; swatch_spp=32; fi
+# Catalogue quality: adaptive sampling and the denoiser (docs/render.md); quick: few plain samples.
+if [ $quick = 1 ]; then
+  still=(--spp 4); turn=(--spp 2); swatch=(--spp 4)
+else
+  still=(--spp 64 --denoise --noise-threshold 0.01); turn=(--spp 16 --denoise --noise-threshold 0.02)
+  swatch=(--spp 32 --denoise --noise-threshold 0.02)
+fi
 mkdir -p "$out"
 step() { echo "== $*" >&2; }
 
 step "default scene"
-$fc render gallery/default.toml -o $out/default.png --width 960 --height 540 --spp $spp --quiet
+$fc render gallery/default.toml -o $out/default.png --width 960 --height 540 "${still[@]}" --quiet
 step "EGL preview of the default scene"
 $fc preview gallery/default.toml -o $out/preview.png --width 960 --height 540 --quiet || echo "(no EGL here: preview skipped)" >&2
 step "tall vs short, soft vs stiff"
 for s in tall short soft stiff; do
-  $fc render gallery/$s.toml -o $out/$s.png --width 480 --height 600 --spp $spp --quiet
+  $fc render gallery/$s.toml -o $out/$s.png --width 480 --height 600 "${still[@]}" --quiet
 done
 step "a curtain on 5 hooks (4 bays)"
-$fc render gallery/curtain.toml -o $out/curtain.png --width 480 --height 600 --spp $spp --quiet
+$fc render gallery/curtain.toml -o $out/curtain.png --width 480 --height 600 "${still[@]}" --quiet
 step "every look as a swatch sheet"
-$fc looks --swatches $out/swatches.png --spp $swatch_spp --quiet
+$fc looks --swatches $out/swatches.png "${swatch[@]}" --quiet
 step "a satin drape animation through the .fca codec"
 $fc drape --look satin --width-m 0.6 --height-m 0.8 --inset-m 0.12 --grid 64x96 --frames 48 -o $out/anim.fca --quiet
-$fc render gallery/animated.toml -o $out/animated.png --width 480 --height 480 --spp $spp --quiet
+$fc render gallery/animated.toml -o $out/animated.png --width 480 --height 480 "${still[@]}" --quiet
 step "turntable of the animation (path traced)"
-$fc turntable gallery/animated.toml -o $out/turntable.mp4 --width 320 --height 320 --spp $tt_spp --quiet
+$fc turntable gallery/animated.toml -o $out/turntable.mp4 --width 320 --height 320 "${turn[@]}" --quiet
 step "fold lines over a real photograph"
 $fc overlay tests/data/photos/two_point_shirt_s5_half.jpg -o $out/overlay.png \
     --supports 197.5,50,357.5,48.5 --scale-px-per-m 400 --look cotton_jersey --fit > $out/overlay.json

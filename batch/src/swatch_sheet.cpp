@@ -64,6 +64,9 @@ SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptio
         throw InputError("swatch tile " + std::to_string(options.tile_width) + "x" +
                          std::to_string(options.tile_height) + ": each side must be 16 to 4096 pixels");
     if (options.spp < 1) throw InputError("swatch spp " + std::to_string(options.spp) + ": must be >= 1");
+    if (!(options.noise_threshold >= 0.0) || !std::isfinite(options.noise_threshold))
+        throw InputError("swatch noise threshold " + std::to_string(options.noise_threshold) +
+                         ": must be a finite number >= 0");
     const std::vector<std::string> names = options.looks.empty() ? library.names() : options.looks;
     for (const auto& name : names) library.get(name);  // unknown names fail before any work
     const int count = static_cast<int>(names.size());
@@ -96,6 +99,8 @@ SwatchSheet render_swatch_sheet(const looks::Library& library, const SwatchOptio
         scene.seed = options.seed;
         RenderOptions render_options;
         render_options.threads = options.threads;
+        render_options.denoise = options.denoise;
+        render_options.noise_threshold = options.noise_threshold;
         const ProgressFn tile_progress =
             progress ? ProgressFn([&, k](std::string_view, double f) { progress("swatches", (k + f) / count); })
                      : ProgressFn{};

@@ -77,6 +77,25 @@ TEST(SwatchSheet, BadInputsAreInputErrors) {
     small.tile_width = 4;
     EXPECT_THROW(batch::render_swatch_sheet(test::shipped_looks(), small), InputError);
     EXPECT_THROW(batch::write_swatch_sheet("/tmp/sheet.jpg", batch::SwatchSheet{}), InputError);
+    auto negative = tiny({"denim"});
+    negative.noise_threshold = -0.01;
+    EXPECT_THROW(batch::render_swatch_sheet(test::shipped_looks(), negative), InputError);
+}
+
+// --denoise and --noise-threshold reach every tile: the denoised sheet is smoother, and an
+// adaptive one with a loose threshold takes fewer samples (fewer rays) for nearly the same picture.
+TEST(SwatchSheet, DenoiseAndAdaptiveSamplingReachTheTiles) {
+    auto plain = tiny({"linen", "satin"});
+    plain.spp = 16;
+    auto denoised = plain;
+    denoised.denoise = true;
+    auto adaptive = denoised;
+    adaptive.noise_threshold = 0.05;
+    const auto a = batch::render_swatch_sheet(test::shipped_looks(), plain);
+    const auto b = batch::render_swatch_sheet(test::shipped_looks(), denoised);
+    const auto c = batch::render_swatch_sheet(test::shipped_looks(), adaptive);
+    EXPECT_NE(a.rgb, b.rgb);
+    EXPECT_LT(c.stats.rays, b.stats.rays);
 }
 
 TEST(SwatchSheet, CommandWritesThePng) {

@@ -22,6 +22,8 @@ struct SwatchOptions {
     int tile_height = 300;
     int columns = 0;  // 0 = about twice as many columns as rows (12 looks: 6 x 2)
     int spp = 32;
+    bool denoise = false;          // each tile denoised (render's --denoise)
+    double noise_threshold = 0.0;  // adaptive sampling (render's --noise-threshold); 0 = off
     std::uint64_t seed = 1;
     int threads = 0;  // 0 = all cores
 };
