@@ -331,19 +331,43 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     cv::Mat unvisited = kept.clone();
     const size_t finest =
         static_cast<size_t>(std::min_element(out.sigmas_px.begin(), out.sigmas_px.end()) - out.sigmas_px.begin());
+    // A point whose profile across the fold (out to 2.5x its scale, as band_centre reads it)
+    // crosses a print reads the inpainted fill there, not the photo: its position is not a
+    // measurement, so the line is cut at it.
+    auto profile_reads_print = [&](cv::Point p, float nx, float ny) {
+        const double reach = 2.5 * out.sigmas_px[field.scale.at<uchar>(p.y, p.x)];
+        for (double t = -reach; t <= reach; t += 0.5) {
+            const int qx = std::clamp(static_cast<int>(std::lround(p.x + t * nx)), 0, w - 1);
+            const int qy = std::clamp(static_cast<int>(std::lround(p.y + t * ny)), 0, h - 1);
+            if (prints.at<uchar>(qy, qx)) return true;
+        }
+        return false;
+    };
     auto trace = [&](cv::Point start) {
         DetectedFold fold;
         fold.sign = field.sign.at<schar>(start.y, start.x);
-        cv::Point p = start, dir(0, 0);
         double strength_sum = 0.0;
+        auto finish_piece = [&] {
+            if (!fold.points_px.empty()) {
+                fold.mean_strength = strength_sum / static_cast<double>(fold.points_px.size());
+                if (fold.length_px() >= min_length) out.folds.push_back(fold);
+            }
+            fold.points_px.clear();
+            strength_sum = 0.0;
+        };
+        cv::Point p = start, dir(0, 0);
         while (true) {
             unvisited.at<uchar>(p.y, p.x) = 0;
             const float nx = field.nx.at<float>(p.y, p.x), ny = field.ny.at<float>(p.y, p.x);
-            const float o = band_centre(field.smooth[finest], static_cast<float>(p.x), static_cast<float>(p.y), nx, ny,
-                                        out.sigmas_px[field.scale.at<uchar>(p.y, p.x)], fold.sign)
-                                .value_or(offset.at<float>(p.y, p.x));
-            fold.points_px.emplace_back(p.x + o * nx, p.y + o * ny);
-            strength_sum += field.strength.at<float>(p.y, p.x);
+            if (profile_reads_print(p, nx, ny)) {
+                finish_piece();
+            } else {
+                const float o = band_centre(field.smooth[finest], static_cast<float>(p.x), static_cast<float>(p.y), nx,
+                                            ny, out.sigmas_px[field.scale.at<uchar>(p.y, p.x)], fold.sign)
+                                    .value_or(offset.at<float>(p.y, p.x));
+                fold.points_px.emplace_back(p.x + o * nx, p.y + o * ny);
+                strength_sum += field.strength.at<float>(p.y, p.x);
+            }
             const auto next = neighbours(p.x, p.y, unvisited);
             if (next.empty()) break;
             const cv::Point* best = &next[0];
@@ -361,8 +385,7 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             dir = *best - p;
             p = *best;
         }
-        fold.mean_strength = strength_sum / static_cast<double>(fold.points_px.size());
-        if (fold.length_px() >= min_length) out.folds.push_back(std::move(fold));
+        finish_piece();
     };
     for (int pass = 0; pass < 2; ++pass)
         for (int y = 0; y < h; ++y)
