@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -217,10 +218,20 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     };
 
     // Anderson acceleration of the local/global fixed-point map (Peng et al. 2018), with
-    // the plain step whenever the accelerated one would raise the energy.
+    // the plain step whenever the accelerated one would raise the energy.  The history is a
+    // ring of preallocated slots with the dot products of its differences kept beside it
+    // (one new row per iteration instead of the whole normal matrix), read oldest first so
+    // that the normal matrix, and hence every byte of the result, is what a plain list gives.
     constexpr int kHistory = 5;
-    Eigen::MatrixXd current(free, 3), g(free, 3), f(free, 3), g_prev(free, 3), f_prev(free, 3);
-    std::vector<Eigen::MatrixXd> dg, df;
+    Eigen::MatrixXd current(free, 3), g(free, 3), f(free, 3), g_prev(free, 3), f_prev(free, 3), next(free, 3);
+    std::array<Eigen::MatrixXd, kHistory> dg, df;
+    for (int s = 0; s < kHistory; ++s) dg[std::size_t(s)].resize(free, 3), df[std::size_t(s)].resize(free, 3);
+    Eigen::Matrix<double, kHistory, kHistory> slot_dots;  // df[s] . df[t] by slot
+    int oldest = 0, stored = 0;
+    const auto slot_of = [&](int a) { return std::size_t((oldest + a) % kHistory); };  // a-th oldest
+    // The global step's right-hand sides, one per coordinate, reused (pinned rows are ignored).
+    std::array<Eigen::VectorXd, 3> global_rhs;
+    for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
     gather(current);
     Local state = local();
     double accepted_energy = state.energy;
@@ -231,50 +242,62 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             // Not there yet: the targets ask for more than the cloth can give; soften them
             // (a new fixed-point map, so the history goes).
             anchor_scale *= 0.5;
-            dg.clear(), df.clear();
+            stored = 0;
             state = local();
             accepted_energy = state.energy;
         }
         ++iteration;
         tbb::parallel_for(0, 3, [&](int c) {
-            Eigen::VectorXd b = Eigen::VectorXd::Zero(Eigen::Index(n));
+            Eigen::VectorXd& b = global_rhs[std::size_t(c)];
             for (int row = 0; row < free; ++row) b[m.free_vertices[std::size_t(row)]] = rhs(row, c);
             const Eigen::VectorXd solved = m.solver->solve(b, pinned_positions.col(c));
             for (int row = 0; row < free; ++row) g(row, c) = solved[m.free_vertices[std::size_t(row)]];
         });
         f = g - current;
         if (iteration > 1) {
-            if (int(dg.size()) == kHistory) dg.erase(dg.begin()), df.erase(df.begin());
-            dg.push_back(g - g_prev);
-            df.push_back(f - f_prev);
+            std::size_t slot;
+            if (stored == kHistory) {
+                slot = std::size_t(oldest);
+                oldest = (oldest + 1) % kHistory;
+            } else {
+                if (stored == 0) oldest = 0;
+                slot = slot_of(stored++);
+            }
+            dg[slot] = g - g_prev;
+            df[slot] = f - f_prev;
+            for (int a = 0; a < stored; ++a) {
+                const std::size_t other = slot_of(a);
+                slot_dots(Eigen::Index(slot), Eigen::Index(other)) =
+                    slot_dots(Eigen::Index(other), Eigen::Index(slot)) = (df[slot].array() * df[other].array()).sum();
+            }
         }
         g_prev = g;
         f_prev = f;
-        Eigen::MatrixXd next = g;
-        const int h = int(df.size());
+        next = g;
+        const int h = stored;
         if (h > 0) {
             Eigen::MatrixXd normal(h, h);
             Eigen::VectorXd right(h);
             for (int a = 0; a < h; ++a) {
-                right(a) = (df[std::size_t(a)].array() * f.array()).sum();
+                right(a) = (df[slot_of(a)].array() * f.array()).sum();
                 for (int b = 0; b <= a; ++b)
-                    normal(a, b) = normal(b, a) = (df[std::size_t(a)].array() * df[std::size_t(b)].array()).sum();
+                    normal(a, b) = normal(b, a) = slot_dots(Eigen::Index(slot_of(a)), Eigen::Index(slot_of(b)));
             }
             normal.diagonal() *= 1.0 + 1e-10;
             const Eigen::VectorXd theta = normal.ldlt().solve(right);
             if (theta.allFinite())
-                for (int a = 0; a < h; ++a) next -= theta(a) * dg[std::size_t(a)];
+                for (int a = 0; a < h; ++a) next -= theta(a) * dg[slot_of(a)];
         }
         scatter(next);
         state = local();
         if (h > 0 && !(state.energy <= accepted_energy)) {  // fall back to the plain step
             scatter(g);
             state = local();
-            dg.clear(), df.clear();
+            stored = 0;
             next = g;
         }
         accepted_energy = state.energy;
-        current = next;
+        current.swap(next);
     }
     for (std::size_t k = 0; k < n; ++k) positions[k] = x[k].cast<float>();
     report.iterations = iteration;
