@@ -9,6 +9,7 @@
 #include <fftw3.h>
 
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -47,7 +48,18 @@ struct GridSolver::Impl {
     // y = (L + anchor I)^-1 b, pins ignored; with zero_pins, b's entries on the pins are taken
     // as 0 (without a copy of b).
     Eigen::VectorXd free_solve(const Eigen::VectorXd& b, bool zero_pins = false) const {
-        FftwBuffer a(n), c(n);
+        // Per-thread scratch kept between calls: the relaxation solves every iteration, and
+        // fresh half-megabyte buffers each time cost more in malloc than in the DCT.
+        struct Scratch {
+            std::size_t size = 0;
+            std::unique_ptr<FftwBuffer> a, c;
+        };
+        thread_local Scratch scratch;
+        if (scratch.size != n) {
+            scratch.a = std::make_unique<FftwBuffer>(n), scratch.c = std::make_unique<FftwBuffer>(n);
+            scratch.size = n;
+        }
+        FftwBuffer &a = *scratch.a, &c = *scratch.c;
         for (std::size_t k = 0; k < n; ++k) a.data[k] = b[Eigen::Index(k)];
         if (zero_pins)
             for (int p : pinned) a.data[p] = 0.0;

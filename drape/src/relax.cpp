@@ -253,7 +253,9 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             const Eigen::VectorXd solved = m.solver->solve(b, pinned_positions.col(c));
             for (int row = 0; row < free; ++row) g(row, c) = solved[m.free_vertices[std::size_t(row)]];
         });
-        f = g - current;
+        // f = g - current and the newest differences in one pass over memory (element by
+        // element: the same values as separate expressions).
+        const Eigen::Index entries = g.size();
         if (iteration > 1) {
             std::size_t slot;
             if (stored == kHistory) {
@@ -263,17 +265,22 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                 if (stored == 0) oldest = 0;
                 slot = slot_of(stored++);
             }
-            dg[slot] = g - g_prev;
-            df[slot] = f - f_prev;
+            double* const new_dg = dg[slot].data();
+            double* const new_df = df[slot].data();
+            for (Eigen::Index e = 0; e < entries; ++e) {
+                const double fe = g.data()[e] - current.data()[e];
+                f.data()[e] = fe;
+                new_dg[e] = g.data()[e] - g_prev.data()[e];
+                new_df[e] = fe - f_prev.data()[e];
+            }
             for (int a = 0; a < stored; ++a) {
                 const std::size_t other = slot_of(a);
                 slot_dots(Eigen::Index(slot), Eigen::Index(other)) =
                     slot_dots(Eigen::Index(other), Eigen::Index(slot)) = (df[slot].array() * df[other].array()).sum();
             }
+        } else {
+            f = g - current;
         }
-        g_prev = g;
-        f_prev = f;
-        next = g;
         const int h = stored;
         if (h > 0) {
             Eigen::MatrixXd normal(h, h);
@@ -285,8 +292,20 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             }
             normal.diagonal() *= 1.0 + 1e-10;
             const Eigen::VectorXd theta = normal.ldlt().solve(right);
-            if (theta.allFinite())
-                for (int a = 0; a < h; ++a) next -= theta(a) * dg[slot_of(a)];
+            if (theta.allFinite()) {
+                // next = g - sum_a theta_a dg_a, subtracted oldest first, in one pass.
+                std::array<const double*, kHistory> history{};
+                for (int a = 0; a < h; ++a) history[std::size_t(a)] = dg[slot_of(a)].data();
+                for (Eigen::Index e = 0; e < entries; ++e) {
+                    double v = g.data()[e];
+                    for (int a = 0; a < h; ++a) v -= theta(a) * history[std::size_t(a)][e];
+                    next.data()[e] = v;
+                }
+            } else {
+                next = g;
+            }
+        } else {
+            next = g;
         }
         scatter(next);
         state = local();
@@ -298,6 +317,8 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         }
         accepted_energy = state.energy;
         current.swap(next);
+        g_prev.swap(g);  // g and f are overwritten next iteration
+        f_prev.swap(f);
     }
     for (std::size_t k = 0; k < n; ++k) positions[k] = x[k].cast<float>();
     report.iterations = iteration;
