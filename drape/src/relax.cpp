@@ -32,19 +32,6 @@ struct GridRelaxer::Impl {
     std::unique_ptr<detail::GridSolver> solver;
 };
 
-namespace {
-
-// The up to four warp/weft neighbours of vertex (i, j) and the rest length to each.
-template <typename F>
-void for_each_neighbour(GridSize grid, int i, int j, double rest_u, double rest_v, F&& f) {
-    if (i > 0) f(j * grid.nu + i - 1, rest_u);
-    if (i + 1 < grid.nu) f(j * grid.nu + i + 1, rest_u);
-    if (j > 0) f((j - 1) * grid.nu + i, rest_v);
-    if (j + 1 < grid.nv) f((j + 1) * grid.nu + i, rest_v);
-}
-
-}  // namespace
-
 GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned, RelaxSettings settings)
     : impl_(std::make_unique<Impl>()) {
     detail::validate_grid(grid);
@@ -165,7 +152,19 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     struct Local {
         double energy, mean, max;
     };
+    // Each edge's length, computed once per local step (the edge to the right of and the one
+    // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
+    // and |x_o - x_k| are the same bits, so the result is too.
+    std::vector<double> right_len(n, 0.0), down_len(n, 0.0);
     const auto local = [&]() -> Local {
+        tbb::parallel_for(0, grid.nv, [&](int j) {
+            for (int i = 0; i < grid.nu; ++i) {
+                const int k = j * grid.nu + i;
+                const Eigen::Vector3d& xk = x[std::size_t(k)];
+                if (i + 1 < grid.nu) right_len[std::size_t(k)] = (x[std::size_t(k + 1)] - xk).norm();
+                if (j + 1 < grid.nv) down_len[std::size_t(k)] = (x[std::size_t(k + grid.nu)] - xk).norm();
+            }
+        });
         tbb::parallel_for(0, grid.nv, [&](int j) {
             double sum = 0.0, max = 0.0, energy = 0.0;
             for (int i = 0; i < grid.nu; ++i) {
@@ -173,12 +172,12 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                 const Eigen::Vector3d& xk = x[std::size_t(k)];
                 // Each edge once: to the right and below.
                 if (i + 1 < grid.nu) {
-                    const double len = (x[std::size_t(k + 1)] - xk).norm();
+                    const double len = right_len[std::size_t(k)];
                     sum += std::abs(len / m.rest_u - 1.0), max = std::max(max, std::abs(len / m.rest_u - 1.0));
                     energy += (len - m.rest_u) * (len - m.rest_u);
                 }
                 if (j + 1 < grid.nv) {
-                    const double len = (x[std::size_t(k + grid.nu)] - xk).norm();
+                    const double len = down_len[std::size_t(k)];
                     sum += std::abs(len / m.rest_v - 1.0), max = std::max(max, std::abs(len / m.rest_v - 1.0));
                     energy += (len - m.rest_v) * (len - m.rest_v);
                 }
@@ -196,14 +195,15 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                     }
                 }
                 b *= anchor;
-                for_each_neighbour(grid, i, j, m.rest_u, m.rest_v, [&](int other, double rest) {
-                    // Edge term |x_k - x_o - p|^2, p the edge at its rest length (the
-                    // neighbour itself, free or pinned, sits in the matrix).
-                    const Eigen::Vector3d& xo = x[std::size_t(other)];
-                    const Eigen::Vector3d d = xk - xo;
-                    const double len = d.norm();
-                    if (len > 0.0) b += d * (rest / len);
-                });
+                // Edge terms |x_k - x_o - p|^2, p the edge at its rest length (the neighbour
+                // itself, free or pinned, sits in the matrix); left, right, up, down.
+                const auto edge = [&](int other, double rest, double len) {
+                    if (len > 0.0) b += (xk - x[std::size_t(other)]) * (rest / len);
+                };
+                if (i > 0) edge(k - 1, m.rest_u, right_len[std::size_t(k - 1)]);
+                if (i + 1 < grid.nu) edge(k + 1, m.rest_u, right_len[std::size_t(k)]);
+                if (j > 0) edge(k - grid.nu, m.rest_v, down_len[std::size_t(k - grid.nu)]);
+                if (j + 1 < grid.nv) edge(k + grid.nu, m.rest_v, down_len[std::size_t(k)]);
                 rhs.row(row) = b.transpose();
             }
             row_sum[std::size_t(j)] = sum, row_max[std::size_t(j)] = max, row_energy[std::size_t(j)] = energy;
