@@ -9,6 +9,7 @@
 #include <fftw3.h>
 
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -44,10 +45,24 @@ struct GridSolver::Impl {
     Eigen::MatrixXd response;  // (L + anchor I)^-1 at every vertex to a unit load on each pin
     Eigen::LDLT<Eigen::MatrixXd> capacitance;
 
-    // y = (L + anchor I)^-1 b, pins ignored.
-    Eigen::VectorXd free_solve(const Eigen::VectorXd& b) const {
-        FftwBuffer a(n), c(n);
+    // y = (L + anchor I)^-1 b, pins ignored; with zero_pins, b's entries on the pins are taken
+    // as 0 (without a copy of b).
+    Eigen::VectorXd free_solve(const Eigen::VectorXd& b, bool zero_pins = false) const {
+        // Per-thread scratch kept between calls: the relaxation solves every iteration, and
+        // fresh half-megabyte buffers each time cost more in malloc than in the DCT.
+        struct Scratch {
+            std::size_t size = 0;
+            std::unique_ptr<FftwBuffer> a, c;
+        };
+        thread_local Scratch scratch;
+        if (scratch.size != n) {
+            scratch.a = std::make_unique<FftwBuffer>(n), scratch.c = std::make_unique<FftwBuffer>(n);
+            scratch.size = n;
+        }
+        FftwBuffer &a = *scratch.a, &c = *scratch.c;
         for (std::size_t k = 0; k < n; ++k) a.data[k] = b[Eigen::Index(k)];
+        if (zero_pins)
+            for (int p : pinned) a.data[p] = 0.0;
         fftw_execute_r2r(forward, a.data, c.data);
         for (std::size_t k = 0; k < n; ++k) c.data[k] *= inverse_eigenvalues[Eigen::Index(k)];
         fftw_execute_r2r(inverse, c.data, a.data);
@@ -107,9 +122,7 @@ Eigen::VectorXd GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::Vecto
     const Impl& m = *impl_;
     if (std::size_t(rhs.size()) != m.n || std::size_t(pinned_values.size()) != m.pinned.size())
         throw InputError("grid solver: one right-hand side per vertex and one value per pin");
-    Eigen::VectorXd b = rhs;
-    for (int p : m.pinned) b[p] = 0.0;
-    Eigen::VectorXd x = m.free_solve(b);
+    Eigen::VectorXd x = m.free_solve(rhs, true);
     if (m.pinned.empty()) return x;
     // Loads mu on the pins such that the pins sit at their values: C mu = values - x_pins.
     Eigen::VectorXd gap(pinned_values.size());

@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -30,19 +31,6 @@ struct GridRelaxer::Impl {
     std::vector<int> pinned_vertices;  // in vertex order, each once
     std::unique_ptr<detail::GridSolver> solver;
 };
-
-namespace {
-
-// The up to four warp/weft neighbours of vertex (i, j) and the rest length to each.
-template <typename F>
-void for_each_neighbour(GridSize grid, int i, int j, double rest_u, double rest_v, F&& f) {
-    if (i > 0) f(j * grid.nu + i - 1, rest_u);
-    if (i + 1 < grid.nu) f(j * grid.nu + i + 1, rest_u);
-    if (j > 0) f((j - 1) * grid.nu + i, rest_v);
-    if (j + 1 < grid.nv) f((j + 1) * grid.nu + i, rest_v);
-}
-
-}  // namespace
 
 GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned, RelaxSettings settings)
     : impl_(std::make_unique<Impl>()) {
@@ -164,7 +152,19 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     struct Local {
         double energy, mean, max;
     };
+    // Each edge's length, computed once per local step (the edge to the right of and the one
+    // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
+    // and |x_o - x_k| are the same bits, so the result is too.
+    std::vector<double> right_len(n, 0.0), down_len(n, 0.0);
     const auto local = [&]() -> Local {
+        tbb::parallel_for(0, grid.nv, [&](int j) {
+            for (int i = 0; i < grid.nu; ++i) {
+                const int k = j * grid.nu + i;
+                const Eigen::Vector3d& xk = x[std::size_t(k)];
+                if (i + 1 < grid.nu) right_len[std::size_t(k)] = (x[std::size_t(k + 1)] - xk).norm();
+                if (j + 1 < grid.nv) down_len[std::size_t(k)] = (x[std::size_t(k + grid.nu)] - xk).norm();
+            }
+        });
         tbb::parallel_for(0, grid.nv, [&](int j) {
             double sum = 0.0, max = 0.0, energy = 0.0;
             for (int i = 0; i < grid.nu; ++i) {
@@ -172,12 +172,12 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                 const Eigen::Vector3d& xk = x[std::size_t(k)];
                 // Each edge once: to the right and below.
                 if (i + 1 < grid.nu) {
-                    const double len = (x[std::size_t(k + 1)] - xk).norm();
+                    const double len = right_len[std::size_t(k)];
                     sum += std::abs(len / m.rest_u - 1.0), max = std::max(max, std::abs(len / m.rest_u - 1.0));
                     energy += (len - m.rest_u) * (len - m.rest_u);
                 }
                 if (j + 1 < grid.nv) {
-                    const double len = (x[std::size_t(k + grid.nu)] - xk).norm();
+                    const double len = down_len[std::size_t(k)];
                     sum += std::abs(len / m.rest_v - 1.0), max = std::max(max, std::abs(len / m.rest_v - 1.0));
                     energy += (len - m.rest_v) * (len - m.rest_v);
                 }
@@ -195,14 +195,15 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                     }
                 }
                 b *= anchor;
-                for_each_neighbour(grid, i, j, m.rest_u, m.rest_v, [&](int other, double rest) {
-                    // Edge term |x_k - x_o - p|^2, p the edge at its rest length (the
-                    // neighbour itself, free or pinned, sits in the matrix).
-                    const Eigen::Vector3d& xo = x[std::size_t(other)];
-                    const Eigen::Vector3d d = xk - xo;
-                    const double len = d.norm();
-                    if (len > 0.0) b += d * (rest / len);
-                });
+                // Edge terms |x_k - x_o - p|^2, p the edge at its rest length (the neighbour
+                // itself, free or pinned, sits in the matrix); left, right, up, down.
+                const auto edge = [&](int other, double rest, double len) {
+                    if (len > 0.0) b += (xk - x[std::size_t(other)]) * (rest / len);
+                };
+                if (i > 0) edge(k - 1, m.rest_u, right_len[std::size_t(k - 1)]);
+                if (i + 1 < grid.nu) edge(k + 1, m.rest_u, right_len[std::size_t(k)]);
+                if (j > 0) edge(k - grid.nu, m.rest_v, down_len[std::size_t(k - grid.nu)]);
+                if (j + 1 < grid.nv) edge(k + grid.nu, m.rest_v, down_len[std::size_t(k)]);
                 rhs.row(row) = b.transpose();
             }
             row_sum[std::size_t(j)] = sum, row_max[std::size_t(j)] = max, row_energy[std::size_t(j)] = energy;
@@ -217,10 +218,20 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     };
 
     // Anderson acceleration of the local/global fixed-point map (Peng et al. 2018), with
-    // the plain step whenever the accelerated one would raise the energy.
+    // the plain step whenever the accelerated one would raise the energy.  The history is a
+    // ring of preallocated slots with the dot products of its differences kept beside it
+    // (one new row per iteration instead of the whole normal matrix), read oldest first so
+    // that the normal matrix, and hence every byte of the result, is what a plain list gives.
     constexpr int kHistory = 5;
-    Eigen::MatrixXd current(free, 3), g(free, 3), f(free, 3), g_prev(free, 3), f_prev(free, 3);
-    std::vector<Eigen::MatrixXd> dg, df;
+    Eigen::MatrixXd current(free, 3), g(free, 3), f(free, 3), g_prev(free, 3), f_prev(free, 3), next(free, 3);
+    std::array<Eigen::MatrixXd, kHistory> dg, df;
+    for (int s = 0; s < kHistory; ++s) dg[std::size_t(s)].resize(free, 3), df[std::size_t(s)].resize(free, 3);
+    Eigen::Matrix<double, kHistory, kHistory> slot_dots;  // df[s] . df[t] by slot
+    int oldest = 0, stored = 0;
+    const auto slot_of = [&](int a) { return std::size_t((oldest + a) % kHistory); };  // a-th oldest
+    // The global step's right-hand sides, one per coordinate, reused (pinned rows are ignored).
+    std::array<Eigen::VectorXd, 3> global_rhs;
+    for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
     gather(current);
     Local state = local();
     double accepted_energy = state.energy;
@@ -231,50 +242,83 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             // Not there yet: the targets ask for more than the cloth can give; soften them
             // (a new fixed-point map, so the history goes).
             anchor_scale *= 0.5;
-            dg.clear(), df.clear();
+            stored = 0;
             state = local();
             accepted_energy = state.energy;
         }
         ++iteration;
         tbb::parallel_for(0, 3, [&](int c) {
-            Eigen::VectorXd b = Eigen::VectorXd::Zero(Eigen::Index(n));
+            Eigen::VectorXd& b = global_rhs[std::size_t(c)];
             for (int row = 0; row < free; ++row) b[m.free_vertices[std::size_t(row)]] = rhs(row, c);
             const Eigen::VectorXd solved = m.solver->solve(b, pinned_positions.col(c));
             for (int row = 0; row < free; ++row) g(row, c) = solved[m.free_vertices[std::size_t(row)]];
         });
-        f = g - current;
+        // f = g - current and the newest differences in one pass over memory (element by
+        // element: the same values as separate expressions).
+        const Eigen::Index entries = g.size();
         if (iteration > 1) {
-            if (int(dg.size()) == kHistory) dg.erase(dg.begin()), df.erase(df.begin());
-            dg.push_back(g - g_prev);
-            df.push_back(f - f_prev);
+            std::size_t slot;
+            if (stored == kHistory) {
+                slot = std::size_t(oldest);
+                oldest = (oldest + 1) % kHistory;
+            } else {
+                if (stored == 0) oldest = 0;
+                slot = slot_of(stored++);
+            }
+            double* const new_dg = dg[slot].data();
+            double* const new_df = df[slot].data();
+            for (Eigen::Index e = 0; e < entries; ++e) {
+                const double fe = g.data()[e] - current.data()[e];
+                f.data()[e] = fe;
+                new_dg[e] = g.data()[e] - g_prev.data()[e];
+                new_df[e] = fe - f_prev.data()[e];
+            }
+            for (int a = 0; a < stored; ++a) {
+                const std::size_t other = slot_of(a);
+                slot_dots(Eigen::Index(slot), Eigen::Index(other)) =
+                    slot_dots(Eigen::Index(other), Eigen::Index(slot)) = (df[slot].array() * df[other].array()).sum();
+            }
+        } else {
+            f = g - current;
         }
-        g_prev = g;
-        f_prev = f;
-        Eigen::MatrixXd next = g;
-        const int h = int(df.size());
+        const int h = stored;
         if (h > 0) {
             Eigen::MatrixXd normal(h, h);
             Eigen::VectorXd right(h);
             for (int a = 0; a < h; ++a) {
-                right(a) = (df[std::size_t(a)].array() * f.array()).sum();
+                right(a) = (df[slot_of(a)].array() * f.array()).sum();
                 for (int b = 0; b <= a; ++b)
-                    normal(a, b) = normal(b, a) = (df[std::size_t(a)].array() * df[std::size_t(b)].array()).sum();
+                    normal(a, b) = normal(b, a) = slot_dots(Eigen::Index(slot_of(a)), Eigen::Index(slot_of(b)));
             }
             normal.diagonal() *= 1.0 + 1e-10;
             const Eigen::VectorXd theta = normal.ldlt().solve(right);
-            if (theta.allFinite())
-                for (int a = 0; a < h; ++a) next -= theta(a) * dg[std::size_t(a)];
+            if (theta.allFinite()) {
+                // next = g - sum_a theta_a dg_a, subtracted oldest first, in one pass.
+                std::array<const double*, kHistory> history{};
+                for (int a = 0; a < h; ++a) history[std::size_t(a)] = dg[slot_of(a)].data();
+                for (Eigen::Index e = 0; e < entries; ++e) {
+                    double v = g.data()[e];
+                    for (int a = 0; a < h; ++a) v -= theta(a) * history[std::size_t(a)][e];
+                    next.data()[e] = v;
+                }
+            } else {
+                next = g;
+            }
+        } else {
+            next = g;
         }
         scatter(next);
         state = local();
         if (h > 0 && !(state.energy <= accepted_energy)) {  // fall back to the plain step
             scatter(g);
             state = local();
-            dg.clear(), df.clear();
+            stored = 0;
             next = g;
         }
         accepted_energy = state.energy;
-        current = next;
+        current.swap(next);
+        g_prev.swap(g);  // g and f are overwritten next iteration
+        f_prev.swap(f);
     }
     for (std::size_t k = 0; k < n; ++k) positions[k] = x[k].cast<float>();
     report.iterations = iteration;
