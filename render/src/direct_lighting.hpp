@@ -22,7 +22,6 @@ struct DirectLight {
 
 std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const LightSampler& lights,
                                            const LightChoice& choice, const Hit& hit, const Frame& frame,
-                                           const ClothBsdf& bsdf, float u_pick, float u_a, float u_b,
-                                           std::uint64_t& rays);
+                                           const ClothBsdf& bsdf, float u_pick, float u_b, std::uint64_t& rays);
 
 }  // namespace foldcast::render

@@ -51,11 +51,12 @@ LightChoice LightSampler::choose(const Vec3f& p, const Vec3f& n) const {
 }
 
 std::optional<LightSample> LightSampler::sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n,
-                                                const Vec3f& tangent, float u_pick, float u_a, float u_b) const {
+                                                const Vec3f& tangent, float u_pick, float u_b) const {
     int pick = 0;
     float acc = choice.prob[0];
     while (pick + 1 < choice.options && u_pick >= acc) acc += choice.prob[++pick];
     if (!(choice.prob[pick] > 0.0f)) return std::nullopt;
+    const float u_a = std::clamp((u_pick - (acc - choice.prob[pick])) / choice.prob[pick], 0.0f, 0x1.fffffep-1f);
     LightSample s;
     if (pick < count()) {
         const Light& l = lights_[pick];

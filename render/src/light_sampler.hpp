@@ -50,10 +50,12 @@ public:
     LightChoice choose(const Vec3f& p, const Vec3f& n) const;
     // Picks by u_pick and samples a point on it, uniformly in the solid angle it subtends at
     // p (uniformly over its area where that is too small to measure), or a cosine direction
-    // about `n` for the environment, with (u_a, u_b); nothing when the pick has no
-    // probability or the light faces away.
+    // about `n` for the environment, with (u_a, u_b), u_a being u_pick rescaled within the
+    // chosen light's share: one stratified 2-D point (u_pick, u_b) stratifies the choice
+    // and the point together.  Nothing when the pick has no probability or the light faces
+    // away.
     std::optional<LightSample> sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n, const Vec3f& tangent,
-                                      float u_pick, float u_a, float u_b) const;
+                                      float u_pick, float u_b) const;
     // The nearest light's front face along o + t d, t < tmax.
     LightHit hit(const Vec3f& o, const Vec3f& d, float tmax) const;
     // What sample() at p would have given for the point q on light `index`.

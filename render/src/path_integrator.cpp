@@ -80,10 +80,9 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         if (depth + 1 >= max_depth_) break;
 
         const LightChoice choice = lights_.choose(hit.p, hit.ns);
-        const float u_pick = sampler.get1d();
-        const Eigen::Vector2f u_light = sampler.get2d();
+        const Eigen::Vector2f u_light = sampler.get2d();  // the light's choice and the point on it
         if (const auto direct =
-                direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_pick, u_light.x(), u_light.y(), rays))
+                direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_light.x(), u_light.y(), rays))
             add(out.radiance, beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
                 depth + 1);
 

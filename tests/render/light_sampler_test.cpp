@@ -105,7 +105,7 @@ TEST(LightSampler, PdfAgreesWithSample) {
         const LightChoice choice = lights.choose(p, n);
         int checked = 0;
         for (int i = 0; i < 8; ++i) {
-            const auto s = lights.sample(choice, p, n, n.unitOrthogonal(), 0.0f, (i + 0.5f) / 8, 0.37f);
+            const auto s = lights.sample(choice, p, n, n.unitOrthogonal(), (i + 0.5f) / 8 * choice.prob[0], 0.37f);
             if (!s || !std::isfinite(s->distance)) continue;
             const Vec3f q = p + s->distance * s->wi;
             EXPECT_NEAR(lights.pdf(choice, 0, p, q) / s->pdf, 1.0f, 1e-3f);
