@@ -115,5 +115,25 @@ TEST(LightSampler, PdfAgreesWithSample) {
     }
 }
 
+// A dim environment beside a bright area light is left to BSDF sampling (no light samples,
+// so MIS gives its BSDF-sampled hits full weight); where the light is out of sight, or the
+// sky is bright, the environment keeps its light samples.
+TEST(LightSampler, DimEnvironmentIsLeftToBsdfSampling) {
+    AreaLight box;
+    box.position = Vec3f(0.0f, 1.0f, 1.0f);
+    box.target = Vec3f(0.0f, 0.0f, 0.0f);
+    box.radiance = Vec3f(20.0f, 20.0f, 20.0f);
+    const LightSampler dim({box}, V3(0.02f, 0.02f, 0.02f));
+    const Vec3f facing = (box.position - Vec3f::Zero()).normalized();
+    const LightChoice lit = dim.choose(Vec3f::Zero(), facing);
+    EXPECT_EQ(lit.prob[1], 0.0f);
+    EXPECT_FLOAT_EQ(lit.prob[0], 1.0f);
+    EXPECT_EQ(dim.environment_pdf(lit, facing, facing), 0.0f);
+    const LightChoice behind = dim.choose(Vec3f(0.0f, 2.0f, 2.0f), facing);  // behind the one-sided light
+    EXPECT_FLOAT_EQ(behind.prob[1], 1.0f);
+    const LightSampler bright({box}, V3(5.0f, 5.0f, 5.0f));
+    EXPECT_GT(bright.choose(Vec3f::Zero(), facing).prob[1], 0.25f);
+}
+
 }  // namespace
 }  // namespace foldcast::render
