@@ -1,7 +1,7 @@
 # Renders a scene exported by bench_cycles_export with Blender's Cycles (CPU, no denoising,
 # no adaptive sampling, Standard view transform) to a linear float EXR, and prints the render
 # time.  Bench only (never in the build or tests):
-#   blender -b --factory-startup -P bench/cycles/render_cycles.py -- SCENE.json OUT.exr SPP THREADS
+#   blender -b --factory-startup -P bench/cycles/render_cycles.py -- SCENE.json OUT.exr SPP THREADS [SEED]
 import json
 import math
 import sys
@@ -16,7 +16,9 @@ def P(v):
     return Vector((v[0], -v[2], v[1]))
 
 
-scene_file, out_exr, spp, threads = sys.argv[sys.argv.index("--") + 1:][:4]
+args = sys.argv[sys.argv.index("--") + 1:]
+scene_file, out_exr, spp, threads = args[:4]
+seed = int(args[4]) if len(args) > 4 else 1
 spec = json.load(open(scene_file))
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -92,7 +94,7 @@ scene.cycles.max_bounces = bounces
 scene.cycles.diffuse_bounces = bounces
 scene.cycles.glossy_bounces = bounces
 scene.cycles.sample_clamp_indirect = 20.0  # foldcast clamps from the second bounce at 20
-scene.cycles.seed = 1
+scene.cycles.seed = seed
 scene.render.threads_mode = "FIXED"
 scene.render.threads = int(threads)
 scene.render.resolution_x, scene.render.resolution_y = spec["width"], spec["height"]
@@ -104,6 +106,7 @@ scene.render.image_settings.file_format = "OPEN_EXR"
 scene.render.image_settings.color_depth = "32"
 scene.render.filepath = out_exr
 
-start = time.perf_counter()
+start, cpu_start = time.perf_counter(), time.process_time()  # process_time: every thread's CPU
 bpy.ops.render.render(write_still=True)
 print(f"CYCLES_SECONDS {time.perf_counter() - start:.3f}")
+print(f"CYCLES_CPU_SECONDS {time.process_time() - cpu_start:.3f}")
