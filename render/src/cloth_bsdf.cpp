@@ -153,6 +153,7 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(w
     const float alpha_view =
         sxy > 1e-12f ? std::sqrt((sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())) / sxy) : std::sqrt(ax_ * ay_);
     e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
+    lambda_o_ = ggx_lambda(wo_, ax_, ay_);
     sheen_scale_ = std::clamp(p_.sheen.maxCoeff(), 0.0f, 1.0f);
     e_sheen_ = sheen_scale_ > 0.0f ? sheen_albedo(mu, p_.sheen_roughness) : 0.0f;
     base_weight_ = 1.0f - e_spec_;
@@ -173,12 +174,12 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(w
 
 float ClothBsdf::spec_pdf(const V3& wi) const {
     const V3 h = (wo_ + wi).normalized();
-    return ggx_d(h, ax_, ay_) / (4.0f * wo_.z() * (1.0f + ggx_lambda(wo_, ax_, ay_)));
+    return ggx_d(h, ax_, ay_) / (4.0f * wo_.z() * (1.0f + lambda_o_));
 }
 
 V3 ClothBsdf::spec_f(const V3& wi) const {
     const V3 h = (wo_ + wi).normalized();
-    const float g2 = 1.0f / (1.0f + ggx_lambda(wo_, ax_, ay_) + ggx_lambda(wi, ax_, ay_));
+    const float g2 = 1.0f / (1.0f + lambda_o_ + ggx_lambda(wi, ax_, ay_));
     const float f = schlick(p_.f0, wo_.dot(h)) * ggx_d(h, ax_, ay_) * g2 / (4.0f * wo_.z() * wi.z());
     return V3::Constant(f);
 }

@@ -49,6 +49,7 @@ private:
     BsdfParams p_;
     V3 wo_;
     float ax_ = 0.0f, ay_ = 0.0f;
+    float lambda_o_ = 0.0f;  // Smith Lambda of wo, used by every evaluation
     float sheen_alpha_ = 0.0f;
     float e_spec_ = 0.0f;          // E_spec(mu_o) including Fresnel
     float sheen_scale_ = 0.0f;     // s

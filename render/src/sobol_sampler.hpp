@@ -56,18 +56,20 @@ public:
     PixelSampler(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
         : key_(mix64(mix64(seed ^ 0x2545f4914f6cdd1dULL) + pixel)), sample_(sample) {}
 
-    // The next dimension in [0, 1).
+    // The next dimension in [0, 1).  owen_scramble(sobol_dim0(i), s) is written out as
+    // reverse_bits(laine_karras_permutation(i, s)): sobol_dim0 reverses the bits that the
+    // scramble would reverse back (the same bits, two reversals fewer).
     float get1d() {
         const std::uint64_t h = next_hash();
         const std::uint32_t i = owen_scramble(sample_, static_cast<std::uint32_t>(h));
-        return to_unit_float(owen_scramble(sobol_dim0(i), static_cast<std::uint32_t>(h >> 32)));
+        return to_unit_float(reverse_bits(laine_karras_permutation(i, static_cast<std::uint32_t>(h >> 32))));
     }
     // The next two dimensions in [0, 1)^2, stratified together.
     Eigen::Vector2f get2d() {
         const std::uint64_t h = next_hash();
         const std::uint64_t h2 = mix64(h);
         const std::uint32_t i = owen_scramble(sample_, static_cast<std::uint32_t>(h));
-        return {to_unit_float(owen_scramble(sobol_dim0(i), static_cast<std::uint32_t>(h >> 32))),
+        return {to_unit_float(reverse_bits(laine_karras_permutation(i, static_cast<std::uint32_t>(h >> 32)))),
                 to_unit_float(owen_scramble(sobol_dim1(i), static_cast<std::uint32_t>(h2)))};
     }
 
