@@ -238,3 +238,28 @@ TEST(FoldDetection, PrintsAreNotFoldsButTheFoldIsFound) {
         for (const auto& p : f.points_px) on_edges += on_print(p) && std::abs(p.y() - crest_y) > 2.0;
     EXPECT_GT(on_edges, 50);
 }
+
+// A fold that crosses a print shades the print too: the crest through the yellow disc (and
+// past the letter's stem) is found inside the disc, where the print of one colour is
+// scaled to the cloth's brightness, and the disc's outline is still no line.  (Before, the
+// whole print was filled in and left out: no point inside the disc.)
+TEST(FoldDetection, AFoldThroughAPrintIsFoundInsideIt) {
+    const double crest_y = 100.3;  // through the disc's centre (140, 100), radius 25
+    const auto img = printed_cloth(crest_y, true);
+    const auto mask = constant_image(img.width, img.height, 1, 1.0f);
+    const auto det = compare::detect_folds(img, mask);
+    double inside_disc = 0.0;
+    for (const auto& f : det.folds)
+        for (size_t i = 0; i < f.points_px.size(); ++i) {
+            const auto& p = f.points_px[i];
+            EXPECT_NEAR(p.y(), crest_y, 2.0) << "line point off the fold at " << p.transpose();
+            if (i > 0 && f.sign > 0 && std::hypot(p.x() - 140, p.y() - 100) < 20)
+                inside_disc += (p - f.points_px[i - 1]).norm();
+        }
+    EXPECT_GT(inside_disc, 25.0);
+    // The print is still known as print, and its outline is what cannot be read.
+    EXPECT_EQ(det.print_mask.at(140, 100, 0), 1.0f);
+    EXPECT_EQ(det.print_outline.at(140, 100, 0), 0.0f);
+    EXPECT_EQ(det.print_outline.at(140, 75, 0), 1.0f);
+    EXPECT_EQ(det.print_outline.at(110, 140, 0), 0.0f);
+}
