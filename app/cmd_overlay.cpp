@@ -131,12 +131,20 @@ int run_overlay(const OverlayOptions& o) {
                           {"tolerance_px", sc.tolerance_px},
                           {"tolerance_cm", sc.tolerance_cm}};
         }
-        if (result.fit)
+        if (result.fit) {
             j["fit"] = {{"evaluated", result.fit->evaluated},
                         {"inset_m", fitted_json(result.fit->inset_m)},
                         {"young_pa", fitted_json(result.fit->young_pa)},
                         {"nothing_matched", result.fit->nothing_matched},
                         {"uncertainty", "range of the sets whose agreement is within 5 % of the best"}};
+            if (const auto& r = result.fit->reach)
+                j["fit"]["reach"] = {{"folds", r->folds},
+                                     {"sets", r->sets},
+                                     {"lowest_fold_min_px", r->lowest_min_px},
+                                     {"lowest_fold_max_px", r->lowest_max_px},
+                                     {"measured_lowest_fold_px", r->measured_px},
+                                     {"outside", r->outside}};
+        }
         std::printf("%s\n", j.dump(1).c_str());
     } else {
         for (const auto& line : result.legend) std::printf("%s\n", line.c_str());

@@ -86,10 +86,29 @@ float sample(const cv::Mat& m, float x, float y) {
 // the light) scales R, G and B alike and leaves the chromaticity where it is; a print of
 // another colour moves it.  The limit adapts to the cloth's own spread (its weave, JPEG
 // noise, coloured bounce light): 6 robust standard deviations, at least 0.04.  Pixels too
-// dark for a stable ratio (linear sum < 0.03) never count as print.  Opened by 3x3 to drop
-// specks, then dilated by `grow_px` so the blurred outline of a print goes too.
-cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth, int grow_px) {
+// dark for a stable ratio (linear sum < 0.03) take the colour of the nearest pixel that is
+// not (a dark crease across a print is still the print).  Opened by 3x3 to drop specks.
+//
+// A fold that crosses a print still shades it: inside a print of one colour the brightness
+// is the print's albedo times the same shading as on the cloth.  So the print pixels are
+// grouped by colour (chromaticity within the same limit of a group's mean), and each
+// group's luma is scaled by (the cloth's median luma / the group's median luma): the
+// shading image is then continuous across the print and a crease through it stays visible.
+// What cannot be read is where the colour changes (a print's blurred outline, one print
+// colour against another) and a group too small for its median (dots, thin strokes):
+// `outline`, dilated by `grow_px`, is filled in from around it and left out of the search.
+struct PrintLayers {
+    cv::Mat prints;   // CV_8U 255: printed (opened), dilated by grow_px
+    cv::Mat outline;  // CV_8U 255: where the reflectance changes or cannot be normalised, dilated
+    cv::Mat gain;     // CV_32F: luma x gain = shading (1 on the cloth)
+};
+
+PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) {
     const cv::Mat rgb = detail::rgb_of(photo);
+    PrintLayers out;
+    out.prints = cv::Mat::zeros(rgb.size(), CV_8U);
+    out.outline = cv::Mat::zeros(rgb.size(), CV_8U);
+    out.gain = cv::Mat::ones(rgb.size(), CV_32F);
     cv::Mat chroma_r(rgb.size(), CV_32F), chroma_g(rgb.size(), CV_32F), dark(rgb.size(), CV_8U);
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x) {
@@ -113,8 +132,25 @@ cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth, int grow_px) {
                 rs.push_back(chroma_r.at<float>(y, x));
                 gs.push_back(chroma_g.at<float>(y, x));
             }
-    cv::Mat out = cv::Mat::zeros(rgb.size(), CV_8U);
     if (rs.empty()) return out;
+    // Dark pixels take the chromaticity of the nearest pixel that is not dark.
+    if (cv::countNonZero(dark) > 0) {
+        cv::Mat dist, labels;
+        cv::distanceTransform(dark, dist, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+        std::vector<cv::Point> source(1);  // label -> the non-dark pixel it names (labels start at 1)
+        for (int y = 0; y < rgb.rows; ++y)
+            for (int x = 0; x < rgb.cols; ++x)
+                if (!dark.at<uchar>(y, x)) source.emplace_back(x, y);
+        for (int y = 0; y < rgb.rows; ++y)
+            for (int x = 0; x < rgb.cols; ++x) {
+                if (!dark.at<uchar>(y, x)) continue;
+                const int label = labels.at<int>(y, x);
+                if (label <= 0 || label >= int(source.size())) continue;
+                const cv::Point q = source[size_t(label)];
+                chroma_r.at<float>(y, x) = chroma_r.at<float>(q);
+                chroma_g.at<float>(y, x) = chroma_g.at<float>(q);
+            }
+    }
     const float mr = median_of(rs), mg = median_of(gs);
     cv::Mat distance(rgb.size(), CV_32F);
     std::vector<float> ds;
@@ -127,13 +163,122 @@ cv::Mat print_pixels(const Image& photo, const cv::Mat& cloth, int grow_px) {
     const float median_d = median_of(ds);
     for (float& d : ds) d = std::abs(d - median_d);
     const float limit = std::max(0.04f, median_d + 6.0f * 1.4826f * median_of(ds));
+    cv::Mat printed = cv::Mat::zeros(rgb.size(), CV_8U);
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x)
-            out.at<uchar>(y, x) =
-                cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x) && distance.at<float>(y, x) > limit ? 255 : 0;
-    cv::morphologyEx(out, out, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+            printed.at<uchar>(y, x) = cloth.at<uchar>(y, x) && distance.at<float>(y, x) > limit ? 255 : 0;
+    cv::morphologyEx(printed, printed, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+    const cv::Mat grow =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1));
     if (grow_px > 0)
-        cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1)));
+        cv::dilate(printed, out.prints, grow);
+    else
+        out.prints = printed.clone();
+    if (cv::countNonZero(printed) == 0) return out;
+
+    // Print colours are told apart on the chromaticity median-filtered over 5x5 px: a thin
+    // crease darkens a print by a pixel or two, and JPEG's coarse chroma moves such pixels'
+    // colour; the filtered colour is the print's.  Each pixel whose filtered colour lies
+    // farther than `limit` from the cloth's joins the nearest group whose mean lies within
+    // `limit`, else starts one (at most kMaxGroups; the rest cannot be normalised); a second
+    // pass assigns every such pixel to the nearest final mean.  A pixel printed by its own
+    // colour but not by the filtered one (a dot, a thin stroke) cannot be normalised.
+    cv::medianBlur(chroma_r, chroma_r, 5);
+    cv::medianBlur(chroma_g, chroma_g, 5);
+    cv::Mat coloured = cv::Mat::zeros(rgb.size(), CV_8U);
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x)
+            coloured.at<uchar>(y, x) =
+                cloth.at<uchar>(y, x) &&
+                std::hypot(chroma_r.at<float>(y, x) - mr, chroma_g.at<float>(y, x) - mg) > limit;
+    constexpr int kMaxGroups = 16;
+    struct Group {
+        double r = 0, g = 0;
+        long n = 0;
+    };
+    std::vector<Group> groups;
+    cv::Mat label(rgb.size(), CV_32S, cv::Scalar(0));  // 0 cloth, k >= 1 group k - 1, -1 unassigned
+    auto nearest = [&](float r, float g) {
+        int best = -1;
+        double best_d = limit;
+        for (size_t k = 0; k < groups.size(); ++k) {
+            const double d = std::hypot(r - groups[k].r / groups[k].n, g - groups[k].g / groups[k].n);
+            if (d <= best_d) {
+                best_d = d;
+                best = int(k);
+            }
+        }
+        return best;
+    };
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x) {
+            if (!coloured.at<uchar>(y, x)) continue;
+            const float r = chroma_r.at<float>(y, x), g = chroma_g.at<float>(y, x);
+            int k = nearest(r, g);
+            if (k < 0 && int(groups.size()) < kMaxGroups) {
+                groups.push_back({});
+                k = int(groups.size()) - 1;
+            }
+            if (k >= 0) {
+                groups[size_t(k)].r += r;
+                groups[size_t(k)].g += g;
+                ++groups[size_t(k)].n;
+            }
+        }
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x)
+            if (coloured.at<uchar>(y, x)) {
+                const int k = nearest(chroma_r.at<float>(y, x), chroma_g.at<float>(y, x));
+                label.at<int>(y, x) = k < 0 ? -1 : k + 1;
+            } else if (printed.at<uchar>(y, x)) {
+                label.at<int>(y, x) = -1;
+            }
+    // Where the colour changes: a pixel of the cloth whose 8-neighbourhood holds another label.
+    cv::Mat change = cv::Mat::zeros(rgb.size(), CV_8U);
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x) {
+            if (!cloth.at<uchar>(y, x)) continue;
+            const int l = label.at<int>(y, x);
+            bool edge = l < 0;
+            for (int dy = -1; dy <= 1 && !edge; ++dy)
+                for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                    const int qx = x + dx, qy = y + dy;
+                    if (qx < 0 || qy < 0 || qx >= rgb.cols || qy >= rgb.rows || !cloth.at<uchar>(qy, qx)) continue;
+                    edge = label.at<int>(qy, qx) != l;
+                }
+            change.at<uchar>(y, x) = edge ? 255 : 0;
+        }
+    if (grow_px > 0) cv::dilate(change, out.outline, grow);
+    else out.outline = change;
+    // Each colour's median luma away from its outline (the cloth is label 0); a group with
+    // fewer than kMinCore such pixels is left to the outline as a whole.
+    constexpr size_t kMinCore = 50;
+    const cv::Mat luma = detail::luma_of(photo);
+    std::vector<std::vector<float>> core(groups.size() + 1);
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x) {
+            const int l = label.at<int>(y, x);
+            if (cloth.at<uchar>(y, x) && l >= 0 && !out.outline.at<uchar>(y, x))
+                core[size_t(l)].push_back(luma.at<float>(y, x));
+        }
+    const float cloth_luma = core[0].empty() ? 0.0f : median_of(core[0]);
+    std::vector<float> gain(groups.size() + 1, 1.0f);
+    std::vector<bool> readable(groups.size() + 1, true);
+    for (size_t k = 1; k < core.size(); ++k) {
+        const float m = core[k].size() >= kMinCore ? median_of(core[k]) : 0.0f;
+        readable[k] = cloth_luma > 0 && m > 1e-3f;
+        gain[k] = readable[k] ? cloth_luma / m : 1.0f;
+    }
+    cv::Mat unreadable = cv::Mat::zeros(rgb.size(), CV_8U);
+    for (int y = 0; y < rgb.rows; ++y)
+        for (int x = 0; x < rgb.cols; ++x) {
+            const int l = label.at<int>(y, x);
+            if (l < 0 || !readable[size_t(l)]) unreadable.at<uchar>(y, x) = 255;
+            else out.gain.at<float>(y, x) = gain[size_t(l)];
+        }
+    if (grow_px > 0) cv::dilate(unreadable, unreadable, grow);
+    out.outline |= unreadable;
+    out.outline &= out.prints;  // only around prints (the dilation may reach past them)
     return out;
 }
 
@@ -219,22 +364,30 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     const double sigma_max = *std::max_element(out.sigmas_px.begin(), out.sigmas_px.end());
 
     // Search region: the cloth, away from its outline (the silhouette is a strong "ridge"),
-    // without printed motifs.  Prints are also filled in from their surroundings (Telea) in
-    // the luma the ridge filter sees, so that their outlines are not ridges at any scale.
+    // without the prints' outlines.  The luma the ridge filter sees is the shading: each
+    // print colour scaled to the cloth's brightness (a fold through a print stays visible),
+    // and where the colour changes filled in from around it (Telea), so that the outlines of
+    // letters and logos are not ridges at any scale.
     cv::Mat cloth;
     detail::to_mat(mask).convertTo(cloth, CV_8U, 255.0);
     cloth = cloth > 127;
     cv::Mat luma = detail::luma_of(photo);
-    cv::Mat prints = cv::Mat::zeros(luma.size(), CV_8U);
+    cv::Mat prints = cv::Mat::zeros(luma.size(), CV_8U), unreadable = prints.clone();
     if (options.exclude_prints && photo.channels >= 3) {
-        prints = print_pixels(photo, cloth, static_cast<int>(std::ceil(out.sigmas_px.front())) + 1);
-        if (cv::countNonZero(prints) > 0) {
+        const PrintLayers layers = print_layers(photo, cloth, static_cast<int>(std::ceil(out.sigmas_px.front())) + 1);
+        prints = layers.prints;
+        unreadable = layers.outline;
+        luma = luma.mul(layers.gain);
+        if (cv::countNonZero(unreadable) > 0) {
             // Through 16 bits: OpenCV's Telea fills 8- and 16-bit images (float ones pass
-            // through unchanged in 4.6).
+            // through unchanged in 4.6); scaled so that a gain above 1 does not clip.
+            double top = 1.0;
+            cv::minMaxLoc(luma, nullptr, &top);
+            top = std::max(1.0, top);
             cv::Mat luma16, filled;
-            luma.convertTo(luma16, CV_16U, 65535.0);
-            cv::inpaint(luma16, prints, filled, 3.0, cv::INPAINT_TELEA);
-            filled.convertTo(luma, CV_32F, 1.0 / 65535.0);
+            luma.convertTo(luma16, CV_16U, 65535.0 / top);
+            cv::inpaint(luma16, unreadable, filled, 3.0, cv::INPAINT_TELEA);
+            filled.convertTo(luma, CV_32F, top / 65535.0);
         }
     }
     const RidgeField field = ridge_field(luma, out.sigmas_px, options.gamma);
@@ -242,13 +395,15 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
     cv::erode(cloth, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    region &= ~prints;
+    region &= ~unreadable;
     {
         cv::Mat r;
         region.convertTo(r, CV_32F, 1.0 / 255.0);
         out.search_region = detail::from_mat(r);
         prints.convertTo(r, CV_32F, 1.0 / 255.0);
         out.print_mask = detail::from_mat(r);
+        unreadable.convertTo(r, CV_32F, 1.0 / 255.0);
+        out.print_outline = detail::from_mat(r);
         out.shading = detail::from_mat(luma);
     }
 
@@ -332,14 +487,14 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     const size_t finest =
         static_cast<size_t>(std::min_element(out.sigmas_px.begin(), out.sigmas_px.end()) - out.sigmas_px.begin());
     // A point whose profile across the fold (out to 2.5x its scale, as band_centre reads it)
-    // crosses a print reads the inpainted fill there, not the photo: its position is not a
-    // measurement, so the line is cut at it.
+    // crosses a print's outline reads the inpainted fill there, not the photo: its position
+    // is not a measurement, so the line is cut at it.
     auto profile_reads_print = [&](cv::Point p, float nx, float ny) {
         const double reach = 2.5 * out.sigmas_px[field.scale.at<uchar>(p.y, p.x)];
         for (double t = -reach; t <= reach; t += 0.5) {
             const int qx = std::clamp(static_cast<int>(std::lround(p.x + t * nx)), 0, w - 1);
             const int qy = std::clamp(static_cast<int>(std::lround(p.y + t * ny)), 0, h - 1);
-            if (prints.at<uchar>(qy, qx)) return true;
+            if (unreadable.at<uchar>(qy, qx)) return true;
         }
         return false;
     };

@@ -48,6 +48,10 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
     };
     std::vector<Tried> tried;
     FitResult best;
+    const bool measured = centre.folds > 0 && !centre.depths_px.empty();
+    ModelReach reach;
+    reach.folds = centre.folds;
+    if (measured) reach.measured_px = centre.depths_px.back();
     bool have = false;
     double best_chamfer_px = 0.0, best_from_start = 0.0;
     for (int i = 0; i < bounds.inset_steps; ++i)
@@ -64,6 +68,13 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
                 map = map_for(p);
             } catch (const InputError&) {
                 continue;  // outside the model's valid range (the inset leaves no span)
+            }
+            if (measured && solution.folds == centre.folds && !solution.amplitudes_m.empty()) {
+                // The lowest fold line crosses the centre fibre at (0, -a_0) in the cloth plane.
+                const double depth = (map(0.0, -solution.amplitudes_m.front()) - map(0.0, 0.0)).norm();
+                reach.lowest_min_px = reach.sets ? std::min(reach.lowest_min_px, depth) : depth;
+                reach.lowest_max_px = reach.sets ? std::max(reach.lowest_max_px, depth) : depth;
+                ++reach.sets;
             }
             const auto lines =
                 clip_to_cloth(project_fold_lines(drape::fold_lines(p, solution), solution.folds, map), mask);
@@ -95,6 +106,11 @@ FitResult fit_folds(const drape::ClothParams& start, const FitBounds& bounds, co
     if (!have)
         throw InputError("fit: no parameter set in the search box (inset " + std::to_string(bounds.inset_min_m) +
                          " to " + std::to_string(bounds.inset_max_m) + " m) could be solved");
+    if (measured) {
+        reach.outside = reach.sets == 0 || reach.measured_px < reach.lowest_min_px - tolerance_px ||
+                        reach.measured_px > reach.lowest_max_px + tolerance_px;
+        best.reach = reach;
+    }
     // Uncertainty: every set within 5 % of the best agreement.
     const double near = 0.95 * best.score.agreement;
     best.nothing_matched = best.score.f1 <= 0.0;

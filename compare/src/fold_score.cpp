@@ -130,7 +130,7 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
             const Eigen::Vector2d p = mid + depth * down + k * ex;
             float m = 0.0f, v = 0.0f, pm = 0.0f;
             if (value(mask, p, &m) && m > 0.5f && value(shading, p, &v)) {
-                if (!detection.print_mask.empty() && value(detection.print_mask, p, &pm) && pm > 0.5f) {
+                if (!detection.print_outline.empty() && value(detection.print_outline, p, &pm) && pm > 0.5f) {
                     ++printed;
                     continue;
                 }
@@ -141,7 +141,9 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
         const bool cloth = 2 * (n + printed) > 2 * offsets + 1;  // most of the band is cloth
         profile.push_back(n > 0 ? sum / n : 0.0);
         on_cloth.push_back(cloth);
-        on_print.push_back(printed > 0);  // prints are filled in: no fold can be read there
+        // A print's outline is filled in: no fold can be read there (inside a print of one
+        // colour the shading is read, scaled to the cloth's brightness).
+        on_print.push_back(printed > 0);
         if (cloth) {
             if (first < 0) first = depth;
             last = depth;

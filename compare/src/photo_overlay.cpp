@@ -208,7 +208,24 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
             out.legend.push_back("* on a bound of the search");
         if (!f.young_pa.constrained || !f.inset_m.constrained)
             out.legend.push_back("? not decided: the whole search range scores within 5 %");
-        if (f.nothing_matched) out.legend.push_back("no line on a detected fold: only n fitted");
+        // Why nothing matched, when the model's reach says so: that line replaces the plain
+        // "only n fitted" (the legend has to fit beside the cloth).
+        if (f.nothing_matched && !(f.reach && f.reach->outside))
+            out.legend.push_back("no line on a detected fold: only n fitted");
+        if (f.reach && f.reach->outside) {
+            // The model cannot put the measured folds where the photo has them (in this box).
+            const double cm = 100.0 / out.map.px_per_m;
+            const auto& rc = *f.reach;
+            const std::string n = std::to_string(rc.folds);
+            if (rc.sets == 0)
+                out.legend.push_back("model: no set in the box has n = " + n);
+            else if (rc.measured_px < rc.lowest_min_px)
+                out.legend.push_back("model: n = " + n + " folds lie >= " + fixed(rc.lowest_min_px * cm, 1) +
+                                     " cm down, photo " + fixed(rc.measured_px * cm, 1) + " cm");
+            else
+                out.legend.push_back("model: n = " + n + " folds lie <= " + fixed(rc.lowest_max_px * cm, 1) +
+                                     " cm down, photo " + fixed(rc.measured_px * cm, 1) + " cm");
+        }
     }
     out.legend.push_back(r.look_name + ": " + fixed(100 * params.width_m, 0) + " x " + fixed(100 * params.height_m, 0) +
                          " cm, inset " + fixed(100 * params.inset_m, 1) + " cm");

@@ -238,3 +238,67 @@ TEST(FoldDetection, PrintsAreNotFoldsButTheFoldIsFound) {
         for (const auto& p : f.points_px) on_edges += on_print(p) && std::abs(p.y() - crest_y) > 2.0;
     EXPECT_GT(on_edges, 50);
 }
+
+// A fold that crosses a print shades the print too: the crest through the yellow disc (and
+// past the letter's stem) is found inside the disc, where the print of one colour is
+// scaled to the cloth's brightness, and the disc's outline is still no line.  (Before, the
+// whole print was filled in and left out: no point inside the disc.)
+TEST(FoldDetection, AFoldThroughAPrintIsFoundInsideIt) {
+    const double crest_y = 100.3;  // through the disc's centre (140, 100), radius 25
+    const auto img = printed_cloth(crest_y, true);
+    const auto mask = constant_image(img.width, img.height, 1, 1.0f);
+    const auto det = compare::detect_folds(img, mask);
+    double inside_disc = 0.0;
+    for (const auto& f : det.folds)
+        for (size_t i = 0; i < f.points_px.size(); ++i) {
+            const auto& p = f.points_px[i];
+            EXPECT_NEAR(p.y(), crest_y, 2.0) << "line point off the fold at " << p.transpose();
+            if (i > 0 && f.sign > 0 && std::hypot(p.x() - 140, p.y() - 100) < 20)
+                inside_disc += (p - f.points_px[i - 1]).norm();
+        }
+    EXPECT_GT(inside_disc, 25.0);
+    // The print is still known as print, and its outline is what cannot be read.
+    EXPECT_EQ(det.print_mask.at(140, 100, 0), 1.0f);
+    EXPECT_EQ(det.print_outline.at(140, 100, 0), 0.0f);
+    EXPECT_EQ(det.print_outline.at(140, 75, 0), 1.0f);
+    EXPECT_EQ(det.print_outline.at(110, 140, 0), 0.0f);
+}
+
+// A print of two colours: a white vertical bar across the middle of a large yellow disc on
+// navy, and a valley through both.  Each colour is scaled on its own; the valley is found
+// in the yellow on both sides of the bar, every point within 2 px of it (nothing along the
+// bar's or the disc's outlines, which run across the valley); only where the colours meet
+// is the shading not read.
+TEST(FoldDetection, AFoldThroughATwoColourPrintIsFoundOnBothSidesOfTheInnerPrint) {
+    const int w = 240, h = 200;
+    const double valley_y = 99.6;
+    compare::Image img(w, h, 3);
+    const float navy[3] = {0.03f, 0.04f, 0.25f}, white[3] = {0.8f, 0.8f, 0.8f}, yellow[3] = {0.8f, 0.75f, 0.05f};
+    auto albedo_at = [&](double x, double y) {
+        if (std::hypot(x - 120, y - 100) >= 70) return navy;
+        return std::abs(x - 120) < 8 ? white : yellow;
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double d = y - valley_y;
+            const double shade = 0.9 - 0.4 * std::exp(-d * d / (2 * 3.0 * 3.0));
+            const float* albedo = albedo_at(x, y);
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = linear_to_srgb(std::min(1.0f, float(albedo[c] * shade)));
+        }
+    const auto det = compare::detect_folds(img, constant_image(w, h, 1, 1.0f));
+    double left = 0.0, right = 0.0;
+    for (const auto& f : det.folds)
+        for (size_t i = 0; i < f.points_px.size(); ++i) {
+            const auto& p = f.points_px[i];
+            EXPECT_NEAR(p.y(), valley_y, 2.0) << "line point off the valley at " << p.transpose();
+            if (i == 0 || f.sign > 0) continue;
+            const double step = (p - f.points_px[i - 1]).norm();
+            if (p.x() > 60 && p.x() < 105) left += step;
+            if (p.x() > 135 && p.x() < 180) right += step;
+        }
+    EXPECT_GT(left, 20.0);
+    EXPECT_GT(right, 20.0);
+    EXPECT_EQ(det.print_outline.at(90, 100, 0), 0.0f);   // yellow: readable
+    EXPECT_EQ(det.print_outline.at(120, 100, 0), 0.0f);  // the white bar's middle (16 px wide): readable
+    EXPECT_EQ(det.print_outline.at(112, 100, 0), 1.0f);  // where white meets yellow: not
+}

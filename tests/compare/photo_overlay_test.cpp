@@ -231,6 +231,52 @@ TEST(OverlayFit, FindsTheFoldCountAndInsetTheSyntheticPhotoWasDrawnWith) {
     EXPECT_THROW(compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 2.0), InputError);
 }
 
+TEST(OverlayFit, SaysWhenNoSetWithTheMeasuredCountPutsItsFoldWhereThePhotoHasIt) {
+    // The photo drawn from the model (inset 0.1 m, E 5 MPa): its measured lowest fold lies
+    // within the depths the box's sets with that count draw.  The same count measured far
+    // higher (10 px below the supports) lies outside them: the report says the model cannot
+    // reach it; a count no set has is outside too.
+    const auto& s = synthetic();
+    const auto detection = compare::detect_folds(s.photo, s.mask);
+    const auto centre = compare::measure_centre_line(detection, s.supports);
+    ASSERT_EQ(centre.folds, s.solution.folds);
+    compare::FitBounds bounds;
+    bounds.inset_min_m = 0.05;
+    bounds.inset_max_m = 0.15;
+    bounds.inset_steps = 5;
+    bounds.young_min_pa = s.params.young_pa / 3;
+    bounds.young_max_pa = s.params.young_pa * 3;
+    bounds.young_steps = 5;
+    auto map_for = [&](const drape::ClothParams& p) {
+        return compare::similarity_from_supports(s.supports, p.support_span_m());
+    };
+    const double tolerance = 0.02 * s.supports.distance_px();
+    const auto fit = compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, centre, tolerance);
+    ASSERT_TRUE(fit.reach.has_value());
+    EXPECT_EQ(fit.reach->folds, s.solution.folds);
+    EXPECT_GT(fit.reach->sets, 0);
+    EXPECT_LE(fit.reach->lowest_min_px, fit.reach->lowest_max_px);
+    EXPECT_NEAR(fit.reach->measured_px, 700.0 * s.solution.amplitudes_m.front(), 3.0);
+    EXPECT_FALSE(fit.reach->outside);
+
+    compare::CentreLine high = centre;
+    high.depths_px.back() = 10.0;
+    const auto miss = compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, high, tolerance);
+    ASSERT_TRUE(miss.reach.has_value());
+    EXPECT_LT(miss.reach->measured_px, miss.reach->lowest_min_px - tolerance);
+    EXPECT_TRUE(miss.reach->outside);
+
+    compare::CentreLine many = centre;
+    many.folds = 60;
+    const auto none = compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, many, tolerance);
+    ASSERT_TRUE(none.reach.has_value());
+    EXPECT_EQ(none.reach->sets, 0);
+    EXPECT_TRUE(none.reach->outside);
+
+    compare::CentreLine flat;  // nothing measured: nothing to reach
+    EXPECT_FALSE(compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, flat, tolerance).reach);
+}
+
 TEST(PhotoOverlay, GeometryFromTheMaskLinesOnTheClothAndErrors) {
     const auto& s = synthetic();
     compare::OverlayRequest r;

@@ -1,7 +1,8 @@
 #pragma once
 // Fold detection in photographs of hanging cloth: a cloth mask (given, or GrabCut seeded
 // around and below the two supports), prints separated from shading by their chromaticity
-// (shading scales linear RGB, a print changes its ratios) and filled in, a multi-scale
+// (shading scales linear RGB, a print changes its ratios), each print colour scaled to the
+// cloth's brightness (a fold through a print stays visible) and its outlines filled in, a multi-scale
 // Hessian ridge/valley filter with gamma-normalised responses (Lindeberg) on the shading,
 // non-maximum suppression across the ridge with sub-pixel positions, hysteresis, and
 // linking into polylines.
@@ -50,7 +51,11 @@ struct FoldDetection {
     Image mask;           // 1 channel, 1 = cloth
     Image search_region;  // 1 channel, 1 = where lines were looked for (mask minus border, prints)
     Image print_mask;     // 1 channel, 1 = printed motif (chromaticity far from the cloth's), dilated
-    Image shading;        // 1 channel: the luma the ridge filter saw (prints filled in from around them)
+    // 1 channel, 1 = where the shading cannot be read: around a change of colour (a print's
+    // outline, one print colour against another) and on prints too small to normalise
+    // (dilated).  Inside a print of one colour the shading is read (scaled to the cloth).
+    Image print_outline;
+    Image shading;        // 1 channel: the luma the ridge filter saw (prints scaled, outlines filled in)
     std::vector<double> sigmas_px;
     double high_threshold = 0.0, low_threshold = 0.0;
 };

@@ -121,6 +121,20 @@ struct FittedValue {
     bool constrained = true;
 };
 
+// Where the model can put the folds the photo shows: over the sets of the search box whose
+// fold count equals the measured one, the depth (px below the support line, along the
+// centre fibre) of their lowest fold line, beside the measured depth of the lowest fold.
+// When the measured depth lies outside [lowest_min_px, lowest_max_px] (by more than the
+// score's tolerance), no set with the right count draws its folds where the photo has
+// them: the miss is the model's reach within the box, not the score's or the fit's.
+struct ModelReach {
+    int folds = 0;              // the measured count the sets were picked by
+    int sets = 0;               // how many sets of the box the model solves with that count
+    double lowest_min_px = 0.0, lowest_max_px = 0.0;
+    double measured_px = 0.0;   // CentreLine::depths_px.back()
+    bool outside = false;       // measured farther than the tolerance from [min, max], or no set has the count
+};
+
 struct FitResult {
     drape::ClothParams params;
     drape::FoldSolution solution;
@@ -128,6 +142,7 @@ struct FitResult {
     FittedValue inset_m, young_pa;
     int evaluated = 0;
     bool nothing_matched = false;  // no set put any line on a detected fold (F1 = 0): only the count was fitted
+    std::optional<ModelReach> reach;  // set when the centre line measured at least one fold
 };
 
 // Grid search of the box for the highest agreement.  Ties: the lower chamfer distance in
