@@ -42,11 +42,39 @@ inline std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
 // The first two dimensions of Sobol's sequence as 32-bit fixed point: van der Corput and
 // the (0,2)-sequence's second dimension.
 inline std::uint32_t sobol_dim0(std::uint32_t index) { return reverse_bits(index); }
-inline std::uint32_t sobol_dim1(std::uint32_t index) {
+// Bit by bit: the generator matrix's column v_b (v_0 = 2^31, v_(b+1) = v_b ^ (v_b >> 1)) for
+// each set bit b of the index.
+constexpr std::uint32_t sobol_dim1_bitwise(std::uint32_t index) {
     std::uint32_t v = 1u << 31, x = 0;
     for (; index != 0; index >>= 1, v ^= v >> 1)
         if (index & 1u) x ^= v;
     return x;
+}
+
+namespace detail {
+// The same XOR sums a byte of the index at a time: the scrambled indices the sampler feeds in
+// use all 32 bits, and 32 data-dependent branches per value cost more than four look-ups.
+struct SobolDim1Tables {
+    std::uint32_t byte[4][256] = {};
+    constexpr SobolDim1Tables() {
+        std::uint32_t column[32] = {};
+        std::uint32_t v = 1u << 31;
+        for (int b = 0; b < 32; ++b, v ^= v >> 1) column[b] = v;
+        for (int k = 0; k < 4; ++k)
+            for (int value = 0; value < 256; ++value) {
+                std::uint32_t x = 0;
+                for (int b = 0; b < 8; ++b)
+                    if (value & (1 << b)) x ^= column[8 * k + b];
+                byte[k][value] = x;
+            }
+    }
+};
+inline constexpr SobolDim1Tables kSobolDim1Tables{};
+}  // namespace detail
+
+inline std::uint32_t sobol_dim1(std::uint32_t index) {
+    const auto& t = detail::kSobolDim1Tables.byte;
+    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
 }
 
 inline float to_unit_float(std::uint32_t x) { return static_cast<float>(x >> 8) * 0x1.0p-24f; }

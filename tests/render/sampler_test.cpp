@@ -86,5 +86,15 @@ TEST(PixelSampler, ShortFormOfTheFirstDimensionIsTheOwenScrambleOfIt) {
     }
 }
 
+TEST(PixelSampler, SecondDimensionByBytesIsTheBitwiseSum) {
+    std::uint32_t i = 7;
+    for (int k = 0; k < 100000; ++k) {
+        i = i * 1664525u + 1013904223u;
+        ASSERT_EQ(sobol_dim1(i), sobol_dim1_bitwise(i)) << i;
+    }
+    for (std::uint32_t small = 0; small < 4096; ++small) ASSERT_EQ(sobol_dim1(small), sobol_dim1_bitwise(small));
+    EXPECT_EQ(sobol_dim1(0xffffffffu), sobol_dim1_bitwise(0xffffffffu));
+}
+
 }  // namespace
 }  // namespace foldcast::render
