@@ -232,6 +232,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // The global step's right-hand sides, one per coordinate, reused (pinned rows are ignored).
     std::array<Eigen::VectorXd, 3> global_rhs;
     for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
+    std::array<Eigen::VectorXd, 3> global_solved;  // and their solutions
     gather(current);
     Local state = local();
     double accepted_energy = state.energy;
@@ -250,7 +251,8 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         tbb::parallel_for(0, 3, [&](int c) {
             Eigen::VectorXd& b = global_rhs[std::size_t(c)];
             for (int row = 0; row < free; ++row) b[m.free_vertices[std::size_t(row)]] = rhs(row, c);
-            const Eigen::VectorXd solved = m.solver->solve(b, pinned_positions.col(c));
+            Eigen::VectorXd& solved = global_solved[std::size_t(c)];
+            m.solver->solve(b, pinned_positions.col(c), solved);
             for (int row = 0; row < free; ++row) g(row, c) = solved[m.free_vertices[std::size_t(row)]];
         });
         // f = g - current and the newest differences in one pass over memory (element by
