@@ -62,12 +62,14 @@ bool Anderson::step(const double* current, double* next) {
                 new_dg[e] = g[e] - g_prev[e];
                 new_df[e] = fe - f_prev[e];
             }
+            // Eigen's dot products: vectorised, and in a fixed order for a given length.
+            using Segment = Eigen::Map<const Eigen::VectorXd>;
+            const Eigen::Index length = end - begin;
+            const Segment df_new(new_df + begin, length), residual(f + begin, length);
             double* const sums = partial.data() + c * 2 * kHistory;
             for (int a = 0; a < h; ++a) {
-                const double* const d = history[std::size_t(a)];
-                double with_new = 0.0, with_f = 0.0;
-                for (Eigen::Index e = begin; e < end; ++e) with_new += new_df[e] * d[e], with_f += d[e] * f[e];
-                sums[a] = with_new, sums[kHistory + a] = with_f;
+                const Segment d(history[std::size_t(a)] + begin, length);
+                sums[a] = df_new.dot(d), sums[kHistory + a] = d.dot(residual);
             }
         });
         Eigen::Matrix<double, kHistory, 1> with_new = Eigen::Matrix<double, kHistory, 1>::Zero(), right = with_new;
