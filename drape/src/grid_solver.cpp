@@ -26,7 +26,7 @@ struct GridSolver::Impl {
 
     // y = (L + anchor I)^-1 b, pins ignored; with zero_pins, b's entries on the pins are taken
     // as 0 (b itself is left as it is).
-    void free_solve(const Eigen::VectorXd& b, Eigen::VectorXd& y, bool zero_pins = false) const {
+    void free_solve(const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> y, bool zero_pins = false) const {
         y = b;
         if (zero_pins)
             for (int p : pinned) y[p] = 0.0;
@@ -60,9 +60,7 @@ GridSolver::GridSolver(GridSize grid, double anchor, std::vector<int> pinned) : 
     for (Eigen::Index j = 0; j < k; ++j) {
         Eigen::VectorXd load = Eigen::VectorXd::Zero(Eigen::Index(m.n));
         load[m.pinned[std::size_t(j)]] = 1.0;
-        Eigen::VectorXd y;
-        m.free_solve(load, y);
-        m.response.col(j) = y;
+        m.free_solve(load, m.response.col(j));
     }
     Eigen::MatrixXd c(k, k);
     for (Eigen::Index i = 0; i < k; ++i) c.row(i) = m.response.row(m.pinned[std::size_t(i)]);
@@ -72,14 +70,14 @@ GridSolver::GridSolver(GridSize grid, double anchor, std::vector<int> pinned) : 
 GridSolver::~GridSolver() = default;
 
 Eigen::VectorXd GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values) const {
-    Eigen::VectorXd x;
+    Eigen::VectorXd x(rhs.size());
     solve(rhs, pinned_values, x);
     return x;
 }
 
-void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values, Eigen::VectorXd& x) const {
+void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values, Eigen::Ref<Eigen::VectorXd> x) const {
     const Impl& m = *impl_;
-    if (std::size_t(rhs.size()) != m.n || std::size_t(pinned_values.size()) != m.pinned.size())
+    if (std::size_t(rhs.size()) != m.n || std::size_t(x.size()) != m.n || std::size_t(pinned_values.size()) != m.pinned.size())
         throw InputError("grid solver: one right-hand side per vertex and one value per pin");
     m.free_solve(rhs, x, true);
     if (m.pinned.empty()) return;

@@ -25,8 +25,8 @@ public:
     // every free vertex and x = pinned_values on the pinned ones (to rounding).  Safe to call
     // from several threads at once; the result does not depend on the thread.
     Eigen::VectorXd solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values) const;
-    // The same into x (resized; no allocation when it has the size already).  x must not be rhs.
-    void solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values, Eigen::VectorXd& x) const;
+    // The same into x (one entry per vertex, not rhs's memory): no allocation.
+    void solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values, Eigen::Ref<Eigen::VectorXd> x) const;
 
 private:
     struct Impl;

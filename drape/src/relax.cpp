@@ -42,20 +42,18 @@ struct GridRelaxer::Impl {
 };
 
 struct GridRelaxer::Impl::Workspace {
-    std::vector<Eigen::Vector3d> x;             // every vertex
     std::vector<double> right_len, down_len;    // each edge's length (to the right, below)
     std::vector<double> row_sum, row_max, row_energy;
     std::array<Eigen::VectorXd, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
-    std::array<Eigen::VectorXd, 3> global_solved;
-    std::vector<double> current, next;          // free vertices, coordinate by coordinate
+    // Positions, every vertex's x, then every y, then every z: what the global step returns
+    // per coordinate and what the Anderson step combines, so neither needs a copy.
+    std::vector<double> current, next;
     detail::Anderson anderson;
 
-    Workspace(std::size_t n, int rows, Eigen::Index free)
-        : x(n), right_len(n, 0.0), down_len(n, 0.0), row_sum(std::size_t(rows)), row_max(std::size_t(rows)),
-          row_energy(std::size_t(rows)), current(std::size_t(3 * free)), next(std::size_t(3 * free)),
-          anderson(3 * free) {
+    Workspace(std::size_t n, int rows)
+        : right_len(n, 0.0), down_len(n, 0.0), row_sum(std::size_t(rows)), row_max(std::size_t(rows)),
+          row_energy(std::size_t(rows)), current(3 * n), next(3 * n), anderson(Eigen::Index(3 * n)) {
         for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
-        for (Eigen::VectorXd& b : global_solved) b = Eigen::VectorXd::Zero(Eigen::Index(n));
     }
 };
 
@@ -149,34 +147,18 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     report.before = detail::grid_stretch(targets, rest_params, grid);
     const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
 
-    const int free = int(m.free_vertices.size());
     std::unique_ptr<Impl::Workspace> workspace;
     {
         const std::lock_guard<std::mutex> hold(m.spare_lock);
         workspace = std::move(m.spare);
     }
-    if (!workspace) workspace = std::make_unique<Impl::Workspace>(n, grid.nv, free);
+    if (!workspace) workspace = std::make_unique<Impl::Workspace>(n, grid.nv);
     Impl::Workspace& w = *workspace;
-    std::vector<Eigen::Vector3d>& x = w.x;
-    for (std::size_t k = 0; k < n; ++k) x[k] = (m.free_index[k] < 0 ? targets[k] : positions[k]).cast<double>();
+    for (std::size_t k = 0; k < n; ++k) {
+        const Vec3f& start = m.free_index[k] < 0 ? targets[k] : positions[k];
+        for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = double(start(Eigen::Index(c)));
+    }
     const double anchor = m.anchor;
-    // The free vertices' coordinates as one vector (x of every free vertex, then y, then z),
-    // the form the Anderson step works on.  Vertex by vertex over TBB.
-    const auto free_rows = [&](auto&& body) {
-        tbb::parallel_for(tbb::blocked_range<int>(0, free, 4096), [&](const tbb::blocked_range<int>& r) {
-            for (int row = r.begin(); row < r.end(); ++row) body(row, std::size_t(m.free_vertices[std::size_t(row)]));
-        });
-    };
-    const auto gather = [&](double* out) {
-        free_rows([&](int row, std::size_t k) {
-            for (int c = 0; c < 3; ++c) out[std::size_t(c * free + row)] = x[k](c);
-        });
-    };
-    const auto scatter = [&](const double* in) {
-        free_rows([&](int row, std::size_t k) {
-            for (int c = 0; c < 3; ++c) x[k](c) = in[std::size_t(c * free + row)];
-        });
-    };
 
     // Local step at x: the right-hand side of the global step, the energy
     //   sum_edges (len - rest)^2 + anchor sum_fold-line vertices |x - target|^2
@@ -186,10 +168,10 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // row order: the result does not depend on the thread count.
     // Where the pinned vertices are held: fixed for the whole relaxation.
     std::array<Eigen::VectorXd, 3> pinned_positions;
-    for (int c = 0; c < 3; ++c) {
-        pinned_positions[std::size_t(c)].resize(Eigen::Index(m.pinned_vertices.size()));
+    for (std::size_t c = 0; c < 3; ++c) {
+        pinned_positions[c].resize(Eigen::Index(m.pinned_vertices.size()));
         for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
-            pinned_positions[std::size_t(c)][Eigen::Index(i)] = x[std::size_t(m.pinned_vertices[i])](c);
+            pinned_positions[c][Eigen::Index(i)] = w.current[c * n + std::size_t(m.pinned_vertices[i])];
     }
     double anchor_scale = 1.0;
     constexpr int kSoftenEvery = 30;
@@ -200,20 +182,23 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
     // and |x_o - x_k| are the same bits, so the result is too.
     std::vector<double>&right_len = w.right_len, &down_len = w.down_len;
-    const auto local = [&]() -> Local {
+    const auto local = [&](const double* positions_now) -> Local {
+        const auto x = [&](std::size_t k) {
+            return Eigen::Vector3d(positions_now[k], positions_now[n + k], positions_now[2 * n + k]);
+        };
         tbb::parallel_for(0, grid.nv, [&](int j) {
             for (int i = 0; i < grid.nu; ++i) {
                 const int k = j * grid.nu + i;
-                const Eigen::Vector3d& xk = x[std::size_t(k)];
-                if (i + 1 < grid.nu) right_len[std::size_t(k)] = (x[std::size_t(k + 1)] - xk).norm();
-                if (j + 1 < grid.nv) down_len[std::size_t(k)] = (x[std::size_t(k + grid.nu)] - xk).norm();
+                const Eigen::Vector3d xk = x(std::size_t(k));
+                if (i + 1 < grid.nu) right_len[std::size_t(k)] = (x(std::size_t(k + 1)) - xk).norm();
+                if (j + 1 < grid.nv) down_len[std::size_t(k)] = (x(std::size_t(k + grid.nu)) - xk).norm();
             }
         });
         tbb::parallel_for(0, grid.nv, [&](int j) {
             double sum = 0.0, max = 0.0, energy = 0.0;
             for (int i = 0; i < grid.nu; ++i) {
                 const int k = j * grid.nu + i;
-                const Eigen::Vector3d& xk = x[std::size_t(k)];
+                const Eigen::Vector3d xk = x(std::size_t(k));
                 // Each edge once: to the right and below.
                 if (i + 1 < grid.nu) {
                     const double len = right_len[std::size_t(k)];
@@ -241,7 +226,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                 // Edge terms |x_k - x_o - p|^2, p the edge at its rest length (the neighbour
                 // itself, free or pinned, sits in the matrix); left, right, up, down.
                 const auto edge = [&](int other, double rest, double len) {
-                    if (len > 0.0) b += (xk - x[std::size_t(other)]) * (rest / len);
+                    if (len > 0.0) b += (xk - x(std::size_t(other))) * (rest / len);
                 };
                 if (i > 0) edge(k - 1, m.rest_u, right_len[std::size_t(k - 1)]);
                 if (i + 1 < grid.nu) edge(k + 1, m.rest_u, right_len[std::size_t(k)]);
@@ -264,8 +249,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // plain step whenever the accelerated one would raise the energy.
     detail::Anderson& anderson = w.anderson;
     anderson.restart();
-    gather(w.current.data());
-    Local state = local();
+    Local state = local(w.current.data());
     double accepted_energy = state.energy;
     int iteration = 0;
     while (!(state.mean <= m.settings.target_mean && state.max <= m.settings.target_max) &&
@@ -275,37 +259,35 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             // (a new fixed-point map, so the history goes).
             anchor_scale *= 0.5;
             anderson.forget();
-            state = local();
+            state = local(w.current.data());
             accepted_energy = state.energy;
         }
         ++iteration;
-        // The global step, g = G(current), for the three coordinates at once.
-        tbb::parallel_for(0, 3, [&](int c) {
-            m.solver->solve(w.global_rhs[std::size_t(c)], pinned_positions[std::size_t(c)],
-                            w.global_solved[std::size_t(c)]);
-        });
+        // The global step, g = G(current), a coordinate at a time, the pins exactly where
+        // they are held (the solve meets them to rounding).
         double* const g = anderson.g();
-        free_rows([&](int row, std::size_t k) {
-            for (int c = 0; c < 3; ++c) g[std::size_t(c * free + row)] = w.global_solved[std::size_t(c)][Eigen::Index(k)];
+        tbb::parallel_for(0, 3, [&](int c) {
+            Eigen::Map<Eigen::VectorXd> solved(g + std::size_t(c) * n, Eigen::Index(n));
+            m.solver->solve(w.global_rhs[std::size_t(c)], pinned_positions[std::size_t(c)], solved);
+            for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
+                solved[m.pinned_vertices[i]] = pinned_positions[std::size_t(c)][Eigen::Index(i)];
         });
         const bool accelerated = anderson.step(w.current.data(), w.next.data());
-        const double* const accepted = accelerated ? w.next.data() : anderson.last_g();
-        scatter(accepted);
-        state = local();
+        state = local(accelerated ? w.next.data() : anderson.last_g());
         bool plain = !accelerated;
         if (accelerated && !(state.energy <= accepted_energy)) {  // fall back to the plain step
-            scatter(anderson.last_g());
-            state = local();
+            state = local(anderson.last_g());
             anderson.forget();
             plain = true;
         }
         accepted_energy = state.energy;
         if (plain)
-            std::copy(anderson.last_g(), anderson.last_g() + 3 * std::size_t(free), w.current.begin());
+            std::copy(anderson.last_g(), anderson.last_g() + 3 * n, w.current.begin());
         else
             w.current.swap(w.next);
     }
-    for (std::size_t k = 0; k < n; ++k) positions[k] = x[k].cast<float>();
+    for (std::size_t k = 0; k < n; ++k)
+        positions[k] = Vec3f(float(w.current[k]), float(w.current[n + k]), float(w.current[2 * n + k]));
     report.iterations = iteration;
     report.after = detail::grid_stretch(positions, rest_params, grid);
     const std::lock_guard<std::mutex> hold(m.spare_lock);
