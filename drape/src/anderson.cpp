@@ -15,13 +15,18 @@ constexpr Eigen::Index kChunk = 8192;
 template <typename Body>
 void for_chunks(Eigen::Index size, Body&& body) {
     const Eigen::Index chunks = (size + kChunk - 1) / kChunk;
-    tbb::parallel_for(Eigen::Index(0), chunks, [&](Eigen::Index c) { body(c, c * kChunk, std::min(size, (c + 1) * kChunk)); });
+    tbb::parallel_for(Eigen::Index(0), chunks,
+                      [&](Eigen::Index c) { body(c, c * kChunk, std::min(size, (c + 1) * kChunk)); });
 }
 
 }  // namespace
 
 Anderson::Anderson(Eigen::Index size)
-    : size_(size), f_(std::size_t(size)), g_prev_(std::size_t(size)), f_prev_(std::size_t(size)), g_(std::size_t(size)) {
+    : size_(size),
+      f_(std::size_t(size)),
+      g_prev_(std::size_t(size)),
+      f_prev_(std::size_t(size)),
+      g_(std::size_t(size)) {
     for (std::vector<double>& d : dg_) d.resize(std::size_t(size));
     for (std::vector<double>& d : df_) d.resize(std::size_t(size));
     slot_dots_.setZero();
@@ -78,12 +83,14 @@ bool Anderson::step(const double* current, double* next) {
                 with_new(a) += partial[std::size_t(c * 2 * kHistory + a)],
                     right(a) += partial[std::size_t(c * 2 * kHistory + kHistory + a)];
         for (int a = 0; a < h; ++a)
-            slot_dots_(Eigen::Index(slot), Eigen::Index(slot_of(a))) = slot_dots_(Eigen::Index(slot_of(a)), Eigen::Index(slot)) = with_new(a);
+            slot_dots_(Eigen::Index(slot), Eigen::Index(slot_of(a))) =
+                slot_dots_(Eigen::Index(slot_of(a)), Eigen::Index(slot)) = with_new(a);
 
         // theta minimises |f - sum_a theta_a df_a|; next = g - sum_a theta_a dg_a.
         Eigen::MatrixXd normal(h, h);
         for (int a = 0; a < h; ++a)
-            for (int b = 0; b <= a; ++b) normal(a, b) = normal(b, a) = slot_dots_(Eigen::Index(slot_of(a)), Eigen::Index(slot_of(b)));
+            for (int b = 0; b <= a; ++b)
+                normal(a, b) = normal(b, a) = slot_dots_(Eigen::Index(slot_of(a)), Eigen::Index(slot_of(b)));
         normal.diagonal() *= 1.0 + 1e-10;
         const Eigen::VectorXd theta = normal.ldlt().solve(right.head(h));
         std::swap(g_prev_, g_), std::swap(f_prev_, f_);  // g and f are overwritten next step

@@ -48,7 +48,8 @@ BlockScratch& block_scratch(std::size_t size, std::size_t spectrum_size) {
     thread_local BlockScratch scratch;
     if (scratch.size < size) scratch.v = std::make_unique<FftwArray<double>>(size), scratch.size = size;
     if (scratch.spectrum_size < spectrum_size)
-        scratch.spectrum = std::make_unique<FftwArray<fftw_complex>>(spectrum_size), scratch.spectrum_size = spectrum_size;
+        scratch.spectrum = std::make_unique<FftwArray<fftw_complex>>(spectrum_size),
+        scratch.spectrum_size = spectrum_size;
     return scratch;
 }
 
@@ -58,11 +59,12 @@ BlockScratch& block_scratch(std::size_t size, std::size_t spectrum_size) {
 constexpr int kBlock = 8;
 
 struct Lines {
-    int n = 0, half = 0;  // length, and the real FFT's half spectrum n/2 + 1
+    int n = 0, half = 0;                                   // length, and the real FFT's half spectrum n/2 + 1
     fftw_plan r2c[kBlock + 1] = {}, c2r[kBlock + 1] = {};  // by the number of lines
-    std::vector<double> cos_k, sin_k;                     // cos and sin of pi k / 2N
+    std::vector<double> cos_k, sin_k;                      // cos and sin of pi k / 2N
 
-    Lines(int length, int lines) : n(length), half(length / 2 + 1), cos_k(std::size_t(length)), sin_k(std::size_t(length)) {
+    Lines(int length, int lines)
+        : n(length), half(length / 2 + 1), cos_k(std::size_t(length)), sin_k(std::size_t(length)) {
         for (int k = 0; k < n; ++k) {
             const double angle = M_PI * k / (2.0 * n);
             cos_k[std::size_t(k)] = std::cos(angle), sin_k[std::size_t(k)] = std::sin(angle);
@@ -161,10 +163,12 @@ struct GridDct::Impl {
             thread_local std::vector<double> lines;
             lines.resize(std::size_t(kBlock) * std::size_t(nv));
             for (int j = 0; j < nv; ++j)
-                for (int c = 0; c < count; ++c) lines[std::size_t(c * nv + j)] = out[std::ptrdiff_t(j) * nu + first + c];
+                for (int c = 0; c < count; ++c)
+                    lines[std::size_t(c * nv + j)] = out[std::ptrdiff_t(j) * nu + first + c];
             transform(*columns, count, lines.data(), lines.data());
             for (int j = 0; j < nv; ++j)
-                for (int c = 0; c < count; ++c) out[std::ptrdiff_t(j) * nu + first + c] = lines[std::size_t(c * nv + j)];
+                for (int c = 0; c < count; ++c)
+                    out[std::ptrdiff_t(j) * nu + first + c] = lines[std::size_t(c * nv + j)];
         });
     }
 };
@@ -178,11 +182,13 @@ GridDct::GridDct(GridSize grid) : impl_(std::make_unique<Impl>()) {
 GridDct::~GridDct() = default;
 
 void GridDct::forward(const double* in, double* out) const {
-    impl_->separable(in, out, [](const Lines& lines, int count, const double* a, double* b) { lines.forward(count, a, b); });
+    impl_->separable(in, out,
+                     [](const Lines& lines, int count, const double* a, double* b) { lines.forward(count, a, b); });
 }
 
 void GridDct::inverse(const double* in, double* out) const {
-    impl_->separable(in, out, [](const Lines& lines, int count, const double* a, double* b) { lines.inverse(count, a, b); });
+    impl_->separable(in, out,
+                     [](const Lines& lines, int count, const double* a, double* b) { lines.inverse(count, a, b); });
 }
 
 }  // namespace foldcast::drape::detail

@@ -75,9 +75,11 @@ Eigen::VectorXd GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::Vecto
     return x;
 }
 
-void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values, Eigen::Ref<Eigen::VectorXd> x) const {
+void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values,
+                       Eigen::Ref<Eigen::VectorXd> x) const {
     const Impl& m = *impl_;
-    if (std::size_t(rhs.size()) != m.n || std::size_t(x.size()) != m.n || std::size_t(pinned_values.size()) != m.pinned.size())
+    if (std::size_t(rhs.size()) != m.n || std::size_t(x.size()) != m.n ||
+        std::size_t(pinned_values.size()) != m.pinned.size())
         throw InputError("grid solver: one right-hand side per vertex and one value per pin");
     m.free_solve(rhs, x, true);
     if (m.pinned.empty()) return;

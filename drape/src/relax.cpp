@@ -42,7 +42,7 @@ struct GridRelaxer::Impl {
 };
 
 struct GridRelaxer::Impl::Workspace {
-    std::vector<double> right_len, down_len;    // each edge's length (to the right, below)
+    std::vector<double> right_len, down_len;  // each edge's length (to the right, below)
     std::vector<double> row_sum, row_max, row_energy;
     std::array<Eigen::VectorXd, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
     // Positions, every vertex's x, then every y, then every z: what the global step returns
@@ -51,8 +51,14 @@ struct GridRelaxer::Impl::Workspace {
     detail::Anderson anderson;
 
     Workspace(std::size_t n, int rows)
-        : right_len(n, 0.0), down_len(n, 0.0), row_sum(std::size_t(rows)), row_max(std::size_t(rows)),
-          row_energy(std::size_t(rows)), current(3 * n), next(3 * n), anderson(Eigen::Index(3 * n)) {
+        : right_len(n, 0.0),
+          down_len(n, 0.0),
+          row_sum(std::size_t(rows)),
+          row_max(std::size_t(rows)),
+          row_energy(std::size_t(rows)),
+          current(3 * n),
+          next(3 * n),
+          anderson(Eigen::Index(3 * n)) {
         for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
     }
 };
