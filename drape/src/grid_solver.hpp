@@ -2,7 +2,7 @@
 // The relaxation's global step: (L + anchor I) x = b on an nu x nv grid, L the graph
 // Laplacian of the warp/weft edges (every edge weight 1, free edges), with some vertices
 // pinned to given positions.  L + anchor I is diagonal in the 2-D DCT-II basis, so a solve is
-// a forward and an inverse DCT (FFTW) instead of a sparse Cholesky factor's two triangular
+// a forward and an inverse DCT (dct.hpp) instead of a sparse Cholesky factor's two triangular
 // solves; the pins are met by the capacitance-matrix method (a k x k system for k pins).
 #include <Eigen/Dense>
 #include <memory>
@@ -25,6 +25,8 @@ public:
     // every free vertex and x = pinned_values on the pinned ones (to rounding).  Safe to call
     // from several threads at once; the result does not depend on the thread.
     Eigen::VectorXd solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values) const;
+    // The same into x (one entry per vertex, not rhs's memory): no allocation.
+    void solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values, Eigen::Ref<Eigen::VectorXd> x) const;
 
 private:
     struct Impl;

@@ -12,10 +12,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape_relax.hpp"
+#include "anderson.hpp"
 #include "fold_surface.hpp"
 #include "grid_solver.hpp"
 
@@ -30,6 +32,35 @@ struct GridRelaxer::Impl {
     std::vector<int> free_vertices;
     std::vector<int> pinned_vertices;  // in vertex order, each once
     std::unique_ptr<detail::GridSolver> solver;
+
+    // relax()'s arrays (tens of megabytes at 256x256), kept for the next call: allocating them
+    // afresh for every animation frame cost more in page faults than a few iterations.  A call
+    // takes them (or makes its own while another call holds them) and gives them back.
+    struct Workspace;
+    mutable std::mutex spare_lock;
+    mutable std::unique_ptr<Workspace> spare;
+};
+
+struct GridRelaxer::Impl::Workspace {
+    std::vector<double> right_len, down_len;  // each edge's length (to the right, below)
+    std::vector<double> row_sum, row_max, row_energy;
+    std::array<Eigen::VectorXd, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
+    // Positions, every vertex's x, then every y, then every z: what the global step returns
+    // per coordinate and what the Anderson step combines, so neither needs a copy.
+    std::vector<double> current, next;
+    detail::Anderson anderson;
+
+    Workspace(std::size_t n, int rows)
+        : right_len(n, 0.0),
+          down_len(n, 0.0),
+          row_sum(std::size_t(rows)),
+          row_max(std::size_t(rows)),
+          row_energy(std::size_t(rows)),
+          current(3 * n),
+          next(3 * n),
+          anderson(Eigen::Index(3 * n)) {
+        for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
+    }
 };
 
 GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<int> pinned, RelaxSettings settings)
@@ -122,18 +153,18 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     report.before = detail::grid_stretch(targets, rest_params, grid);
     const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
 
-    std::vector<Eigen::Vector3d> x(n);
-    for (std::size_t k = 0; k < n; ++k) x[k] = (m.free_index[k] < 0 ? targets[k] : positions[k]).cast<double>();
-    const int free = int(m.free_vertices.size());
+    std::unique_ptr<Impl::Workspace> workspace;
+    {
+        const std::lock_guard<std::mutex> hold(m.spare_lock);
+        workspace = std::move(m.spare);
+    }
+    if (!workspace) workspace = std::make_unique<Impl::Workspace>(n, grid.nv);
+    Impl::Workspace& w = *workspace;
+    for (std::size_t k = 0; k < n; ++k) {
+        const Vec3f& start = m.free_index[k] < 0 ? targets[k] : positions[k];
+        for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = double(start(Eigen::Index(c)));
+    }
     const double anchor = m.anchor;
-    const auto gather = [&](Eigen::MatrixXd& out) {
-        for (int row = 0; row < free; ++row)
-            out.row(row) = x[std::size_t(m.free_vertices[std::size_t(row)])].transpose();
-    };
-    const auto scatter = [&](const Eigen::MatrixXd& in) {
-        for (int row = 0; row < free; ++row)
-            x[std::size_t(m.free_vertices[std::size_t(row)])] = in.row(row).transpose();
-    };
 
     // Local step at x: the right-hand side of the global step, the energy
     //   sum_edges (len - rest)^2 + anchor sum_fold-line vertices |x - target|^2
@@ -142,34 +173,38 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // points, and the matrix stays the same for every frame).  Gathered per row, summed in
     // row order: the result does not depend on the thread count.
     // Where the pinned vertices are held: fixed for the whole relaxation.
-    Eigen::MatrixXd pinned_positions(Eigen::Index(m.pinned_vertices.size()), 3);
-    for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
-        pinned_positions.row(Eigen::Index(i)) = x[std::size_t(m.pinned_vertices[i])].transpose();
+    std::array<Eigen::VectorXd, 3> pinned_positions;
+    for (std::size_t c = 0; c < 3; ++c) {
+        pinned_positions[c].resize(Eigen::Index(m.pinned_vertices.size()));
+        for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
+            pinned_positions[c][Eigen::Index(i)] = w.current[c * n + std::size_t(m.pinned_vertices[i])];
+    }
     double anchor_scale = 1.0;
     constexpr int kSoftenEvery = 30;
-    Eigen::MatrixXd rhs(free, 3);
-    std::vector<double> row_sum(std::size_t(grid.nv)), row_max(std::size_t(grid.nv)), row_energy(std::size_t(grid.nv));
     struct Local {
         double energy, mean, max;
     };
     // Each edge's length, computed once per local step (the edge to the right of and the one
     // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
     // and |x_o - x_k| are the same bits, so the result is too.
-    std::vector<double> right_len(n, 0.0), down_len(n, 0.0);
-    const auto local = [&]() -> Local {
+    std::vector<double>&right_len = w.right_len, &down_len = w.down_len;
+    const auto local = [&](const double* positions_now) -> Local {
+        const auto x = [&](std::size_t k) {
+            return Eigen::Vector3d(positions_now[k], positions_now[n + k], positions_now[2 * n + k]);
+        };
         tbb::parallel_for(0, grid.nv, [&](int j) {
             for (int i = 0; i < grid.nu; ++i) {
                 const int k = j * grid.nu + i;
-                const Eigen::Vector3d& xk = x[std::size_t(k)];
-                if (i + 1 < grid.nu) right_len[std::size_t(k)] = (x[std::size_t(k + 1)] - xk).norm();
-                if (j + 1 < grid.nv) down_len[std::size_t(k)] = (x[std::size_t(k + grid.nu)] - xk).norm();
+                const Eigen::Vector3d xk = x(std::size_t(k));
+                if (i + 1 < grid.nu) right_len[std::size_t(k)] = (x(std::size_t(k + 1)) - xk).norm();
+                if (j + 1 < grid.nv) down_len[std::size_t(k)] = (x(std::size_t(k + grid.nu)) - xk).norm();
             }
         });
         tbb::parallel_for(0, grid.nv, [&](int j) {
             double sum = 0.0, max = 0.0, energy = 0.0;
             for (int i = 0; i < grid.nu; ++i) {
                 const int k = j * grid.nu + i;
-                const Eigen::Vector3d& xk = x[std::size_t(k)];
+                const Eigen::Vector3d xk = x(std::size_t(k));
                 // Each edge once: to the right and below.
                 if (i + 1 < grid.nu) {
                     const double len = right_len[std::size_t(k)];
@@ -181,14 +216,13 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                     sum += std::abs(len / m.rest_v - 1.0), max = std::max(max, std::abs(len / m.rest_v - 1.0));
                     energy += (len - m.rest_v) * (len - m.rest_v);
                 }
-                const int row = m.free_index[std::size_t(k)];
-                if (row < 0) continue;
+                if (m.free_index[std::size_t(k)] < 0) continue;
                 Eigen::Vector3d b = xk;
-                if (const double w = crest[std::size_t(k)]; w > 0.0) {
-                    // Towards the fold line's height and depth, by the fraction w; the
+                if (const double wk = crest[std::size_t(k)]; wk > 0.0) {
+                    // Towards the fold line's height and depth, by the fraction wk; the
                     // position across stays free (the model's rows are too long).
                     const Eigen::Vector3d t = targets[std::size_t(k)].cast<double>();
-                    const double pull = w * anchor_scale;
+                    const double pull = wk * anchor_scale;
                     for (int c = 1; c < 3; ++c) {
                         b(c) += pull * (t(c) - xk(c));
                         energy += anchor * pull * (xk(c) - t(c)) * (xk(c) - t(c));
@@ -198,42 +232,30 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                 // Edge terms |x_k - x_o - p|^2, p the edge at its rest length (the neighbour
                 // itself, free or pinned, sits in the matrix); left, right, up, down.
                 const auto edge = [&](int other, double rest, double len) {
-                    if (len > 0.0) b += (xk - x[std::size_t(other)]) * (rest / len);
+                    if (len > 0.0) b += (xk - x(std::size_t(other))) * (rest / len);
                 };
                 if (i > 0) edge(k - 1, m.rest_u, right_len[std::size_t(k - 1)]);
                 if (i + 1 < grid.nu) edge(k + 1, m.rest_u, right_len[std::size_t(k)]);
                 if (j > 0) edge(k - grid.nu, m.rest_v, down_len[std::size_t(k - grid.nu)]);
                 if (j + 1 < grid.nv) edge(k + grid.nu, m.rest_v, down_len[std::size_t(k)]);
-                rhs.row(row) = b.transpose();
+                for (int c = 0; c < 3; ++c) w.global_rhs[std::size_t(c)][k] = b(c);
             }
-            row_sum[std::size_t(j)] = sum, row_max[std::size_t(j)] = max, row_energy[std::size_t(j)] = energy;
+            w.row_sum[std::size_t(j)] = sum, w.row_max[std::size_t(j)] = max, w.row_energy[std::size_t(j)] = energy;
         });
         Local out{0.0, 0.0, 0.0};
         for (int j = 0; j < grid.nv; ++j)
-            out.energy += row_energy[std::size_t(j)], out.mean += row_sum[std::size_t(j)],
-                out.max = std::max(out.max, row_max[std::size_t(j)]);
+            out.energy += w.row_energy[std::size_t(j)], out.mean += w.row_sum[std::size_t(j)],
+                out.max = std::max(out.max, w.row_max[std::size_t(j)]);
         const double edges = double(grid.nu - 1) * grid.nv + double(grid.nv - 1) * grid.nu;
         out.mean /= edges;
         return out;
     };
 
-    // Anderson acceleration of the local/global fixed-point map (Peng et al. 2018), with
-    // the plain step whenever the accelerated one would raise the energy.  The history is a
-    // ring of preallocated slots with the dot products of its differences kept beside it
-    // (one new row per iteration instead of the whole normal matrix), read oldest first so
-    // that the normal matrix, and hence every byte of the result, is what a plain list gives.
-    constexpr int kHistory = 5;
-    Eigen::MatrixXd current(free, 3), g(free, 3), f(free, 3), g_prev(free, 3), f_prev(free, 3), next(free, 3);
-    std::array<Eigen::MatrixXd, kHistory> dg, df;
-    for (int s = 0; s < kHistory; ++s) dg[std::size_t(s)].resize(free, 3), df[std::size_t(s)].resize(free, 3);
-    Eigen::Matrix<double, kHistory, kHistory> slot_dots;  // df[s] . df[t] by slot
-    int oldest = 0, stored = 0;
-    const auto slot_of = [&](int a) { return std::size_t((oldest + a) % kHistory); };  // a-th oldest
-    // The global step's right-hand sides, one per coordinate, reused (pinned rows are ignored).
-    std::array<Eigen::VectorXd, 3> global_rhs;
-    for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
-    gather(current);
-    Local state = local();
+    // Anderson acceleration of the local/global fixed-point map (anderson.hpp), with the
+    // plain step whenever the accelerated one would raise the energy.
+    detail::Anderson& anderson = w.anderson;
+    anderson.restart();
+    Local state = local(w.current.data());
     double accepted_energy = state.energy;
     int iteration = 0;
     while (!(state.mean <= m.settings.target_mean && state.max <= m.settings.target_max) &&
@@ -242,87 +264,40 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             // Not there yet: the targets ask for more than the cloth can give; soften them
             // (a new fixed-point map, so the history goes).
             anchor_scale *= 0.5;
-            stored = 0;
-            state = local();
+            anderson.forget();
+            state = local(w.current.data());
             accepted_energy = state.energy;
         }
         ++iteration;
+        // The global step, g = G(current), a coordinate at a time, the pins exactly where
+        // they are held (the solve meets them to rounding).
+        double* const g = anderson.g();
         tbb::parallel_for(0, 3, [&](int c) {
-            Eigen::VectorXd& b = global_rhs[std::size_t(c)];
-            for (int row = 0; row < free; ++row) b[m.free_vertices[std::size_t(row)]] = rhs(row, c);
-            const Eigen::VectorXd solved = m.solver->solve(b, pinned_positions.col(c));
-            for (int row = 0; row < free; ++row) g(row, c) = solved[m.free_vertices[std::size_t(row)]];
+            Eigen::Map<Eigen::VectorXd> solved(g + std::size_t(c) * n, Eigen::Index(n));
+            m.solver->solve(w.global_rhs[std::size_t(c)], pinned_positions[std::size_t(c)], solved);
+            for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
+                solved[m.pinned_vertices[i]] = pinned_positions[std::size_t(c)][Eigen::Index(i)];
         });
-        // f = g - current and the newest differences in one pass over memory (element by
-        // element: the same values as separate expressions).
-        const Eigen::Index entries = g.size();
-        if (iteration > 1) {
-            std::size_t slot;
-            if (stored == kHistory) {
-                slot = std::size_t(oldest);
-                oldest = (oldest + 1) % kHistory;
-            } else {
-                if (stored == 0) oldest = 0;
-                slot = slot_of(stored++);
-            }
-            double* const new_dg = dg[slot].data();
-            double* const new_df = df[slot].data();
-            for (Eigen::Index e = 0; e < entries; ++e) {
-                const double fe = g.data()[e] - current.data()[e];
-                f.data()[e] = fe;
-                new_dg[e] = g.data()[e] - g_prev.data()[e];
-                new_df[e] = fe - f_prev.data()[e];
-            }
-            for (int a = 0; a < stored; ++a) {
-                const std::size_t other = slot_of(a);
-                slot_dots(Eigen::Index(slot), Eigen::Index(other)) =
-                    slot_dots(Eigen::Index(other), Eigen::Index(slot)) = (df[slot].array() * df[other].array()).sum();
-            }
-        } else {
-            f = g - current;
-        }
-        const int h = stored;
-        if (h > 0) {
-            Eigen::MatrixXd normal(h, h);
-            Eigen::VectorXd right(h);
-            for (int a = 0; a < h; ++a) {
-                right(a) = (df[slot_of(a)].array() * f.array()).sum();
-                for (int b = 0; b <= a; ++b)
-                    normal(a, b) = normal(b, a) = slot_dots(Eigen::Index(slot_of(a)), Eigen::Index(slot_of(b)));
-            }
-            normal.diagonal() *= 1.0 + 1e-10;
-            const Eigen::VectorXd theta = normal.ldlt().solve(right);
-            if (theta.allFinite()) {
-                // next = g - sum_a theta_a dg_a, subtracted oldest first, in one pass.
-                std::array<const double*, kHistory> history{};
-                for (int a = 0; a < h; ++a) history[std::size_t(a)] = dg[slot_of(a)].data();
-                for (Eigen::Index e = 0; e < entries; ++e) {
-                    double v = g.data()[e];
-                    for (int a = 0; a < h; ++a) v -= theta(a) * history[std::size_t(a)][e];
-                    next.data()[e] = v;
-                }
-            } else {
-                next = g;
-            }
-        } else {
-            next = g;
-        }
-        scatter(next);
-        state = local();
-        if (h > 0 && !(state.energy <= accepted_energy)) {  // fall back to the plain step
-            scatter(g);
-            state = local();
-            stored = 0;
-            next = g;
+        const bool accelerated = anderson.step(w.current.data(), w.next.data());
+        state = local(accelerated ? w.next.data() : anderson.last_g());
+        bool plain = !accelerated;
+        if (accelerated && !(state.energy <= accepted_energy)) {  // fall back to the plain step
+            state = local(anderson.last_g());
+            anderson.forget();
+            plain = true;
         }
         accepted_energy = state.energy;
-        current.swap(next);
-        g_prev.swap(g);  // g and f are overwritten next iteration
-        f_prev.swap(f);
+        if (plain)
+            std::copy(anderson.last_g(), anderson.last_g() + 3 * n, w.current.begin());
+        else
+            w.current.swap(w.next);
     }
-    for (std::size_t k = 0; k < n; ++k) positions[k] = x[k].cast<float>();
+    for (std::size_t k = 0; k < n; ++k)
+        positions[k] = Vec3f(float(w.current[k]), float(w.current[n + k]), float(w.current[2 * n + k]));
     report.iterations = iteration;
     report.after = detail::grid_stretch(positions, rest_params, grid);
+    const std::lock_guard<std::mutex> hold(m.spare_lock);
+    m.spare = std::move(workspace);
     return report;
 }
 

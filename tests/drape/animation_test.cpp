@@ -67,6 +67,31 @@ TEST(Animation, StartsFlatAndEndsOnTheTargetGarment) {
     EXPECT_EQ(animate(p, grid, opt).frames.back(), build_garment(p, s, grid, false).mesh.positions);
 }
 
+// Every relaxed frame keeps the cloth's length to the bounds (#14: mean stretch
+// <= 0.5 %, max <= 3 %), not only the last: the frames are warm-started from each other, so a
+// change to the warm start or to when the relaxation stops shows up here first.
+TEST(Animation, EveryRelaxedFrameMeetsTheStretchBounds) {
+    const ClothParams p;
+    const GridSize grid{64, 64};
+    AnimationOptions opt;
+    opt.frames = 10;
+    const Animation anim = animate(p, grid, opt);
+    RelaxSettings measure_only;
+    measure_only.max_iterations = 0;
+    const GridRelaxer check(p, grid, {0, grid.nu - 1}, measure_only);
+    for (int f = 0; f < opt.frames; ++f) {
+        std::vector<Vec3f> copy = anim.frames[std::size_t(f)];
+        const Stretch s = check.relax(copy, anim.frames[std::size_t(f)]).before;  // the frame's own stretch
+        EXPECT_LE(s.mean, 0.005) << "frame " << f;
+        EXPECT_LE(s.max, 0.03) << "frame " << f;
+    }
+    // And the model's own frames do not: the bounds above are the relaxation's doing.
+    opt.relax = false;
+    const Animation model = animate(p, grid, opt);
+    std::vector<Vec3f> copy = model.frames.back();
+    EXPECT_GT(check.relax(copy, model.frames.back()).before.max, 0.1);
+}
+
 TEST(Animation, SameBytesWhateverTheThreadCount) {
     const ClothParams p;
     AnimationOptions opt;

@@ -1,7 +1,7 @@
 #pragma once
 // Relaxation of a garment grid towards isometry (docs/drape.md, "Relaxation"): the
 // analytical fold surface stretches the cloth; a local/global projection (projective
-// dynamics with a prefactored sparse Cholesky) brings every warp and weft edge back to its
+// dynamics, the global step solved by DCTs) brings every warp and weft edge back to its
 // rest length while the support vertices stay pinned and every vertex is pulled softly
 // towards the model's surface, so the fold layout survives.
 #include <memory>

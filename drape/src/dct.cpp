@@ -1,0 +1,194 @@
+// Makhoul's DCT (dct.hpp).  For a line x_0..x_{N-1} let v_n = x_{2n} and v_{N-1-n} = x_{2n+1}
+// (even samples forwards, odd ones backwards) and V = FFT(v).  Then with w_k = exp(-i pi k / 2N)
+//   REDFT10:  X_k = 2 Re(w_k V_k),  X_{N-k} = -2 Im(w_k V_k)          (0 < k < N - k)
+// and, V being Hermitian, the real FFT's half spectrum is all that is needed.  The inverse
+// runs the same steps backwards: V_k = conj(w_k) (X_k - i X_{N-k}) / 2, v = the inverse real
+// FFT of V, and REDFT01(X) = 2 v put back in the original order.
+#include "dct.hpp"
+
+#include <fftw3.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <new>
+#include <stdexcept>
+#include <vector>
+
+namespace foldcast::drape::detail {
+namespace {
+
+// FFTW's planner is not thread-safe; executing a plan on other arrays is.
+std::mutex& planner_lock() {
+    static std::mutex lock;
+    return lock;
+}
+
+template <typename T>
+struct FftwArray {
+    T* data = nullptr;
+    explicit FftwArray(std::size_t n) : data(static_cast<T*>(fftw_malloc(sizeof(T) * std::max<std::size_t>(n, 1)))) {
+        if (!data) throw std::bad_alloc();
+    }
+    ~FftwArray() { fftw_free(data); }
+    FftwArray(const FftwArray&) = delete;
+    FftwArray& operator=(const FftwArray&) = delete;
+};
+
+// The work arrays of one block of lines, kept per thread between calls (fftw_malloc'd, so
+// aligned as the plans' arrays were: a plan may then run on them).
+struct BlockScratch {
+    std::size_t size = 0, spectrum_size = 0;
+    std::unique_ptr<FftwArray<double>> v;
+    std::unique_ptr<FftwArray<fftw_complex>> spectrum;
+};
+
+BlockScratch& block_scratch(std::size_t size, std::size_t spectrum_size) {
+    thread_local BlockScratch scratch;
+    if (scratch.size < size) scratch.v = std::make_unique<FftwArray<double>>(size), scratch.size = size;
+    if (scratch.spectrum_size < spectrum_size)
+        scratch.spectrum = std::make_unique<FftwArray<fftw_complex>>(spectrum_size),
+        scratch.spectrum_size = spectrum_size;
+    return scratch;
+}
+
+// kBlock lines of one length at a time (FFTW vectorises across the lines of a batch, which a
+// single line of 256 cannot use well): the real FFT's plans for a full block and for the
+// last, shorter one, and the twiddles w_k.  Blocks are fixed by the grid, not by the threads.
+constexpr int kBlock = 8;
+
+struct Lines {
+    int n = 0, half = 0;                                   // length, and the real FFT's half spectrum n/2 + 1
+    fftw_plan r2c[kBlock + 1] = {}, c2r[kBlock + 1] = {};  // by the number of lines
+    std::vector<double> cos_k, sin_k;                      // cos and sin of pi k / 2N
+
+    Lines(int length, int lines)
+        : n(length), half(length / 2 + 1), cos_k(std::size_t(length)), sin_k(std::size_t(length)) {
+        for (int k = 0; k < n; ++k) {
+            const double angle = M_PI * k / (2.0 * n);
+            cos_k[std::size_t(k)] = std::cos(angle), sin_k[std::size_t(k)] = std::sin(angle);
+        }
+        FftwArray<double> v{std::size_t(n) * kBlock};
+        FftwArray<fftw_complex> spectrum{std::size_t(half) * kBlock};
+        const std::lock_guard<std::mutex> hold(planner_lock());
+        for (const int count : {std::min(kBlock, lines), lines % kBlock}) {
+            if (count == 0 || r2c[count]) continue;
+            r2c[count] = fftw_plan_many_dft_r2c(1, &n, count, v.data, nullptr, 1, n, spectrum.data, nullptr, 1, half,
+                                                FFTW_ESTIMATE);
+            c2r[count] = fftw_plan_many_dft_c2r(1, &n, count, spectrum.data, nullptr, 1, half, v.data, nullptr, 1, n,
+                                                FFTW_ESTIMATE);
+            if (!r2c[count] || !c2r[count])
+                throw std::runtime_error("DCT: FFTW could not plan real FFTs of length " + std::to_string(n));
+        }
+    }
+    ~Lines() {
+        const std::lock_guard<std::mutex> hold(planner_lock());
+        for (int c = 0; c <= kBlock; ++c) {
+            if (r2c[c]) fftw_destroy_plan(r2c[c]);
+            if (c2r[c]) fftw_destroy_plan(c2r[c]);
+        }
+    }
+    Lines(const Lines&) = delete;
+    Lines& operator=(const Lines&) = delete;
+
+    // REDFT10 of `count` contiguous lines of n from `in` to `out` (in == out allowed).
+    void forward(int count, const double* in, double* out) const {
+        BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
+        for (int c = 0; c < count; ++c) {
+            double* v = s.v->data + std::ptrdiff_t(c) * n;
+            const double* x = in + std::ptrdiff_t(c) * n;
+            for (int m = 0; 2 * m < n; ++m) v[m] = x[2 * m];
+            for (int m = 0; 2 * m + 1 < n; ++m) v[n - 1 - m] = x[2 * m + 1];
+        }
+        fftw_execute_dft_r2c(r2c[count], s.v->data, s.spectrum->data);
+        for (int c = 0; c < count; ++c) {
+            const fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
+            double* x = out + std::ptrdiff_t(c) * n;
+            x[0] = 2.0 * spectrum[0][0];
+            for (int k = 1; 2 * k <= n; ++k) {
+                // w_k V_k, w_k = cos - i sin
+                const double co = cos_k[std::size_t(k)], sn = sin_k[std::size_t(k)];
+                x[k] = 2.0 * (co * spectrum[k][0] + sn * spectrum[k][1]);
+                if (2 * k < n) x[n - k] = -2.0 * (co * spectrum[k][1] - sn * spectrum[k][0]);
+            }
+        }
+    }
+
+    // REDFT01 of `count` contiguous lines of n from `in` to `out` (in == out allowed).
+    void inverse(int count, const double* in, double* out) const {
+        BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
+        for (int c = 0; c < count; ++c) {
+            fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
+            const double* x = in + std::ptrdiff_t(c) * n;
+            spectrum[0][0] = 0.5 * x[0], spectrum[0][1] = 0.0;
+            for (int k = 1; 2 * k <= n; ++k) {
+                // conj(w_k) (X_k - i X_{N-k}) / 2; at k = N/2 both are X_{N/2}
+                const double a = x[k], b = x[n - k];
+                const double co = cos_k[std::size_t(k)], sn = sin_k[std::size_t(k)];
+                spectrum[k][0] = 0.5 * (co * a + sn * b);
+                spectrum[k][1] = 0.5 * (sn * a - co * b);
+            }
+        }
+        fftw_execute_dft_c2r(c2r[count], s.spectrum->data, s.v->data);
+        for (int c = 0; c < count; ++c) {
+            const double* v = s.v->data + std::ptrdiff_t(c) * n;
+            double* x = out + std::ptrdiff_t(c) * n;
+            for (int m = 0; 2 * m < n; ++m) x[2 * m] = 2.0 * v[m];
+            for (int m = 0; 2 * m + 1 < n; ++m) x[2 * m + 1] = 2.0 * v[n - 1 - m];
+        }
+    }
+};
+
+}  // namespace
+
+struct GridDct::Impl {
+    GridSize grid;
+    std::unique_ptr<Lines> rows, columns;  // lengths nu and nv
+
+    // Every row, then every column, kBlock lines at a time.  A block of rows is contiguous
+    // already.  A block of columns is copied into contiguous lines first, row by row (kBlock
+    // neighbours of a row, one cache line, at a time: walking down one column alone strides
+    // by a row's length, often a power of two, which maps the column onto a few cache sets).
+    // transform(lines, count, in, out) runs one block.
+    template <typename Transform>
+    void separable(const double* in, double* out, Transform&& transform) const {
+        const int nu = grid.nu, nv = grid.nv;
+        tbb::parallel_for(0, (nv + kBlock - 1) / kBlock, [&](int block) {
+            const std::ptrdiff_t start = std::ptrdiff_t(block) * kBlock * nu;
+            transform(*rows, std::min(kBlock, nv - block * kBlock), in + start, out + start);
+        });
+        tbb::parallel_for(0, (nu + kBlock - 1) / kBlock, [&](int block) {
+            const int first = block * kBlock, count = std::min(kBlock, nu - first);
+            thread_local std::vector<double> lines;
+            lines.resize(std::size_t(kBlock) * std::size_t(nv));
+            for (int j = 0; j < nv; ++j)
+                for (int c = 0; c < count; ++c)
+                    lines[std::size_t(c * nv + j)] = out[std::ptrdiff_t(j) * nu + first + c];
+            transform(*columns, count, lines.data(), lines.data());
+            for (int j = 0; j < nv; ++j)
+                for (int c = 0; c < count; ++c)
+                    out[std::ptrdiff_t(j) * nu + first + c] = lines[std::size_t(c * nv + j)];
+        });
+    }
+};
+
+GridDct::GridDct(GridSize grid) : impl_(std::make_unique<Impl>()) {
+    impl_->grid = grid;
+    impl_->rows = std::make_unique<Lines>(grid.nu, grid.nv);
+    impl_->columns = std::make_unique<Lines>(grid.nv, grid.nu);
+}
+
+GridDct::~GridDct() = default;
+
+void GridDct::forward(const double* in, double* out) const {
+    impl_->separable(in, out,
+                     [](const Lines& lines, int count, const double* a, double* b) { lines.forward(count, a, b); });
+}
+
+void GridDct::inverse(const double* in, double* out) const {
+    impl_->separable(in, out,
+                     [](const Lines& lines, int count, const double* a, double* b) { lines.inverse(count, a, b); });
+}
+
+}  // namespace foldcast::drape::detail

@@ -1,0 +1,37 @@
+#pragma once
+// The 2-D DCT-II and DCT-III of an nu x nv grid (row-major, rows of nu), with FFTW's
+// REDFT10 / REDFT01 scaling, computed by Makhoul's algorithm: each 1-D DCT of length N is one
+// real FFT of length N of the reordered input (even samples forwards, odd ones backwards) and
+// a twiddle.  Why not FFTW's own r2r plans: with FFTW_ESTIMATE (the only planner mode that
+// gives the same plan, hence the same bytes, on every machine) FFTW builds REDFT10 from scalar
+// codelets, about 4x slower than its SIMD real FFTs of the same size.
+//
+// Each 1-D transform (a row, then a column) is independent of the others and runs on its own
+// aligned scratch, so the rows and columns are spread over TBB and the result does not depend
+// on the thread count.
+#include <memory>
+
+#include "foldcast/drape.hpp"
+
+namespace foldcast::drape::detail {
+
+class GridDct {
+public:
+    explicit GridDct(GridSize grid);
+    ~GridDct();
+    GridDct(const GridDct&) = delete;
+    GridDct& operator=(const GridDct&) = delete;
+
+    // out = REDFT10 in both directions (X_k = 2 sum_n x_n cos(pi k (2n + 1) / 2N) per
+    // dimension).  in and out: nu * nv values; they may be the same array.
+    void forward(const double* in, double* out) const;
+    // out = REDFT01 in both directions (y_n = X_0 + 2 sum_k>0 X_k cos(pi k (2n + 1) / 2N)),
+    // the inverse of forward up to the factor 4 nu nv.  in and out may be the same array.
+    void inverse(const double* in, double* out) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace foldcast::drape::detail
