@@ -66,8 +66,9 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
     s.mass = gsm * 1e-3 * area / (nu * nv)  # kg per vertex
     s.air_damping = 1.0
     s.bending_model = "ANGULAR"
-    s.tension_stiffness = s.compression_stiffness = 80.0
-    s.shear_stiffness = 5.0
+    s.tension_stiffness = 80.0
+    s.compression_stiffness = float(os.environ.get("COMPRESSION_STIFFNESS", "80.0"))
+    s.shear_stiffness = float(os.environ.get("SHEAR_STIFFNESS", "5.0"))
     d = e_mpa * 1e6 * (t_mm * 1e-3) ** 3 / (12.0 * (1.0 - poisson ** 2))
     s.bending_stiffness = 20.0 * d
     s.vertex_group_mass = "pin"
@@ -166,6 +167,16 @@ def main():
            f"{sum(math.dist(final[i], final[i + 1]) for i in range(nu - 1)):.4f}",
            f"{sum(math.dist(column[j], column[j + 1]) for j in range(nv - 1)):.4f}"]
     print("RESULT," + ",".join(str(v) for v in row), flush=True)
+    if os.environ.get("DUMP_OBJ"):
+        # The settled cloth in foldcast's axes (y up, z out of the cloth), to look at or
+        # render with foldcast (a scene whose [garment] path is this file).
+        with open(os.environ["DUMP_OBJ"], "w") as out:
+            for p in final:
+                out.write(f"v {p[0]:.6f} {p[2]:.6f} {p[1]:.6f}\n")
+            for j in range(nv - 1):
+                for i in range(nu - 1):
+                    k = j * nu + i + 1
+                    out.write(f"f {k} {k + nu} {k + 1}\nf {k + 1} {k + nu} {k + nu + 1}\n")
 
 
 main()
