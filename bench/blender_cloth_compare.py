@@ -70,7 +70,7 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
     s.compression_stiffness = float(os.environ.get("COMPRESSION_STIFFNESS", "80.0"))
     s.shear_stiffness = float(os.environ.get("SHEAR_STIFFNESS", "5.0"))
     d = e_mpa * 1e6 * (t_mm * 1e-3) ** 3 / (12.0 * (1.0 - poisson ** 2))
-    s.bending_stiffness = 20.0 * d
+    s.bending_stiffness = 20.0 * d * float(os.environ.get("BENDING_SCALE", "1.0"))
     s.vertex_group_mass = "pin"
     cloth.collision_settings.use_collision = False
     cloth.collision_settings.use_self_collision = False
