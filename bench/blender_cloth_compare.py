@@ -64,7 +64,7 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
     area = width * height
     s.quality = 5
     s.mass = gsm * 1e-3 * area / (nu * nv)  # kg per vertex
-    s.air_damping = 1.0
+    s.air_damping = float(os.environ.get("AIR_DAMPING", "1.0"))
     s.bending_model = "ANGULAR"
     s.tension_stiffness = 80.0
     s.compression_stiffness = float(os.environ.get("COMPRESSION_STIFFNESS", "80.0"))
