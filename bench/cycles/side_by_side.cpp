@@ -91,8 +91,8 @@ Seconds render_cycles(const Args& args, const fs::path& json, const fs::path& ex
     const fs::path log = exr.string() + ".log";
     const std::string cmd = "blender -b --factory-startup -P " + std::string(FOLDCAST_SOURCE_DIR) +
                             "/bench/cycles/render_cycles.py -- " + json.string() + " " + exr.string() + " " +
-                            std::to_string(spp) + " " + std::to_string(args.threads) + " " + std::to_string(seed) + " > " +
-                            log.string() + " 2>&1";
+                            std::to_string(spp) + " " + std::to_string(args.threads) + " " + std::to_string(seed) +
+                            " > " + log.string() + " 2>&1";
     if (std::system(cmd.c_str()) != 0) throw std::runtime_error("blender failed: see " + log.string());
     std::ifstream in(log);
     std::string line;
@@ -101,7 +101,8 @@ Seconds render_cycles(const Args& args, const fs::path& json, const fs::path& ex
         if (line.rfind("CYCLES_SECONDS ", 0) == 0) t.wall = std::stod(line.substr(15));
         if (line.rfind("CYCLES_CPU_SECONDS ", 0) == 0) t.cpu = std::stod(line.substr(19));
     }
-    if (t.wall < 0.0 || t.cpu < 0.0) throw std::runtime_error("no CYCLES_SECONDS / CYCLES_CPU_SECONDS in " + log.string());
+    if (t.wall < 0.0 || t.cpu < 0.0)
+        throw std::runtime_error("no CYCLES_SECONDS / CYCLES_CPU_SECONDS in " + log.string());
     return t;
 }
 
@@ -191,14 +192,16 @@ int main(int argc, char** argv) {
                                    std::to_string(args.width) + " " + std::to_string(args.height) + " " + json.string();
     if (std::system(export_cmd.c_str()) != 0) throw std::runtime_error("export failed: " + export_cmd);
 
-    const std::string ref_name = "ref" + std::to_string(args.ref_spp) + "_seed" + std::to_string(kReferenceSeed) + ".exr";
+    const std::string ref_name =
+        "ref" + std::to_string(args.ref_spp) + "_seed" + std::to_string(kReferenceSeed) + ".exr";
     const fs::path ref_c = args.out / ("cycles_" + ref_name);
     const fs::path ref_f = args.out / ("foldcast_" + ref_name);
     if (!fs::exists(ref_f))
         std::printf("foldcast reference %d spp: %.1f s\n", args.ref_spp,
                     render_foldcast(args, scene, garment, ref_f, args.ref_spp, false, kReferenceSeed).wall);
     if (!fs::exists(ref_c))
-        std::printf("Cycles reference %d spp: %.1f s\n", args.ref_spp, render_cycles(args, json, ref_c, args.ref_spp, kReferenceSeed).wall);
+        std::printf("Cycles reference %d spp: %.1f s\n", args.ref_spp,
+                    render_cycles(args, json, ref_c, args.ref_spp, kReferenceSeed).wall);
     std::fflush(stdout);
 
     // One untimed render first: foldcast's once-per-process set-up (the BSDF albedo tables,
@@ -228,7 +231,8 @@ int main(int argc, char** argv) {
     }
     for (const auto& [name, clock] : {std::pair{"wall-clock", &Seconds::wall}, std::pair{"CPU", &Seconds::cpu}}) {
         std::printf("\n%s time to equal RMSE (each against its own %d-spp reference)\n", name, args.ref_spp);
-        std::printf("%8s %10s %10s %8s %16s %8s\n", "RMSE", "cycles s", "foldcast s", "ratio", "foldcast+dn s", "ratio");
+        std::printf("%8s %10s %10s %8s %16s %8s\n", "RMSE", "cycles s", "foldcast s", "ratio", "foldcast+dn s",
+                    "ratio");
         for (const Point& p : cyc) {
             const double tc = time_for(cyc, p.rmse, clock), tf = time_for(fc, p.rmse, clock),
                          td = time_for(fd, p.rmse, clock);

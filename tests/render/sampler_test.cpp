@@ -82,7 +82,8 @@ TEST(PixelSampler, ShortFormOfTheFirstDimensionIsTheOwenScrambleOfIt) {
     std::uint32_t i = 1, seed = 12345;
     for (int k = 0; k < 100000; ++k) {
         i = i * 1664525u + 1013904223u, seed = seed * 22695477u + 1u;
-        ASSERT_EQ(reverse_bits(laine_karras_permutation(i, seed)), owen_scramble(sobol_dim0(i), seed)) << i << " " << seed;
+        ASSERT_EQ(reverse_bits(laine_karras_permutation(i, seed)), owen_scramble(sobol_dim0(i), seed))
+            << i << " " << seed;
     }
 }
 
