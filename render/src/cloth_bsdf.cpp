@@ -172,16 +172,15 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(w
     }
 }
 
-float ClothBsdf::spec_pdf(const V3& wi) const {
+// The specular lobe's value (f, without the cosine) and its sampling pdf at wi, from one
+// half vector and one D: eval needs both, and the half vector's normalisation and D's
+// divisions were most of the lobe's cost when each was computed twice.
+ClothBsdf::SpecTerms ClothBsdf::spec_terms(const V3& wi) const {
     const V3 h = (wo_ + wi).normalized();
-    return ggx_d(h, ax_, ay_) / (4.0f * wo_.z() * (1.0f + lambda_o_));
-}
-
-V3 ClothBsdf::spec_f(const V3& wi) const {
-    const V3 h = (wo_ + wi).normalized();
+    const float d = ggx_d(h, ax_, ay_);
     const float g2 = 1.0f / (1.0f + lambda_o_ + ggx_lambda(wi, ax_, ay_));
-    const float f = schlick(p_.f0, wo_.dot(h)) * ggx_d(h, ax_, ay_) * g2 / (4.0f * wo_.z() * wi.z());
-    return V3::Constant(f);
+    const float f = schlick(p_.f0, wo_.dot(h)) * d * g2 / (4.0f * wo_.z() * wi.z());
+    return {f, d / (4.0f * wo_.z() * (1.0f + lambda_o_))};
 }
 
 float ClothBsdf::sheen_d_v(const V3& wi) const {
@@ -195,8 +194,9 @@ V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
     V3 f = V3::Zero();
     float pd = 0.0f;
     if (p_spec_ > 0.0f || e_spec_ > 0.0f) {
-        f += spec_f(wi);
-        pd += p_spec_ * spec_pdf(wi);
+        const SpecTerms spec = spec_terms(wi);
+        f += V3::Constant(spec.f);
+        pd += p_spec_ * spec.pdf;
     }
     if (sheen_scale_ > 0.0f) {
         f += base_weight_ * sheen_d_v(wi) * p_.sheen;

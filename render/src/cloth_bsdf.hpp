@@ -42,8 +42,10 @@ public:
     V3 albedo() const;
 
 private:
-    float spec_pdf(const V3& wi) const;
-    V3 spec_f(const V3& wi) const;
+    struct SpecTerms {
+        float f, pdf;
+    };
+    SpecTerms spec_terms(const V3& wi) const;
     float sheen_d_v(const V3& wi) const;
 
     BsdfParams p_;
