@@ -200,8 +200,7 @@ void part_flicker(const Args& args) {
     for (const Row row : {Row{"plain_16", 16, false, false}, Row{"plain_64", 64, false, false},
                           Row{"denoise_4", 4, true, false}, Row{"denoise_8", 8, true, false},
                           Row{"denoise_16", 16, true, false}, Row{"temporal_4", 4, true, true},
-                          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true},
-                          Row{"temporal_plain_16", 16, false, true}}) {
+                          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true}}) {
         const auto [test, seconds] = frames(row.name, row.spp, row.denoise, row.temporal);
         double err = 0.0, flick = 0.0;
         for (std::size_t f = 0; f < test.size(); ++f) err += rmse(ref[f], test[f]) / test.size();
