@@ -31,7 +31,7 @@ constexpr float kAlbedoTolerance = 0.08f;  // absolute, per channel
 // Luminance may differ from frame f's by this many standard deviations of the two pixels'
 // noise plus this share of their mean (the shading's change over two frames' turn): a
 // highlight sliding over the cloth or a shadow edge passing a point does not fit in it.
-constexpr float kNoiseSigmas = 2.0f;
+constexpr float kNoiseSigmas = 3.0f;
 constexpr float kShadingTolerance = 0.1f;
 constexpr float kMinTapWeight = 0.5f;  // of the bilinear footprint that must agree
 
@@ -52,7 +52,9 @@ struct Expected {
     Vec3f point, normal, albedo;
     float depth_step;
     bool cloth;
-    float luminance, variance;  // of the pixel's colour (not divided by albedo)
+    float luminance;  // of the pixel's colour (not divided by albedo)
+    float variance;   // of that luminance, over the pixel's 3x3 neighbourhood: one pixel's
+                      // estimate from a few samples can be near zero
 };
 
 struct Tap {
@@ -93,7 +95,8 @@ std::optional<Tap> fetch(const TemporalFrame& g, const CameraModel& cam, const V
     }
     if (sum_w < kMinTapWeight) return std::nullopt;
     const float l = sum_l / sum_w, variance = sum_v / sum_w;
-    const float allowed = kNoiseSigmas * std::sqrt(variance + e.variance) + kShadingTolerance * 0.5f * (l + e.luminance);
+    const float allowed =
+        kNoiseSigmas * std::sqrt(std::max(variance, e.variance) + e.variance) + kShadingTolerance * 0.5f * (l + e.luminance);
     if (std::abs(l - e.luminance) > allowed + 1e-4f) return std::nullopt;
     return Tap{sum / sum_w, variance};
 }
@@ -122,6 +125,20 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
     Image out = c.beauty;
     std::vector<float> variance = f.variance;  // of the averaged pixels' luminance, for the denoiser
     const CameraModel cam(camera, w, h);
+    std::vector<float> local_variance(f.variance.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float sum = 0.0f;
+            int n = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int qx = x + dx, qy = y + dy;
+                    if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                    sum += f.variance[static_cast<std::size_t>(qy) * w + qx];
+                    ++n;
+                }
+            local_variance[static_cast<std::size_t>(y) * w + x] = sum / static_cast<float>(n);
+        }
     // Each other frame's turn relative to this one, as cosine and sine.
     std::vector<float> cosine(window.size()), sine(window.size());
     for (std::size_t k = 0; k < window.size(); ++k) {
@@ -156,7 +173,7 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
                                              step,
                                              cloth,
                                              own_luminance,
-                                             f.variance[i]};
+                                             local_variance[i]};
                             side[s] = fetch(*window[g], cam, origin, e);
                             if (!side[s]) break;
                         }
