@@ -49,7 +49,7 @@ Command turntable_command(CLI::App& app) {
         std::string scene, out, frames, join;
         int width = 0, height = 0, spp = 0, threads = 0;
         double noise_threshold = 0.0;
-        bool quiet = false, json = false, preview = false, denoise = false, keep_raw = false;
+        bool quiet = false, json = false, preview = false, denoise = false, keep_raw = false, temporal = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub =
@@ -76,8 +76,13 @@ Command turntable_command(CLI::App& app) {
                     "(in sRGB display units; with --denoise, the error left after denoising) is below this, e.g. 0.02; "
                     "--spp is then the most a pixel takes")
         ->check(CLI::Range(0.0, 1.0));
+    sub->add_flag("--temporal", args->temporal,
+                  "Temporal filter: each frame is traced with its own samples and averaged with the same surface "
+                  "points in the 2 frames on either side (moved by the known turn; rejected where depth, normal, "
+                  "albedo or light disagree) before --denoise; a range A:B traces the 2 frames beyond each end too");
     sub->add_flag("--preview", args->preview,
-                  "Rasterise the frames with OpenGL through EGL (fast preview) instead of path tracing");
+                  "Rasterise the frames with OpenGL through EGL (fast preview) instead of path tracing")
+        ->excludes("--temporal");
     sub->add_flag("--json", args->json,
                   "Print frames, width, height, spp, mean_spp, seconds, rays, rays_per_second as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
@@ -99,6 +104,7 @@ Command turntable_command(CLI::App& app) {
                 options.render.keep_raw = args->keep_raw;
                 options.render.noise_threshold = args->noise_threshold;
                 options.preview = args->preview;
+                options.temporal = args->temporal;
                 batch::TurntableResult result;
                 {
                     ProgressBar bar(args->quiet || args->json);

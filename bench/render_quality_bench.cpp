@@ -4,9 +4,12 @@
 //            sRGB-encoded RGB against a --ref-spp reference;
 //   twill:   a 5 cm close-up of denim's 3/1 twill (bench/scenes/twill_closeup.toml), SSIM
 //            of the luma and RMSE against the reference for plain 256 spp and 16 spp + denoise;
-//   flicker: frames 0-4 of the default scene's 36-frame turntable at 96x96: RMSE against
+//   flicker: frames 0-7 of the default scene's 36-frame turntable at 96x96: RMSE against
 //            reference frames, and flicker = RMS over pixels and frame pairs of the change
-//            from frame to frame minus the reference's change (0 = the noise does not move);
+//            from frame to frame minus the reference's change (0 = the noise does not move),
+//            without and with the temporal filter; the reference's own share of the flicker
+//            is estimated from the plain rows (flicker^2 = 2 var(test) + 2 var(ref) where the
+//            noise changes, var(test) falling as 1/spp);
 //   adaptive: the default scene at 640x360 with --noise-threshold, plain and denoised: time,
 //            mean spp, where the samples went (garment vs backdrop) and RMSE.
 // References are rendered once and kept in --out.  Timed figures are wall clock on whatever
@@ -159,8 +162,8 @@ void part_twill(const Args& args) {
 
 void part_flicker(const Args& args) {
     const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
-    constexpr int kFirst = 0, kLast = 5, kSize = 96;
-    auto frames = [&](const std::string& name, int spp, bool denoise) {
+    constexpr int kFirst = 0, kLast = 8, kSize = 96;
+    auto frames = [&](const std::string& name, int spp, bool denoise, bool temporal) {
         const fs::path dir = args.out / ("turntable_" + name);
         bool cached = true;
         for (int f = kFirst; f < kLast; ++f) cached = cached && fs::exists(batch::turntable_frame_path(dir, f));
@@ -171,6 +174,10 @@ void part_flicker(const Args& args) {
             o.render.spp = spp;
             o.render.threads = args.threads;
             o.render.denoise = denoise;
+            o.temporal = temporal;
+            // The reference with its own samples: one sharing the test's would understate
+            // both figures (a 16-spp test is the first 16 of its samples).
+            if (name.rfind("ref", 0) == 0) o.render.seed = 7;
             o.total_frames = 36;
             o.first_frame = kFirst;
             o.last_frame = kLast;
@@ -180,32 +187,64 @@ void part_flicker(const Args& args) {
         for (int f = kFirst; f < kLast; ++f) out.push_back(compare::read_image(batch::turntable_frame_path(dir, f)));
         return std::make_pair(out, seconds);
     };
-    const auto ref = frames("ref" + std::to_string(args.ref_spp), args.ref_spp, false).first;
-    std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames\n%-18s %8s %10s %10s\n", kFirst, kLast - 1,
-                kSize, kSize, args.ref_spp, "frames", "seconds", "RMSE", "flicker");
+    const auto ref = frames("ref" + std::to_string(args.ref_spp) + "_seed7", args.ref_spp, false, false).first;
+    std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames\n%-18s %8s %10s %10s %10s %10s\n", kFirst,
+                kLast - 1, kSize, kSize, args.ref_spp, "frames", "seconds", "RMSE", "flicker", "interior", "edges");
+    double edge_share = 0.0;
     struct Row {
         const char* name;
         int spp;
-        bool denoise;
+        bool denoise, temporal;
     };
-    for (const Row row : {Row{"plain_16", 16, false}, Row{"plain_64", 64, false}, Row{"denoise_4", 4, true},
-                          Row{"denoise_16", 16, true}}) {
-        const auto [test, seconds] = frames(row.name, row.spp, row.denoise);
+    double plain_flicker[2] = {0.0, 0.0};
+    for (const Row row : {Row{"plain_16", 16, false, false}, Row{"plain_64", 64, false, false},
+                          Row{"denoise_4", 4, true, false}, Row{"denoise_8", 8, true, false},
+                          Row{"denoise_16", 16, true, false}, Row{"temporal_4", 4, true, true},
+                          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true}}) {
+        const auto [test, seconds] = frames(row.name, row.spp, row.denoise, row.temporal);
         double err = 0.0, flick = 0.0;
         for (std::size_t f = 0; f < test.size(); ++f) err += rmse(ref[f], test[f]) / test.size();
-        double sum = 0.0;
-        std::size_t n = 0;
+        // Edge pixels (the reference differs from a 4-neighbour by more than 0.08 in either
+        // frame of the pair: silhouettes, the rod, the wires) apart from the rest, where
+        // what flickers is the noise of shading.
+        double sum = 0.0, edge_sum = 0.0;
+        std::size_t n = 0, edge_n = 0;
         for (std::size_t f = 0; f + 1 < test.size(); ++f)
-            for (std::size_t i = 0; i < test[f].values.size(); ++i) {
-                const double d =
-                    (test[f + 1].values[i] - test[f].values[i]) - (ref[f + 1].values[i] - ref[f].values[i]);
-                sum += d * d;
-                ++n;
-            }
+            for (int y = 0; y < kSize; ++y)
+                for (int x = 0; x < kSize; ++x) {
+                    float contrast = 0.0f;
+                    for (const compare::Image* r : {&ref[f], &ref[f + 1]})
+                        for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                            const int qx = x + dx, qy = y + dy;
+                            if (qx < 0 || qy < 0 || qx >= kSize || qy >= kSize) continue;
+                            for (int c = 0; c < 3; ++c)
+                                contrast = std::max(contrast, std::abs(r->at(x, y, c) - r->at(qx, qy, c)));
+                        }
+                    const bool edge = contrast > 0.08f;
+                    for (int c = 0; c < 3; ++c) {
+                        const double d = (test[f + 1].at(x, y, c) - test[f].at(x, y, c)) -
+                                         (ref[f + 1].at(x, y, c) - ref[f].at(x, y, c));
+                        (edge ? edge_sum : sum) += d * d;
+                        ++(edge ? edge_n : n);
+                    }
+                }
+        const double interior = std::sqrt(sum / static_cast<double>(n));
+        const double edges = std::sqrt(edge_sum / static_cast<double>(std::max<std::size_t>(1, edge_n)));
+        edge_share = static_cast<double>(edge_n) / static_cast<double>(n + edge_n);
+        sum += edge_sum;
+        n += edge_n;
         flick = std::sqrt(sum / static_cast<double>(n));
-        std::printf("%-18s %8.2f %10.4f %10.4f\n", row.name, seconds, err, flick);
+        std::printf("%-18s %8.2f %10.4f %10.4f %10.4f %10.4f\n", row.name, seconds, err, flick, interior, edges);
         std::fflush(stdout);
+        if (row.spp == 16 && !row.denoise && !row.temporal) plain_flicker[0] = flick;
+        if (row.spp == 64 && !row.denoise && !row.temporal) plain_flicker[1] = flick;
     }
+    // F16^2 = a/16 + R and F64^2 = a/64 + R: R is the reference's share (its noise, which
+    // changes where the test's does).
+    const double r = (4.0 * plain_flicker[1] * plain_flicker[1] - plain_flicker[0] * plain_flicker[0]) / 3.0;
+    std::printf("edge pixels: %.1f %% of the pixels; the reference's own share of every flicker figure (from the "
+                "plain rows): about %.4f\n",
+                100.0 * edge_share, std::sqrt(std::max(0.0, r)));
 }
 
 void part_adaptive(const Args& args) {

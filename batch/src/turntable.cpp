@@ -16,6 +16,7 @@
 #include "foldcast/preview.hpp"
 #include "foldcast/render/studio_setup.hpp"
 #include "foldcast/render/tracer.hpp"
+#include "temporal_window.hpp"
 
 namespace foldcast::batch {
 namespace fs = std::filesystem;
@@ -38,6 +39,12 @@ fs::path turntable_frame_path(const fs::path& dir, int frame) {
 }
 
 namespace {
+// Frame f's seed when every frame has its own samples: the sampler hashes the seed with the
+// pixel (render's sobol_sampler.hpp), so distinct odd multiples are enough to decorrelate.
+std::uint64_t render_frame_seed(std::uint64_t seed, int frame) {
+    return seed + 0x9e3779b97f4a7c15ULL * (2 * static_cast<std::uint64_t>(frame) + 1);
+}
+
 // Frame f's PNG: the one this run staged in `outputs`, else the file an earlier run left.
 fs::path frame_to_read(OutputTransaction& outputs, const fs::path& frames_dir, int f) {
     const fs::path final_path = turntable_frame_path(frames_dir, f);
@@ -122,19 +129,45 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     std::future<void> writing;   // after what its task uses: waits for the task when destroyed early
     std::unique_ptr<PreviewRenderer> rasteriser;
     if (options.preview) rasteriser = std::make_unique<PreviewRenderer>(width, height, options.msaa_samples);
+    std::unique_ptr<TemporalWindow> window;
+    int traced = 0;  // frames path traced (with the temporal filter, up to 2r more than written)
+    if (options.temporal && !options.preview) {
+        const int radius = std::min(render::kTemporalRadius, (total - 1) / 2);
+        window = std::make_unique<TemporalWindow>(total, last, radius, [&](int g) {
+            // Each frame its own samples (seed and frame hashed): the neighbours the filter
+            // averages then carry independent noise, on the still backdrop too.
+            TraceSettings s = settings;
+            s.seed = render_frame_seed(settings.seed, g);
+            s.keep_features = true;
+            s.denoised_later = s.denoise;
+            s.denoise = false;  // the filter denoises the average
+            s.keep_raw = false;
+            RenderResult r = Tracer(setup.lit_scene(), setup.geometry(garment_frame(g), turn(g))).render(camera, s);
+            return TracedFrame{{std::move(r.beauty), std::move(*r.features), turn(g)}, settings.keep_raw, r.stats};
+        });
+    }
     for (int f = first; f < last; ++f) {
-        const FrameGeometry geometry = setup.geometry(garment_frame(f), turn(f));
         const int done = f - first, count = last - first;
         ProgressFn frame_progress;
         if (progress)
             frame_progress = [&, done, count](std::string_view, double fraction) {
                 progress("turntable", (done + fraction) / count);
             };
-        RenderResult r = rasteriser ? preview_frame(*rasteriser, setup.lit_scene(), geometry, camera, {})
-                                    : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
-        if (rasteriser && progress) progress("turntable", (done + 1.0) / count);
+        RenderResult r;
+        if (window) {
+            TemporalWindow::Output o = window->output(f, camera, setup.turn_centre(), settings.denoise, settings.threads);
+            r = std::move(o.result);
+            traced += o.traced;
+            if (progress) progress("turntable", (done + 1.0) / count);
+        } else {
+            const FrameGeometry geometry = setup.geometry(garment_frame(f), turn(f));
+            r = rasteriser ? preview_frame(*rasteriser, setup.lit_scene(), geometry, camera, {})
+                           : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
+            if (rasteriser && progress) progress("turntable", (done + 1.0) / count);
+            ++traced;
+        }
         result.stats.rays += r.stats.rays;
-        result.stats.mean_spp += r.stats.mean_spp / (last - first);
+        result.stats.mean_spp += r.stats.mean_spp;
         auto beauty_only = std::make_shared<RenderResult>();
         beauty_only->beauty = std::move(r.beauty);
         beauty_only->raw = std::move(r.raw);
@@ -154,6 +187,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     result.stats.width = width;
     result.stats.height = height;
     result.stats.spp = settings.spp;
+    result.stats.mean_spp /= traced;
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

@@ -41,6 +41,16 @@ public:
         *origin = origin_ + lens;
         *direction = (focus_point - *origin).normalized();
     }
+    // The pixel position (px, py) a world point projects to through the lens centre (the
+    // inverse of ray() with a centred lens sample); false behind the camera.
+    bool project(const Vec3f& point, float* px, float* py) const {
+        const Vec3f d = point - origin_;
+        const float z = d.dot(forward_);
+        if (z <= 0.0f) return false;
+        *px = (d.dot(right_) / (z * tan_x_) + 1.0f) * 0.5f * static_cast<float>(width_);
+        *py = (1.0f - d.dot(up_) / (z * tan_y_)) * 0.5f * static_cast<float>(height_);
+        return true;
+    }
     const Vec3f& forward() const { return forward_; }
     const Vec3f& position() const { return origin_; }
     // Cone spread of one pixel (radians), for texture footprints.

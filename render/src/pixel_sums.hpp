@@ -33,7 +33,7 @@ inline float srgb_slope(float linear) {
 // What one pixel has gathered so far.
 struct PixelSums {
     V3 all = V3::Zero(), fg = V3::Zero();
-    int fg_count = 0, garment_count = 0, n = 0;
+    int fg_count = 0, garment_count = 0, turning_count = 0, n = 0;
     double lum = 0.0, lum2 = 0.0;  // luminance sums for the variance
     V3 albedo = V3::Zero(), normal = V3::Zero(), shading_normal = V3::Zero();
     float depth = 0.0f, fold = 0.0f;
@@ -43,6 +43,7 @@ struct PixelSums {
         ++n;
         all += s.radiance;
         garment_count += s.garment ? 1 : 0;
+        turning_count += s.turning ? 1 : 0;
         if (s.foreground) {
             fg += s.radiance;
             ++fg_count;

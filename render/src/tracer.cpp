@@ -129,6 +129,15 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     for (int a = 0; a < 4; ++a)
         if (want[a])
             aov_img[a] = Image{width, height, aov_channels[a], std::vector<float>(pixel_count * aov_channels[a], 0.0f)};
+    if (settings.keep_features) {
+        result.features.emplace();
+        result.features->albedo.resize(pixel_count);
+        result.features->normal.resize(pixel_count);
+        result.features->depth.resize(pixel_count);
+        result.features->turning.resize(pixel_count);
+        result.features->variance.resize(pixel_count);
+        result.features->cloth.resize(pixel_count);
+    }
     DenoiseFeatures features;
     if (settings.denoise) {
         features.albedo.resize(pixel_count);
@@ -193,7 +202,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     const int taken = s + 1;
                     if (threshold > 0.0f && (taken & (taken - 1)) == 0) {
                         if (taken >= kMinAdaptiveSpp &&
-                            packet_error_below(sums, inside, gain, threshold, settings.denoise))
+                            packet_error_below(sums, inside, gain, threshold, settings.denoise || settings.denoised_later))
                             for (PixelSums& p : sums) p.done = true;
                         for (PixelSums& p : sums) p.checkpoint();
                     }
@@ -223,6 +232,17 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     }
                     if (want[2]) *aov_img[2].at(x, y) = p.depth * inv;
                     if (want[3]) *aov_img[3].at(x, y) = p.fold * inv;
+                    if (settings.keep_features) {
+                        const std::size_t i = static_cast<std::size_t>(y) * width + x;
+                        PixelFeatures& f = *result.features;
+                        f.albedo[i] = p.albedo * inv;
+                        f.normal[i] = p.shading_normal.squaredNorm() > 1e-8f ? Vec3f(p.shading_normal.normalized())
+                                                                             : Vec3f::Zero();
+                        f.depth[i] = p.depth * inv;
+                        f.turning[i] = static_cast<float>(p.turning_count) * inv;
+                        f.variance[i] = p.variance_of_mean();
+                        f.cloth[i] = static_cast<float>(p.garment_count) * inv;
+                    }
                     if (settings.denoise) {
                         const std::size_t i = static_cast<std::size_t>(y) * width + x;
                         features.albedo[i] = p.albedo * inv;

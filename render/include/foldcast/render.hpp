@@ -176,10 +176,22 @@ struct RenderStats {
     double rays_per_second() const { return seconds > 0.0 ? static_cast<double>(rays) / seconds : 0.0; }
 };
 
+// What each pixel's camera rays hit first, as means over its samples (row-major like
+// Image): what a turntable's temporal filter matches between frames (temporal_filter.hpp).
+struct PixelFeatures {
+    std::vector<Vec3f> albedo;      // first-hit BSDF albedo
+    std::vector<Vec3f> normal;      // unit shading normal, zero where the sky was seen
+    std::vector<float> depth;       // first-hit distance from the camera, 0 for the sky
+    std::vector<float> turning;     // share of samples that hit the garment or its supports
+    std::vector<float> cloth;       // share of samples that hit the garment
+    std::vector<float> variance;    // of the pixel's mean luminance (its samples' spread / n)
+};
+
 struct RenderResult {
     Image beauty;              // RGBA, linear, straight (not premultiplied) alpha
     std::optional<Image> raw;  // before denoising, when asked to keep it
     std::vector<AovImage> aovs;
+    std::optional<PixelFeatures> features;  // when TraceSettings::keep_features
     RenderStats stats;
 };
 

@@ -20,6 +20,10 @@ struct TurntableOptions {
     int first_frame = 0;   // render frames [first_frame, last_frame)
     int last_frame = -1;   // -1 = total_frames
     bool preview = false;  // rasterise each frame through EGL instead of path tracing
+    // Path tracing: average each frame with its neighbours' surface points (render's
+    // temporal_filter.hpp), tracing every frame with its own samples; off: frames are
+    // independent stills, all traced with the same per-pixel samples.
+    bool temporal = false;
     int msaa_samples = 4;  // preview only
 };
 struct TurntableResult {

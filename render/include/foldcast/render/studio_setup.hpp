@@ -18,6 +18,8 @@ public:
     // wires, which run out of frame).
     std::vector<Vec3f> framing_points(int frame, double turn_deg) const;
     FrameGeometry geometry(int frame, double turn_deg) const;
+    // A point on the vertical axis that garment_points turns about.
+    const Vec3f& turn_centre() const { return centre_; }
     // The scene with its lights resolved (the studio preset placed around the garment).
     const SceneSpec& lit_scene() const { return scene_; }
 

@@ -24,6 +24,10 @@ struct TraceSettings {
     bool keep_raw = false;
     double noise_threshold = 0.0;  // RenderOptions::noise_threshold
     double exposure_ev = 0.0;      // for the threshold's display units
+    bool keep_features = false;    // RenderResult::features (turntables' temporal filter)
+    // The image will be denoised after the render (the temporal filter does it): adaptive
+    // sampling judges packets as it does for `denoise`, but the tracer leaves the image raw.
+    bool denoised_later = false;
 };
 // The settings a still or turntable frame renders with: the options over the scene's.
 TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& options);
