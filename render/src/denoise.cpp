@@ -15,7 +15,6 @@ namespace {
 constexpr int kPasses = 5;
 constexpr float kSigmaLuminance = 4.0f;  // in standard deviations of the pixel's noise
 constexpr float kSigmaDepth = 1.0f;      // in local depth steps per pixel of distance
-constexpr float kMinAlbedo = 0.01f;      // below this, a channel is filtered undivided
 
 struct Pixel {
     V3 n = V3::Zero();  // unit normal, or zero for the sky
@@ -34,7 +33,7 @@ float normal_weight(const V3& a, const V3& b) {
 
 }  // namespace
 
-void denoise(Image& rgba, const DenoiseFeatures& features, int threads) {
+void denoise(Image& rgba, const PixelFeatures& features, int threads) {
     const int w = rgba.width, h = rgba.height;
     const std::size_t count = static_cast<std::size_t>(w) * h;
     std::vector<Pixel> px(count);
@@ -42,16 +41,15 @@ void denoise(Image& rgba, const DenoiseFeatures& features, int threads) {
     std::vector<float> variance(count), next_variance(count);
     for (std::size_t i = 0; i < count; ++i) {
         Pixel& p = px[i];
-        const V3& n = features.normal[i];
-        p.n = n.squaredNorm() > 1e-8f ? V3(n.normalized()) : V3::Zero();
+        p.n = features.normal[i];
         p.depth = features.depth[i];
         p.covered = rgba.pixels[4 * i + 3] > 0.0f;
         const float* c = &rgba.pixels[4 * i];
         for (int k = 0; k < 3; ++k) {
-            albedo[i][k] = features.albedo[i][k] < kMinAlbedo ? 1.0f : features.albedo[i][k];
+            albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
             light[i][k] = c[k] / albedo[i][k];
         }
-        const float a = std::max(kMinAlbedo, luminance(albedo[i]));
+        const float a = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
         variance[i] = features.variance[i] / (a * a);
     }
     for (int y = 0; y < h; ++y)

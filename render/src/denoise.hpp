@@ -15,16 +15,14 @@
 
 namespace foldcast::render {
 
-// Per-pixel means over the pixel's samples, row-major like Image.
-struct DenoiseFeatures {
-    std::vector<V3> albedo;       // first-hit BSDF albedo
-    std::vector<V3> normal;       // first-hit shading normal (sum; zero where the sky was seen)
-    std::vector<float> depth;     // first-hit distance, 0 for the sky
-    std::vector<float> variance;  // variance of the pixel's mean luminance
-};
+// Below this a channel's albedo is not divided out (the colour is filtered as it is): the
+// denoiser and the turntable's temporal filter demodulate alike.
+constexpr float kMinDemodulationAlbedo = 0.01f;
+inline float demodulation_divisor(float albedo) { return albedo < kMinDemodulationAlbedo ? 1.0f : albedo; }
 
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are
-// neither changed nor used).
-void denoise(Image& rgba, const DenoiseFeatures& features, int threads);
+// neither changed nor used), guided by the first-hit albedo, unit shading normal (zero for
+// the sky), depth and luminance variance of `features` (the tracer's PixelFeatures).
+void denoise(Image& rgba, const PixelFeatures& features, int threads);
 
 }  // namespace foldcast::render

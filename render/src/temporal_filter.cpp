@@ -20,7 +20,6 @@
 namespace foldcast::render {
 namespace {
 
-constexpr float kMinAlbedo = 0.01f;  // below this a channel is averaged undivided (as the denoiser)
 // A pixel is reprojected as cloth (turned) or as backdrop (kept) only when nearly all its
 // samples agree; silhouettes and the rod, clips and wires (thin, metal: a reprojected
 // highlight lands beside itself) keep their own value.
@@ -35,11 +34,9 @@ constexpr float kNoiseSigmas = 3.0f;
 constexpr float kShadingTolerance = 0.1f;
 constexpr float kMinTapWeight = 0.5f;  // of the bilinear footprint that must agree
 
-float albedo_divisor(float a) { return a < kMinAlbedo ? 1.0f : a; }
-
 Vec3f demodulate(const float* rgba, const Vec3f& albedo) {
     Vec3f l;
-    for (int k = 0; k < 3; ++k) l[k] = rgba[k] / albedo_divisor(albedo[k]);
+    for (int k = 0; k < 3; ++k) l[k] = rgba[k] / demodulation_divisor(albedo[k]);
     return l;
 }
 
@@ -187,12 +184,16 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
                     if (count == 1.0f) continue;
                     const Vec3f light = sum / count;
                     float* px = out.at(x, y);
-                    for (int k = 0; k < 3; ++k) px[k] = light[k] * albedo_divisor(f.albedo[i][k]);
+                    for (int k = 0; k < 3; ++k) px[k] = light[k] * demodulation_divisor(f.albedo[i][k]);
                     variance[i] = variance_sum / (count * count);
                 }
         });
     });
-    if (denoise_after) denoise(out, DenoiseFeatures{f.albedo, f.normal, f.depth, std::move(variance)}, threads);
+    if (denoise_after) {
+        PixelFeatures averaged = f;  // the denoiser reads the average's variance
+        averaged.variance = std::move(variance);
+        denoise(out, averaged, threads);
+    }
     return out;
 }
 

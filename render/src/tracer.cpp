@@ -129,20 +129,16 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     for (int a = 0; a < 4; ++a)
         if (want[a])
             aov_img[a] = Image{width, height, aov_channels[a], std::vector<float>(pixel_count * aov_channels[a], 0.0f)};
-    if (settings.keep_features) {
-        result.features.emplace();
-        result.features->albedo.resize(pixel_count);
-        result.features->normal.resize(pixel_count);
-        result.features->depth.resize(pixel_count);
-        result.features->turning.resize(pixel_count);
-        result.features->variance.resize(pixel_count);
-        result.features->cloth.resize(pixel_count);
-    }
-    DenoiseFeatures features;
-    if (settings.denoise) {
+    // First-hit features: what the denoiser is guided by, and what a turntable's temporal
+    // filter matches between frames.
+    const bool features_wanted = settings.denoise || settings.keep_features;
+    PixelFeatures features;
+    if (features_wanted) {
         features.albedo.resize(pixel_count);
         features.normal.resize(pixel_count);
         features.depth.resize(pixel_count);
+        features.turning.resize(pixel_count);
+        features.cloth.resize(pixel_count);
         features.variance.resize(pixel_count);
     }
 
@@ -232,22 +228,15 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     }
                     if (want[2]) *aov_img[2].at(x, y) = p.depth * inv;
                     if (want[3]) *aov_img[3].at(x, y) = p.fold * inv;
-                    if (settings.keep_features) {
-                        const std::size_t i = static_cast<std::size_t>(y) * width + x;
-                        PixelFeatures& f = *result.features;
-                        f.albedo[i] = p.albedo * inv;
-                        f.normal[i] = p.shading_normal.squaredNorm() > 1e-8f ? Vec3f(p.shading_normal.normalized())
-                                                                             : Vec3f::Zero();
-                        f.depth[i] = p.depth * inv;
-                        f.turning[i] = static_cast<float>(p.turning_count) * inv;
-                        f.variance[i] = p.variance_of_mean();
-                        f.cloth[i] = static_cast<float>(p.garment_count) * inv;
-                    }
-                    if (settings.denoise) {
+                    if (features_wanted) {
                         const std::size_t i = static_cast<std::size_t>(y) * width + x;
                         features.albedo[i] = p.albedo * inv;
-                        features.normal[i] = p.shading_normal;
+                        features.normal[i] = p.shading_normal.squaredNorm() > 1e-8f
+                                                 ? Vec3f(p.shading_normal.normalized())
+                                                 : Vec3f::Zero();
                         features.depth[i] = p.depth * inv;
+                        features.turning[i] = static_cast<float>(p.turning_count) * inv;
+                        features.cloth[i] = static_cast<float>(p.garment_count) * inv;
                         features.variance[i] = p.variance_of_mean();
                     }
                 }
@@ -270,6 +259,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
         if (settings.keep_raw) result.raw = result.beauty;
         denoise(result.beauty, features, settings.threads);
     }
+    if (settings.keep_features) result.features = std::move(features);
 
     for (int a = 0; a < 4; ++a)
         if (want[a]) result.aovs.push_back({static_cast<Aov>(a), std::move(aov_img[a])});

@@ -16,7 +16,7 @@ constexpr int kW = 64, kH = 48;
 
 struct Scene {
     Image noisy, clean;
-    DenoiseFeatures features;
+    PixelFeatures features;
 };
 
 // A plane lit by a smooth gradient, with a checkerboard albedo of 2-pixel squares (a

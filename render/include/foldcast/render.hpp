@@ -177,7 +177,8 @@ struct RenderStats {
 };
 
 // What each pixel's camera rays hit first, as means over its samples (row-major like
-// Image): what a turntable's temporal filter matches between frames (temporal_filter.hpp).
+// Image): what the denoiser is guided by, and what a turntable's temporal filter matches
+// between frames (temporal_filter.hpp).
 struct PixelFeatures {
     std::vector<Vec3f> albedo;      // first-hit BSDF albedo
     std::vector<Vec3f> normal;      // unit shading normal, zero where the sky was seen
