@@ -26,7 +26,8 @@ Anderson::Anderson(Eigen::Index size)
       f_(std::size_t(size)),
       g_prev_(std::size_t(size)),
       f_prev_(std::size_t(size)),
-      g_(std::size_t(size)) {
+      g_(std::size_t(size)),
+      partial_(std::size_t((size + kChunk - 1) / kChunk) * 2 * kHistory) {
     for (std::vector<double>& d : dg_) d.resize(std::size_t(size));
     for (std::vector<double>& d : df_) d.resize(std::size_t(size));
     slot_dots_.setZero();
@@ -58,8 +59,7 @@ bool Anderson::step(const double* current, double* next) {
         const double* const g_prev = g_prev_.data();
         const double* const f_prev = f_prev_.data();
         const Eigen::Index chunks = (size_ + kChunk - 1) / kChunk;
-        // Per chunk: df_new . df_a, then df_a . f, for a oldest first.
-        std::vector<double> partial(std::size_t(chunks) * 2 * kHistory, 0.0);
+        double* const partial = partial_.data();
         for_chunks(size_, [&](Eigen::Index c, Eigen::Index begin, Eigen::Index end) {
             for (Eigen::Index e = begin; e < end; ++e) {
                 const double fe = g[e] - current[e];
@@ -71,7 +71,7 @@ bool Anderson::step(const double* current, double* next) {
             using Segment = Eigen::Map<const Eigen::VectorXd>;
             const Eigen::Index length = end - begin;
             const Segment df_new(new_df + begin, length), residual(f + begin, length);
-            double* const sums = partial.data() + c * 2 * kHistory;
+            double* const sums = partial + c * 2 * kHistory;
             for (int a = 0; a < h; ++a) {
                 const Segment d(history[std::size_t(a)] + begin, length);
                 sums[a] = df_new.dot(d), sums[kHistory + a] = d.dot(residual);

@@ -45,6 +45,7 @@ private:
     int stored_ = 0, oldest_ = 0, steps_ = 0;
     std::vector<double> f_, g_prev_, f_prev_, g_;          // residual G(x) - x, G and residual before, G now
     Slots dg_, df_;                                        // differences of G and of the residual
+    std::vector<double> partial_;                          // per chunk: df_new . df_a, then df_a . f
     Eigen::Matrix<double, kHistory, kHistory> slot_dots_;  // df[s] . df[t] by slot
 };
 

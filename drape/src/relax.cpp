@@ -28,8 +28,7 @@ struct GridRelaxer::Impl {
     double rest_u = 0.0, rest_v = 0.0;
     RelaxSettings settings;
     double anchor = 0.0;          // the matrix's anchor term, scaled so that it does not grow with nu
-    std::vector<int> free_index;  // per vertex: row in the system, or -1 when pinned
-    std::vector<int> free_vertices;
+    std::vector<char> is_pinned;       // per vertex
     std::vector<int> pinned_vertices;  // in vertex order, each once
     std::unique_ptr<detail::GridSolver> solver;
 
@@ -75,19 +74,14 @@ GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<i
     // does not: per-vertex weights scale as 1/nu (set for 64 columns).
     m.anchor = settings.anchor_weight * 63.0 / (grid.nu - 1);
     const int n = grid.nu * grid.nv;
-    m.free_index.assign(std::size_t(n), 0);
+    m.is_pinned.assign(std::size_t(n), 0);
     for (int p : pinned) {
         if (p < 0 || p >= n) throw InputError("pinned vertex " + std::to_string(p) + " is not in the grid");
-        m.free_index[std::size_t(p)] = -1;
+        m.is_pinned[std::size_t(p)] = 1;
     }
     for (int k = 0; k < n; ++k)
-        if (m.free_index[std::size_t(k)] >= 0) {
-            m.free_index[std::size_t(k)] = int(m.free_vertices.size());
-            m.free_vertices.push_back(k);
-        }
-    for (int k = 0; k < n; ++k)
-        if (m.free_index[std::size_t(k)] < 0) m.pinned_vertices.push_back(k);
-    if (m.free_vertices.empty())
+        if (m.is_pinned[std::size_t(k)]) m.pinned_vertices.push_back(k);
+    if (m.pinned_vertices.size() == std::size_t(n))
         throw std::runtime_error("relaxation: every vertex of the grid is pinned, nothing to relax");
     // The matrix: the graph Laplacian of the warp/weft edges plus the anchor on the diagonal.
     m.solver = std::make_unique<detail::GridSolver>(grid, m.anchor, m.pinned_vertices);
@@ -161,7 +155,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     if (!workspace) workspace = std::make_unique<Impl::Workspace>(n, grid.nv);
     Impl::Workspace& w = *workspace;
     for (std::size_t k = 0; k < n; ++k) {
-        const Vec3f& start = m.free_index[k] < 0 ? targets[k] : positions[k];
+        const Vec3f& start = m.is_pinned[k] ? targets[k] : positions[k];
         for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = double(start(Eigen::Index(c)));
     }
     const double anchor = m.anchor;
@@ -216,7 +210,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                     sum += std::abs(len / m.rest_v - 1.0), max = std::max(max, std::abs(len / m.rest_v - 1.0));
                     energy += (len - m.rest_v) * (len - m.rest_v);
                 }
-                if (m.free_index[std::size_t(k)] < 0) continue;
+                if (m.is_pinned[std::size_t(k)]) continue;
                 Eigen::Vector3d b = xk;
                 if (const double wk = crest[std::size_t(k)]; wk > 0.0) {
                     // Towards the fold line's height and depth, by the fraction wk; the
