@@ -81,6 +81,93 @@ float sample(const cv::Mat& m, float x, float y) {
            (1 - fx) * fy * m.at<float>(y1, x0) + fx * fy * m.at<float>(y1, x1);
 }
 
+// Print colours are told apart on the chromaticity median-filtered over 5x5 px: a thin
+// crease darkens a print by a pixel or two, and JPEG's coarse chroma moves such pixels'
+// colour; the filtered colour is the print's.  Each pixel whose filtered colour lies
+// farther than `limit` from the cloth's (mr, mg) joins the nearest group whose mean lies
+// within `limit`, else starts one (at most kMaxGroups; the rest cannot be normalised); a
+// second pass assigns every such pixel to the nearest final mean.  A pixel `printed` by its
+// own colour but not by the filtered one (a dot, a thin stroke) cannot be normalised.
+struct PrintColours {
+    cv::Mat label;  // CV_32S: 0 cloth, k >= 1 group k - 1, -1 printed but in no group
+    int groups = 0;
+};
+
+PrintColours group_print_colours(const cv::Mat& chroma_r, const cv::Mat& chroma_g, const cv::Mat& cloth,
+                                 const cv::Mat& printed, float mr, float mg, float limit) {
+    cv::Mat r_filtered, g_filtered;
+    cv::medianBlur(chroma_r, r_filtered, 5);
+    cv::medianBlur(chroma_g, g_filtered, 5);
+    cv::Mat coloured = cv::Mat::zeros(cloth.size(), CV_8U);
+    for (int y = 0; y < cloth.rows; ++y)
+        for (int x = 0; x < cloth.cols; ++x)
+            coloured.at<uchar>(y, x) = cloth.at<uchar>(y, x) && std::hypot(r_filtered.at<float>(y, x) - mr,
+                                                                           g_filtered.at<float>(y, x) - mg) > limit;
+    constexpr int kMaxGroups = 16;
+    struct Group {
+        double r = 0, g = 0;
+        long n = 0;
+    };
+    std::vector<Group> groups;
+    auto nearest = [&](float r, float g) {
+        int best = -1;
+        double best_d = limit;
+        for (size_t k = 0; k < groups.size(); ++k) {
+            const double d = std::hypot(r - groups[k].r / groups[k].n, g - groups[k].g / groups[k].n);
+            if (d <= best_d) {
+                best_d = d;
+                best = int(k);
+            }
+        }
+        return best;
+    };
+    for (int y = 0; y < cloth.rows; ++y)
+        for (int x = 0; x < cloth.cols; ++x) {
+            if (!coloured.at<uchar>(y, x)) continue;
+            const float r = r_filtered.at<float>(y, x), g = g_filtered.at<float>(y, x);
+            int k = nearest(r, g);
+            if (k < 0 && int(groups.size()) < kMaxGroups) {
+                groups.push_back({});
+                k = int(groups.size()) - 1;
+            }
+            if (k >= 0) {
+                groups[size_t(k)].r += r;
+                groups[size_t(k)].g += g;
+                ++groups[size_t(k)].n;
+            }
+        }
+    PrintColours out{cv::Mat(cloth.size(), CV_32S, cv::Scalar(0)), int(groups.size())};
+    for (int y = 0; y < cloth.rows; ++y)
+        for (int x = 0; x < cloth.cols; ++x)
+            if (coloured.at<uchar>(y, x)) {
+                const int k = nearest(r_filtered.at<float>(y, x), g_filtered.at<float>(y, x));
+                out.label.at<int>(y, x) = k < 0 ? -1 : k + 1;
+            } else if (printed.at<uchar>(y, x)) {
+                out.label.at<int>(y, x) = -1;
+            }
+    return out;
+}
+
+// Where the colour changes: a pixel of the cloth that has no group or whose 8-neighbourhood
+// (on the cloth) holds another label.  CV_8U 255.
+cv::Mat colour_changes(const cv::Mat& label, const cv::Mat& cloth) {
+    cv::Mat change = cv::Mat::zeros(cloth.size(), CV_8U);
+    for (int y = 0; y < cloth.rows; ++y)
+        for (int x = 0; x < cloth.cols; ++x) {
+            if (!cloth.at<uchar>(y, x)) continue;
+            const int l = label.at<int>(y, x);
+            bool edge = l < 0;
+            for (int dy = -1; dy <= 1 && !edge; ++dy)
+                for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                    const int qx = x + dx, qy = y + dy;
+                    if (qx < 0 || qy < 0 || qx >= cloth.cols || qy >= cloth.rows || !cloth.at<uchar>(qy, qx)) continue;
+                    edge = label.at<int>(qy, qx) != l;
+                }
+            change.at<uchar>(y, x) = edge ? 255 : 0;
+        }
+    return change;
+}
+
 // Printed motifs (letters, logos, dots): pixels whose linear-light chromaticity
 // (R, G) / (R + G + B) lies far from the cloth's median.  Shading (a fold turning away from
 // the light) scales R, G and B alike and leaves the chromaticity where it is; a print of
@@ -169,92 +256,18 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
             printed.at<uchar>(y, x) = cloth.at<uchar>(y, x) && distance.at<float>(y, x) > limit ? 255 : 0;
     cv::morphologyEx(printed, printed, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
     const cv::Mat grow =
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1));
-    if (grow_px > 0)
-        cv::dilate(printed, out.prints, grow);
-    else
-        out.prints = printed.clone();
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1));  // 1x1: none
+    cv::dilate(printed, out.prints, grow);
     if (cv::countNonZero(printed) == 0) return out;
 
-    // Print colours are told apart on the chromaticity median-filtered over 5x5 px: a thin
-    // crease darkens a print by a pixel or two, and JPEG's coarse chroma moves such pixels'
-    // colour; the filtered colour is the print's.  Each pixel whose filtered colour lies
-    // farther than `limit` from the cloth's joins the nearest group whose mean lies within
-    // `limit`, else starts one (at most kMaxGroups; the rest cannot be normalised); a second
-    // pass assigns every such pixel to the nearest final mean.  A pixel printed by its own
-    // colour but not by the filtered one (a dot, a thin stroke) cannot be normalised.
-    cv::medianBlur(chroma_r, chroma_r, 5);
-    cv::medianBlur(chroma_g, chroma_g, 5);
-    cv::Mat coloured = cv::Mat::zeros(rgb.size(), CV_8U);
-    for (int y = 0; y < rgb.rows; ++y)
-        for (int x = 0; x < rgb.cols; ++x)
-            coloured.at<uchar>(y, x) =
-                cloth.at<uchar>(y, x) &&
-                std::hypot(chroma_r.at<float>(y, x) - mr, chroma_g.at<float>(y, x) - mg) > limit;
-    constexpr int kMaxGroups = 16;
-    struct Group {
-        double r = 0, g = 0;
-        long n = 0;
-    };
-    std::vector<Group> groups;
-    cv::Mat label(rgb.size(), CV_32S, cv::Scalar(0));  // 0 cloth, k >= 1 group k - 1, -1 unassigned
-    auto nearest = [&](float r, float g) {
-        int best = -1;
-        double best_d = limit;
-        for (size_t k = 0; k < groups.size(); ++k) {
-            const double d = std::hypot(r - groups[k].r / groups[k].n, g - groups[k].g / groups[k].n);
-            if (d <= best_d) {
-                best_d = d;
-                best = int(k);
-            }
-        }
-        return best;
-    };
-    for (int y = 0; y < rgb.rows; ++y)
-        for (int x = 0; x < rgb.cols; ++x) {
-            if (!coloured.at<uchar>(y, x)) continue;
-            const float r = chroma_r.at<float>(y, x), g = chroma_g.at<float>(y, x);
-            int k = nearest(r, g);
-            if (k < 0 && int(groups.size()) < kMaxGroups) {
-                groups.push_back({});
-                k = int(groups.size()) - 1;
-            }
-            if (k >= 0) {
-                groups[size_t(k)].r += r;
-                groups[size_t(k)].g += g;
-                ++groups[size_t(k)].n;
-            }
-        }
-    for (int y = 0; y < rgb.rows; ++y)
-        for (int x = 0; x < rgb.cols; ++x)
-            if (coloured.at<uchar>(y, x)) {
-                const int k = nearest(chroma_r.at<float>(y, x), chroma_g.at<float>(y, x));
-                label.at<int>(y, x) = k < 0 ? -1 : k + 1;
-            } else if (printed.at<uchar>(y, x)) {
-                label.at<int>(y, x) = -1;
-            }
-    // Where the colour changes: a pixel of the cloth whose 8-neighbourhood holds another label.
-    cv::Mat change = cv::Mat::zeros(rgb.size(), CV_8U);
-    for (int y = 0; y < rgb.rows; ++y)
-        for (int x = 0; x < rgb.cols; ++x) {
-            if (!cloth.at<uchar>(y, x)) continue;
-            const int l = label.at<int>(y, x);
-            bool edge = l < 0;
-            for (int dy = -1; dy <= 1 && !edge; ++dy)
-                for (int dx = -1; dx <= 1 && !edge; ++dx) {
-                    const int qx = x + dx, qy = y + dy;
-                    if (qx < 0 || qy < 0 || qx >= rgb.cols || qy >= rgb.rows || !cloth.at<uchar>(qy, qx)) continue;
-                    edge = label.at<int>(qy, qx) != l;
-                }
-            change.at<uchar>(y, x) = edge ? 255 : 0;
-        }
-    if (grow_px > 0) cv::dilate(change, out.outline, grow);
-    else out.outline = change;
+    const PrintColours colours = group_print_colours(chroma_r, chroma_g, cloth, printed, mr, mg, limit);
+    const cv::Mat& label = colours.label;
+    cv::dilate(colour_changes(label, cloth), out.outline, grow);
     // Each colour's median luma away from its outline (the cloth is label 0); a group with
     // fewer than kMinCore such pixels is left to the outline as a whole.
     constexpr size_t kMinCore = 50;
     const cv::Mat luma = detail::luma_of(photo);
-    std::vector<std::vector<float>> core(groups.size() + 1);
+    std::vector<std::vector<float>> core(std::size_t(colours.groups) + 1);
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x) {
             const int l = label.at<int>(y, x);
@@ -262,8 +275,8 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
                 core[size_t(l)].push_back(luma.at<float>(y, x));
         }
     const float cloth_luma = core[0].empty() ? 0.0f : median_of(core[0]);
-    std::vector<float> gain(groups.size() + 1, 1.0f);
-    std::vector<bool> readable(groups.size() + 1, true);
+    std::vector<float> gain(core.size(), 1.0f);
+    std::vector<bool> readable(core.size(), true);
     for (size_t k = 1; k < core.size(); ++k) {
         const float m = core[k].size() >= kMinCore ? median_of(core[k]) : 0.0f;
         readable[k] = cloth_luma > 0 && m > 1e-3f;
@@ -273,10 +286,12 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x) {
             const int l = label.at<int>(y, x);
-            if (l < 0 || !readable[size_t(l)]) unreadable.at<uchar>(y, x) = 255;
-            else out.gain.at<float>(y, x) = gain[size_t(l)];
+            if (l < 0 || !readable[size_t(l)])
+                unreadable.at<uchar>(y, x) = 255;
+            else
+                out.gain.at<float>(y, x) = gain[size_t(l)];
         }
-    if (grow_px > 0) cv::dilate(unreadable, unreadable, grow);
+    cv::dilate(unreadable, unreadable, grow);
     out.outline |= unreadable;
     out.outline &= out.prints;  // only around prints (the dilation may reach past them)
     return out;
