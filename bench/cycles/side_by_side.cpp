@@ -29,8 +29,6 @@
 
 #include "foldcast/core/colour.hpp"
 #include "foldcast/render.hpp"
-#include "foldcast/render/studio_setup.hpp"
-#include "foldcast/render/tracer.hpp"
 
 using namespace foldcast;
 using namespace foldcast::render;
@@ -120,13 +118,7 @@ Seconds render_foldcast(const Args& args, const SceneSpec& scene, const GarmentD
     o.denoise = denoise;
     const auto t0 = std::chrono::steady_clock::now();
     const double cpu0 = process_cpu_seconds();
-    const StudioSetup setup(scene, garment);
-    const int frame = scene.garment.frame;
-    const TraceSettings settings = trace_settings(scene, o);
-    const Camera camera = frame_camera(scene.camera, {setup.framing_points(frame, 0.0)},
-                                       static_cast<double>(settings.width) / settings.height);
-    const Tracer tracer(setup.lit_scene(), setup.geometry(frame, 0.0));
-    const RenderResult r = tracer.render(camera, settings);
+    const RenderResult r = render_still(scene, garment, o);
     const Seconds t{std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
                     process_cpu_seconds() - cpu0};
     write_render(exr, r, scene);

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <utility>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/render.hpp"
@@ -42,9 +43,10 @@ const char* aov_name(Aov aov) {
     return "?";
 }
 
-RenderResult render_still(const SceneSpec& scene, const RenderOptions& options, const ProgressFn& progress) {
+RenderResult render_still(const SceneSpec& scene, GarmentData garment, const RenderOptions& options,
+                          const ProgressFn& progress) {
     const auto start = std::chrono::steady_clock::now();
-    const StudioSetup setup(scene, load_garment(scene, progress));
+    const StudioSetup setup(scene, std::move(garment));
     const int frame = scene.garment.frame;
     if (frame >= setup.frame_count())
         throw InputError("garment.frame = " + std::to_string(frame) + ": the garment has " +
@@ -55,6 +57,13 @@ RenderResult render_still(const SceneSpec& scene, const RenderOptions& options, 
                                        static_cast<double>(settings.width) / settings.height);
     const Tracer tracer(setup.lit_scene(), setup.geometry(frame, 0.0));
     RenderResult result = tracer.render(camera, settings, progress);
+    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+RenderResult render_still(const SceneSpec& scene, const RenderOptions& options, const ProgressFn& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    RenderResult result = render_still(scene, load_garment(scene, progress), options, progress);
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

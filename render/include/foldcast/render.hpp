@@ -199,6 +199,10 @@ struct RenderResult {
 // Renders the scene's still (garment.frame).  Deterministic: the same scene, seed and spp
 // give the same pixels whatever `threads` is.
 RenderResult render_still(const SceneSpec& scene, const RenderOptions& options, const ProgressFn& progress = {});
+// The same with the garment already loaded (load_garment): its seconds then count the
+// studio, the BVH and the render only (benchmarks that time the renderer alone use it).
+RenderResult render_still(const SceneSpec& scene, GarmentData garment, const RenderOptions& options,
+                          const ProgressFn& progress = {});
 
 // Writes OUT.png (8-bit sRGB; with alpha when the scene is transparent) or OUT.exr (linear
 // float RGBA), each AOV beside it as OUT.<aov>.png / OUT.<aov>.exr and the image before
