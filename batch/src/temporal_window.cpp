@@ -17,7 +17,7 @@ bool TemporalWindow::needed_after(int g, int f) const {
 }
 
 TemporalWindow::Output TemporalWindow::output(int f, const render::Camera& camera, const Vec3f& turn_centre,
-                                              bool denoise, int threads) {
+                                              bool denoise, bool keep_raw, int threads) {
     Output out;
     render::RenderResult& result = out.result;
     std::vector<const render::TemporalFrame*> window;
@@ -34,10 +34,8 @@ TemporalWindow::Output TemporalWindow::output(int f, const render::Camera& camer
         window.push_back(&it->second->frame);
     }
     result.beauty = render::temporal_filter(window, camera, turn_centre, denoise, threads);
-    const TracedFrame& own = *held_.at(wrap(f));
-    if (own.keep_raw) result.raw = own.frame.beauty;
-    for (auto it = held_.begin(); it != held_.end();)
-        it = needed_after(it->first, f) ? std::next(it) : held_.erase(it);
+    if (keep_raw) result.raw = held_.at(wrap(f))->frame.beauty;
+    for (auto it = held_.begin(); it != held_.end();) it = needed_after(it->first, f) ? std::next(it) : held_.erase(it);
     return out;
 }
 

@@ -15,7 +15,6 @@ namespace foldcast::batch {
 
 struct TracedFrame {
     render::TemporalFrame frame;
-    bool keep_raw = false;  // the output's raw is then frame.beauty (before any filter)
     render::RenderStats stats;
 };
 
@@ -30,8 +29,10 @@ public:
                                       // summed over the frames traced for it
         int traced = 0;               // frames traced for it (0 to 2r+1)
     };
-    // Frame f's output; call for f = first, first+1, ... in order.
-    Output output(int f, const render::Camera& camera, const Vec3f& turn_centre, bool denoise, int threads);
+    // Frame f's output; call for f = first, first+1, ... in order.  With keep_raw its raw is
+    // frame f as traced (before any filter).
+    Output output(int f, const render::Camera& camera, const Vec3f& turn_centre, bool denoise, bool keep_raw,
+                  int threads);
 
 private:
     int wrap(int f) const { return ((f % total_) + total_) % total_; }

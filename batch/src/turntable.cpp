@@ -143,7 +143,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
             s.denoise = false;  // the filter denoises the average
             s.keep_raw = false;
             RenderResult r = Tracer(setup.lit_scene(), setup.geometry(garment_frame(g), turn(g))).render(camera, s);
-            return TracedFrame{{std::move(r.beauty), std::move(*r.features), turn(g)}, settings.keep_raw, r.stats};
+            return TracedFrame{{std::move(r.beauty), std::move(*r.features), turn(g)}, r.stats};
         });
     }
     for (int f = first; f < last; ++f) {
@@ -155,7 +155,8 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
             };
         RenderResult r;
         if (window) {
-            TemporalWindow::Output o = window->output(f, camera, setup.turn_centre(), settings.denoise, settings.threads);
+            TemporalWindow::Output o =
+                window->output(f, camera, setup.turn_centre(), settings.denoise, settings.keep_raw, settings.threads);
             r = std::move(o.result);
             traced += o.traced;
             if (progress) progress("turntable", (done + 1.0) / count);
