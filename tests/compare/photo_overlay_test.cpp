@@ -76,6 +76,26 @@ const Synthetic& synthetic() {
     return s;
 }
 
+// The fit's search box: `inset_steps` insets in [inset_min, inset_max] m and `young_steps`
+// moduli in [young_min, young_max] Pa.
+compare::FitBounds box(double inset_min, double inset_max, int inset_steps, double young_min, double young_max,
+                       int young_steps) {
+    compare::FitBounds b;
+    b.inset_min_m = inset_min, b.inset_max_m = inset_max, b.inset_steps = inset_steps;
+    b.young_min_pa = young_min, b.young_max_pa = young_max, b.young_steps = young_steps;
+    return b;
+}
+
+// fit_folds on the synthetic photo, its pixel map from the supports for every set tried.
+compare::FitResult fit_synthetic(const Synthetic& s, const drape::ClothParams& start, const compare::FitBounds& bounds,
+                                 const compare::FoldDetection& detection, const compare::CentreLine& centre,
+                                 double tolerance_px) {
+    const auto map_for = [&](const drape::ClothParams& p) {
+        return compare::similarity_from_supports(s.supports, p.support_span_m());
+    };
+    return compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, tolerance_px);
+}
+
 }  // namespace
 
 TEST(CentreLine, MeasuresTheFoldCountAndQDrawnFromTheModel) {
@@ -166,18 +186,8 @@ TEST(OverlayFit, AScoreFlatOverTheWholeBoxIsReportedNotDecidedAndTheStartIsKept)
     detection.folds.clear();
     compare::CentreLine centre;
     centre.folds = s.solution.folds;
-    compare::FitBounds bounds;
-    bounds.inset_min_m = 0.098;
-    bounds.inset_max_m = 0.102;
-    bounds.inset_steps = 5;
-    bounds.young_min_pa = s.params.young_pa / 1.02;
-    bounds.young_max_pa = s.params.young_pa * 1.02;
-    bounds.young_steps = 5;
-    auto map_for = [&](const drape::ClothParams& p) {
-        return compare::similarity_from_supports(s.supports, p.support_span_m());
-    };
-    const auto fit =
-        compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
+    const compare::FitBounds bounds = box(0.098, 0.102, 5, s.params.young_pa / 1.02, s.params.young_pa * 1.02, 5);
+    const auto fit = fit_synthetic(s, s.params, bounds, detection, centre, 0.02 * s.supports.distance_px());
     ASSERT_EQ(fit.solution.folds, s.solution.folds);
     EXPECT_DOUBLE_EQ(fit.score.agreement, 0.5);  // F1 0, count error 0
     EXPECT_FALSE(fit.inset_m.constrained);
@@ -194,18 +204,9 @@ TEST(OverlayFit, FindsTheFoldCountAndInsetTheSyntheticPhotoWasDrawnWith) {
     drape::ClothParams start = s.params;
     start.young_pa = 15e6;
     start.inset_m = 0.05;
-    compare::FitBounds bounds;
-    bounds.inset_min_m = 0.0;
-    bounds.inset_max_m = 0.2;
-    bounds.inset_steps = 9;  // 0.025 m steps: 0.1 is on the grid
-    bounds.young_min_pa = start.young_pa / 10;
-    bounds.young_max_pa = start.young_pa * 10;
-    bounds.young_steps = 9;
-    auto map_for = [&](const drape::ClothParams& p) {
-        return compare::similarity_from_supports(s.supports, p.support_span_m());
-    };
-    const auto fit =
-        compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
+    // 0.025 m steps of the inset: 0.1 is on the grid.
+    compare::FitBounds bounds = box(0.0, 0.2, 9, start.young_pa / 10, start.young_pa * 10, 9);
+    const auto fit = fit_synthetic(s, start, bounds, detection, centre, 0.02 * s.supports.distance_px());
     EXPECT_EQ(fit.solution.folds, s.solution.folds);
     EXPECT_NEAR(fit.params.inset_m, 0.1, 0.0251);
     EXPECT_LE(fit.inset_m.low, 0.1 + 1e-9);
@@ -221,14 +222,13 @@ TEST(OverlayFit, FindsTheFoldCountAndInsetTheSyntheticPhotoWasDrawnWith) {
     bounds.inset_min_m = 0.0;
     bounds.inset_max_m = 0.05;
     bounds.inset_steps = 3;
-    const auto edge =
-        compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 0.02 * s.supports.distance_px());
+    const auto edge = fit_synthetic(s, start, bounds, detection, centre, 0.02 * s.supports.distance_px());
     EXPECT_LT(edge.score.agreement, fit.score.agreement);
     const bool at_bound = std::abs(edge.params.inset_m - bounds.inset_min_m) < 1e-9 ||
                           std::abs(edge.params.inset_m - bounds.inset_max_m) < 1e-9;
     EXPECT_EQ(edge.inset_m.on_bound, at_bound);
     bounds.young_min_pa = -1;
-    EXPECT_THROW(compare::fit_folds(start, bounds, {}, map_for, s.mask, detection, centre, 2.0), InputError);
+    EXPECT_THROW(fit_synthetic(s, start, bounds, detection, centre, 2.0), InputError);
 }
 
 TEST(OverlayFit, SaysWhenNoSetWithTheMeasuredCountPutsItsFoldWhereThePhotoHasIt) {
@@ -240,18 +240,9 @@ TEST(OverlayFit, SaysWhenNoSetWithTheMeasuredCountPutsItsFoldWhereThePhotoHasIt)
     const auto detection = compare::detect_folds(s.photo, s.mask);
     const auto centre = compare::measure_centre_line(detection, s.supports);
     ASSERT_EQ(centre.folds, s.solution.folds);
-    compare::FitBounds bounds;
-    bounds.inset_min_m = 0.05;
-    bounds.inset_max_m = 0.15;
-    bounds.inset_steps = 5;
-    bounds.young_min_pa = s.params.young_pa / 3;
-    bounds.young_max_pa = s.params.young_pa * 3;
-    bounds.young_steps = 5;
-    auto map_for = [&](const drape::ClothParams& p) {
-        return compare::similarity_from_supports(s.supports, p.support_span_m());
-    };
+    const compare::FitBounds bounds = box(0.05, 0.15, 5, s.params.young_pa / 3, s.params.young_pa * 3, 5);
     const double tolerance = 0.02 * s.supports.distance_px();
-    const auto fit = compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, centre, tolerance);
+    const auto fit = fit_synthetic(s, s.params, bounds, detection, centre, tolerance);
     ASSERT_TRUE(fit.reach.has_value());
     EXPECT_EQ(fit.reach->folds, s.solution.folds);
     EXPECT_GT(fit.reach->sets, 0);
@@ -261,20 +252,20 @@ TEST(OverlayFit, SaysWhenNoSetWithTheMeasuredCountPutsItsFoldWhereThePhotoHasIt)
 
     compare::CentreLine high = centre;
     high.depths_px.back() = 10.0;
-    const auto miss = compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, high, tolerance);
+    const auto miss = fit_synthetic(s, s.params, bounds, detection, high, tolerance);
     ASSERT_TRUE(miss.reach.has_value());
     EXPECT_LT(miss.reach->measured_px, miss.reach->lowest_min_px - tolerance);
     EXPECT_TRUE(miss.reach->outside);
 
     compare::CentreLine many = centre;
     many.folds = 60;
-    const auto none = compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, many, tolerance);
+    const auto none = fit_synthetic(s, s.params, bounds, detection, many, tolerance);
     ASSERT_TRUE(none.reach.has_value());
     EXPECT_EQ(none.reach->sets, 0);
     EXPECT_TRUE(none.reach->outside);
 
     compare::CentreLine flat;  // nothing measured: nothing to reach
-    EXPECT_FALSE(compare::fit_folds(s.params, bounds, {}, map_for, s.mask, detection, flat, tolerance).reach);
+    EXPECT_FALSE(fit_synthetic(s, s.params, bounds, detection, flat, tolerance).reach);
 }
 
 TEST(PhotoOverlay, GeometryFromTheMaskLinesOnTheClothAndErrors) {
