@@ -78,7 +78,7 @@ std::optional<LightSample> LightSampler::sample(const LightChoice& choice, const
         const float cos_l = -s.wi.dot(l.normal);
         if (!(cos_l > 0.0f)) return std::nullopt;
         s.pdf =
-            choice.prob[pick] * (cone ? float(1.0 / cone->solid_angle()) : s.distance * s.distance / (l.area * cos_l));
+            choice.prob[pick] * (cone ? 1.0f / cone->solid_angle() : s.distance * s.distance / (l.area * cos_l));
         s.radiance = l.radiance;
     } else {
         const V3 local = sample_cosine_hemisphere(u_a, u_b);
@@ -112,7 +112,7 @@ float LightSampler::pdf(const LightChoice& choice, int index, const Vec3f& p, co
     const Light& l = lights_[index];
     if (!(choice.prob[index] > 0.0f)) return 0.0f;
     if (const auto cone = SphericalRectangle::make(p, l.corner, l.ex, l.ey, 2.0f * l.half_w, 2.0f * l.half_h))
-        return choice.prob[index] * float(1.0 / cone->solid_angle());
+        return choice.prob[index] / cone->solid_angle();
     const Vec3f to = q - p;
     const float dist2 = to.squaredNorm();
     const float cos_l = -to.dot(l.normal) / std::sqrt(dist2);
