@@ -12,8 +12,21 @@
 namespace foldcast::render {
 namespace {
 
-// The angle between two edge planes from the cosine of it, kept inside acos' domain.
-float interior_angle(float cosine) { return std::acos(std::clamp(cosine, -1.0f, 1.0f)); }
+// The angle between two edge planes from the cosine of it: acos by Hastings' polynomial
+// (Abramowitz and Stegun 4.4.46, |error| <= 2e-8 rad, below float's rounding at pi), a
+// square root and eight multiply-adds where libm's acosf took a tenth of make()'s callers'
+// time.
+float interior_angle(float cosine) {
+    const float x = std::min(1.0f, std::abs(cosine));
+    const float p =
+        1.5707963050f +
+        x * (-0.2145988016f +
+             x * (0.0889789874f +
+                  x * (-0.0501743046f +
+                       x * (0.0308918810f + x * (-0.0170881256f + x * (0.0066700901f + x * -0.0012624911f))))));
+    const float a = std::sqrt(1.0f - x) * p;
+    return cosine < 0.0f ? kPiF - a : a;
+}
 
 }  // namespace
 
