@@ -15,6 +15,7 @@ namespace {
 constexpr int kPasses = 5;
 constexpr float kSigmaLuminance = 4.0f;  // in standard deviations of the pixel's noise
 constexpr float kSigmaDepth = 1.0f;      // in local depth steps per pixel of distance
+constexpr float kMaxExponent = 20.0f;    // taps weighted below exp(-20) are skipped
 
 struct Pixel {
     V3 n = V3::Zero();  // unit normal, or zero for the sky
@@ -65,7 +66,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
 
     static constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-    std::vector<float> sigma(count);
+    std::vector<float> sigma(count), lum(count);
     for (int pass = 0; pass < kPasses; ++pass) {
         const int stride = 1 << pass;
         // The colour weight's scale from the variance blurred over 3x3 pixels (SVGF): a
@@ -92,6 +93,13 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
                     }
             });
         });
+        for (std::size_t i = 0; i < count; ++i) lum[i] = luminance(light[i]);
+        // 1 / the depth weight's distance factor max(1, |offset| pixels) for each tap.
+        float inv_distance[3][3];
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+                inv_distance[dy + 1][dx + 1] =
+                    1.0f / std::max(1.0f, static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy)));
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
                 for (int y = rows.begin(); y != rows.end(); ++y)
@@ -103,7 +111,8 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
                             next_variance[i] = variance[i];
                             continue;
                         }
-                        const float lum_p = luminance(light[i]);
+                        const float lum_p = lum[i];
+                        const float inv_sigma = 1.0f / sigma[i], inv_depth = 1.0f / (kSigmaDepth * p.depth_step);
                         V3 sum = V3::Zero();
                         float sum_w = 0.0f, sum_v = 0.0f;
                         for (int dy = -1; dy <= 1; ++dy) {
@@ -115,13 +124,13 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
                                 const std::size_t j = static_cast<std::size_t>(qy) * w + qx;
                                 const Pixel& q = px[j];
                                 if (!q.covered) continue;
-                                const float distance =
-                                    static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy));
-                                const float e = std::abs(luminance(light[j]) - lum_p) / sigma[i] +
-                                                std::abs(q.depth - p.depth) /
-                                                    (kSigmaDepth * p.depth_step * std::max(1.0f, distance));
-                                const float wt =
-                                    kKernel[dx + 1] * kKernel[dy + 1] * normal_weight(p.n, q.n) * std::exp(-e);
+                                const float e = std::abs(lum[j] - lum_p) * inv_sigma +
+                                                std::abs(q.depth - p.depth) * inv_depth * inv_distance[dy + 1][dx + 1];
+                                // Beyond this the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
+                                if (e > kMaxExponent) continue;
+                                const float nw = normal_weight(p.n, q.n);
+                                if (nw == 0.0f) continue;
+                                const float wt = kKernel[dx + 1] * kKernel[dy + 1] * nw * std::exp(-e);
                                 sum += wt * light[j];
                                 sum_w += wt;
                                 sum_v += wt * wt * variance[j];
