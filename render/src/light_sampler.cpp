@@ -11,7 +11,8 @@
 
 namespace foldcast::render {
 
-LightSampler::LightSampler(const std::vector<AreaLight>& lights, const V3& environment) : environment_(environment) {
+LightSampler::LightSampler(const std::vector<AreaLight>& lights, const V3& environment)
+    : environment_(environment), environment_power_(luminance(environment) * kPiF) {
     for (const AreaLight& a : lights) {
         Light l;
         l.centre = a.position;
@@ -24,6 +25,7 @@ LightSampler::LightSampler(const std::vector<AreaLight>& lights, const V3& envir
         l.area = a.width_m * a.height_m;
         l.corner = l.centre - l.half_w * l.ex - l.half_h * l.ey;
         l.radiance = a.radiance;
+        l.power = luminance(l.radiance) * l.area;
         lights_.push_back(l);
     }
 }
@@ -36,13 +38,13 @@ LightChoice LightSampler::choose(const Vec3f& p, const Vec3f& n) const {
         const Light& l = lights_[i];
         const Vec3f d = l.centre - p;
         const float dist2 = std::max(1e-4f, d.squaredNorm());
-        const Vec3f dn = d / std::sqrt(dist2);
-        const float facing = std::max(0.0f, -dn.dot(l.normal));
-        const float receive = std::max(0.0f, dn.dot(n)) + 0.05f;
-        c.prob[i] = facing > 0.0f ? luminance(l.radiance) * l.area * facing * receive / dist2 : 0.0f;
+        const float inv_dist = 1.0f / std::sqrt(dist2);
+        const float facing = std::max(0.0f, -d.dot(l.normal) * inv_dist);
+        const float receive = std::max(0.0f, d.dot(n) * inv_dist) + 0.05f;
+        c.prob[i] = facing > 0.0f ? l.power * facing * receive * (inv_dist * inv_dist) : 0.0f;
         sum += c.prob[i];
     }
-    c.prob[count] = luminance(environment_) * kPiF;
+    c.prob[count] = environment_power_;
     // An environment that brings less than this share of the expected light is left to BSDF
     // sampling (MIS then gives its hits full weight): the light samples it would take are
     // better spent on the area lights (the studio's dim fill, default scene at 4 / 16 / 64 spp:

@@ -19,6 +19,7 @@ struct Light {
     Vec3f corner;                  // centre - half_w ex - half_h ey
     float half_w = 0, half_h = 0, area = 0;
     V3 radiance;
+    float power = 0;  // luminance(radiance) * area: the choice's weight before distance and angles
 };
 
 // Probabilities of picking each light (and the environment, last) at one path vertex.
@@ -68,6 +69,7 @@ public:
 private:
     std::vector<Light> lights_;
     V3 environment_;
+    float environment_power_;  // luminance * pi, the environment's weight in a choice
 };
 
 }  // namespace foldcast::render
