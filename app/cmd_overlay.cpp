@@ -172,7 +172,10 @@ Command overlay_command(CLI::App& app) {
         app.add_subcommand("overlay", "Draw the predicted fold lines over a photo of cloth hung from two supports");
     const double inf = std::numeric_limits<double>::infinity();
     sub->add_option("photo", o->photo, "Photo (PNG, JPEG, ...)")->required();
-    sub->add_option("-o,--output", o->output, "Output picture: the photo's size, or larger by a band with the legend when no place on the photo is clear of the cloth")->required();
+    sub->add_option("-o,--output", o->output,
+                    "Output picture: the photo's size, or larger by a band holding the legend when no place on "
+                    "the photo is clear of the cloth")
+        ->required();
     sub->add_option("--supports", o->supports, "X1,Y1,X2,Y2: the two supports in pixels")
         ->required()
         ->delimiter(',')

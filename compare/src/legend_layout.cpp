@@ -46,8 +46,7 @@ std::optional<cv::Point> clear_place(const cv::Mat& clear_sum, int width, int he
             const int covered = clear_sum.at<int>(y + h, x + w) - clear_sum.at<int>(y, x + w) -
                                 clear_sum.at<int>(y + h, x) + clear_sum.at<int>(y, x);
             if (covered) continue;
-            const int to_corner =
-                std::min(x - edge, width - edge - x - w) + std::min(y - edge, height - edge - y - h);
+            const int to_corner = std::min(x - edge, width - edge - x - w) + std::min(y - edge, height - edge - y - h);
             if (!best || to_corner < nearest) best = cv::Point(x, y), nearest = to_corner;
         }
     return best;
@@ -57,15 +56,18 @@ std::optional<cv::Point> clear_place(const cv::Mat& clear_sum, int width, int he
 
 const char* to_string(LegendLayout::Place place) {
     switch (place) {
-        case LegendLayout::Place::photo: return "photo";
-        case LegendLayout::Place::band_right: return "band right";
-        case LegendLayout::Place::band_below: return "band below";
+        case LegendLayout::Place::photo:
+            return "photo";
+        case LegendLayout::Place::band_right:
+            return "band right";
+        case LegendLayout::Place::band_below:
+            return "band below";
     }
     return "photo";
 }
 
-LegendLayout layout_legend(const std::vector<std::string>& legend, int photo_width, int photo_height,
-                           const Image& mask, const std::vector<PredictedLine>& lines, const SupportPixels& supports) {
+LegendLayout layout_legend(const std::vector<std::string>& legend, int photo_width, int photo_height, const Image& mask,
+                           const std::vector<PredictedLine>& lines, const SupportPixels& supports) {
     // Text in proportion to the photo (0.42 on the 1104 x 621 shared photos), so that it
     // reads alike whatever the photo's resolution.
     const double start = std::max(kLegendMinFontScale, std::hypot(photo_width, photo_height) / 3000.0);

@@ -176,8 +176,9 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
     if (layout.picture_width > canvas.cols || layout.picture_height > canvas.rows)
         cv::copyMakeBorder(canvas, canvas, 0, std::max(0, layout.picture_height - canvas.rows), 0,
                            std::max(0, layout.picture_width - canvas.cols), cv::BORDER_CONSTANT, white);
-    const cv::Rect box = cv::Rect(layout.x, layout.y, layout.width, layout.height) & cv::Rect(0, 0, canvas.cols, canvas.rows);
-    if (legend.empty() || box.area() == 0) return detail::from_bgr8(canvas);
+    const cv::Rect box =
+        cv::Rect(layout.x, layout.y, layout.width, layout.height) & cv::Rect(0, 0, canvas.cols, canvas.rows);
+    if (box.area() == 0) return detail::from_bgr8(canvas);
 
     // A white box, one key row (crest, valley, support) then the numbers.
     const detail::LegendFont f = detail::legend_font(layout.font_scale);

@@ -18,10 +18,10 @@ LineStyle line_style(int photo_width, int photo_height);
 struct LegendFont {
     double scale = 0.0;
     int thickness = 1;
-    int line_h = 0;    // one row
+    int line_h = 0;  // one row
     int baseline = 0;
-    int key_w = 0;     // the line sample in the key row
-    int pad = 6;       // inside the box, and its gap to the cloth and the picture's edge
+    int key_w = 0;  // the line sample in the key row
+    int pad = 6;    // inside the box, and its gap to the cloth and the picture's edge
 };
 LegendFont legend_font(double scale);
 

@@ -30,7 +30,7 @@ const char* to_string(LegendLayout::Place place);
 // the box's padding away from the cloth (`mask`, > 0.5; may be empty), the drawn `lines`
 // and the support rings, and inside the photo.  With none, the box goes at the starting
 // size into a white band added on the right or below, whichever makes the smaller picture.
-LegendLayout layout_legend(const std::vector<std::string>& legend, int photo_width, int photo_height,
-                           const Image& mask, const std::vector<PredictedLine>& lines, const SupportPixels& supports);
+LegendLayout layout_legend(const std::vector<std::string>& legend, int photo_width, int photo_height, const Image& mask,
+                           const std::vector<PredictedLine>& lines, const SupportPixels& supports);
 
 }  // namespace foldcast::compare

@@ -63,7 +63,7 @@ struct OverlayResult {
     std::optional<FitResult> fit;
     std::vector<std::string> legend;
     LegendLayout legend_layout;  // where the legend box went, in the picture
-    Image picture;  // the photo with the lines and the legend (and the legend's band, if any)
+    Image picture;               // the photo with the lines and the legend (and the legend's band, if any)
 };
 
 OverlayResult overlay_photo(const Image& photo, const OverlayRequest& request);
