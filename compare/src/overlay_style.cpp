@@ -22,7 +22,10 @@ LegendFont legend_font(double scale) {
     f.scale = scale;
     f.thickness = scale > 0.6 ? 2 : 1;
     const cv::Size ag = cv::getTextSize("Ag", cv::FONT_HERSHEY_SIMPLEX, scale, f.thickness, &f.baseline);
-    f.line_h = ag.height + f.baseline + 5;
+    // Spacing grows with the text (the 6 px padding and 5 px leading of a 0.42 font, the
+    // shared photos'), so that a large legend is not cramped.
+    f.pad = std::max(6, static_cast<int>(std::lround(14 * scale)));
+    f.line_h = ag.height + f.baseline + std::max(5, static_cast<int>(std::lround(12 * scale)));
     f.key_w = static_cast<int>(30 * scale / 0.5);
     return f;
 }
