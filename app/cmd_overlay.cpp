@@ -115,6 +115,16 @@ int run_overlay(const OverlayOptions& o) {
                            {"depths_px", c.depths_px},
                            {"signs", c.signs}}},
                          {"detected_lines", result.detection->folds.size()},
+                         {"picture_px", {{"width", result.picture.width}, {"height", result.picture.height}}},
+                         {"legend",
+                          {{"lines", result.legend},
+                           {"place", compare::to_string(result.legend_layout.place)},
+                           {"box_px",
+                            {{"x", result.legend_layout.x},
+                             {"y", result.legend_layout.y},
+                             {"width", result.legend_layout.width},
+                             {"height", result.legend_layout.height}}},
+                           {"font_scale", result.legend_layout.font_scale}}},
                          {"lines", jl}};
         if (result.score) {
             const auto& sc = *result.score;
@@ -162,7 +172,10 @@ Command overlay_command(CLI::App& app) {
         app.add_subcommand("overlay", "Draw the predicted fold lines over a photo of cloth hung from two supports");
     const double inf = std::numeric_limits<double>::infinity();
     sub->add_option("photo", o->photo, "Photo (PNG, JPEG, ...)")->required();
-    sub->add_option("-o,--output", o->output, "Output picture, same size as the photo")->required();
+    sub->add_option("-o,--output", o->output,
+                    "Output picture: the photo's size, or larger by a band holding the legend when no place on "
+                    "the photo is clear of the cloth")
+        ->required();
     sub->add_option("--supports", o->supports, "X1,Y1,X2,Y2: the two supports in pixels")
         ->required()
         ->delimiter(',')

@@ -3,8 +3,10 @@
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
+#include "foldcast/compare/legend_layout.hpp"
 #include "foldcast/compare/overlay.hpp"
 #include "mat_convert.hpp"
+#include "overlay_style.hpp"
 
 namespace foldcast::compare {
 
@@ -141,13 +143,16 @@ void dashed(cv::Mat& canvas, const std::vector<Eigen::Vector2d>& pts, double das
 
 Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, const SupportPixels& supports,
                    const std::vector<std::string>& legend, const Image& mask) {
+    return draw_overlay(photo, lines, supports, legend,
+                        layout_legend(legend, photo.width, photo.height, mask, lines, supports));
+}
+
+Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, const SupportPixels& supports,
+                   const std::vector<std::string>& legend, const LegendLayout& layout) {
     cv::Mat canvas = detail::to_bgr8(photo);
-    const double diag = std::hypot(canvas.cols, canvas.rows);
-    // About 0.2 % of the diagonal (3 px on a 1280 px wide photo), at least 2 px so that an
-    // anti-aliased line still reaches its full colour.
-    const int thick = std::max(2, static_cast<int>(std::lround(diag / 500.0)));
+    const detail::LineStyle st = detail::line_style(canvas.cols, canvas.rows);
+    const int thick = st.thick, halo = st.halo;
     const cv::Scalar black(0, 0, 0), white(255, 255, 255);
-    const int halo = std::max(1, thick / 2);
     for (const auto& line : lines) {
         if (line.top_edge) continue;
         const auto fixed = to_fixed(line.points_px);
@@ -160,81 +165,31 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
             dashed(canvas, line.points_px, dash, white, thick);
         }
     }
-    const int r = 3 * thick + 3;
+    const int r = st.ring;
     for (const auto& s : {supports.first, supports.second}) {
         const cv::Point c(cvRound(s.x()), cvRound(s.y()));
         cv::circle(canvas, c, r + 1, black, thick + 2, cv::LINE_AA);
         cv::circle(canvas, c, r, cv::Scalar(255, 0, 255), thick, cv::LINE_AA);
         cv::drawMarker(canvas, c, cv::Scalar(255, 0, 255), cv::MARKER_CROSS, r, std::max(1, thick / 2), cv::LINE_AA);
     }
+    // The band, when the layout needs one: white, the photo untouched at the top left.
+    if (layout.picture_width > canvas.cols || layout.picture_height > canvas.rows)
+        cv::copyMakeBorder(canvas, canvas, 0, std::max(0, layout.picture_height - canvas.rows), 0,
+                           std::max(0, layout.picture_width - canvas.cols), cv::BORDER_CONSTANT, white);
+    const cv::Rect box =
+        cv::Rect(layout.x, layout.y, layout.width, layout.height) & cv::Rect(0, 0, canvas.cols, canvas.rows);
+    if (box.area() == 0) return detail::from_bgr8(canvas);
 
-    // Legend: a white box, one key row (crest, valley, support) then the numbers; the font
-    // shrinks (to 0.3) until the box is at most half the picture wide.
-    const int font = cv::FONT_HERSHEY_SIMPLEX;
-    const std::vector<std::string> keys{"crest", "valley", "support"};
-    double font_scale = std::max(0.35, diag / 3000.0);
-    int text_thick = 1, baseline = 0, line_h = 0, key_w = 0, text_w = 0, key_row_w = 0;
-    const int pad = 6;
-    for (;; font_scale *= 0.92) {
-        text_thick = font_scale > 0.6 ? 2 : 1;
-        line_h = cv::getTextSize("Ag", font, font_scale, text_thick, &baseline).height + baseline + 5;
-        key_w = static_cast<int>(30 * font_scale / 0.5);
-        text_w = 0;
-        for (const auto& t : legend)
-            text_w = std::max(text_w, cv::getTextSize(t, font, font_scale, text_thick, &baseline).width);
-        key_row_w = 0;
-        for (const auto& k : keys)
-            key_row_w += key_w + pad + cv::getTextSize(k, font, font_scale, text_thick, &baseline).width + 2 * pad;
-        if (std::max(text_w, key_row_w) + 2 * pad <= canvas.cols / 2 || font_scale < 0.3) break;
-    }
-    const int rows = 1 + static_cast<int>(legend.size());
-    const int box_w = std::min(canvas.cols - 2 * pad, std::max(text_w, key_row_w) + 2 * pad);
-    const int box_h = std::min(canvas.rows - 2 * pad, rows * line_h + 2 * pad);
-    if (box_w < 1 || box_h < 1) return detail::from_bgr8(canvas);  // no room for a legend
-    // Where the box covers the least cloth, then the fewest line points and no support;
-    // candidates on a grid of steps a quarter of the box, scanned in a fixed order.
-    cv::Mat cloth_sum;
-    {
-        cv::Mat cloth = cv::Mat::zeros(canvas.size(), CV_8U);
-        if (!mask.empty() && mask.width == canvas.cols && mask.height == canvas.rows) {
-            cv::Mat m;
-            detail::to_mat(mask).convertTo(m, CV_8U, 255.0);
-            cloth = m > 127;
-            cloth /= 255;
-        }
-        cv::integral(cloth, cloth_sum, CV_32S);
-    }
-    cv::Mat line_mask = cv::Mat::zeros(canvas.size(), CV_8U);
-    for (const auto& line : lines)
-        for (const auto& p : line.points_px) {
-            const int x = cvRound(p.x()), y = cvRound(p.y());
-            if (x >= 0 && y >= 0 && x < canvas.cols && y < canvas.rows) line_mask.at<uchar>(y, x) = 1;
-        }
-    cv::Mat line_sum;
-    cv::integral(line_mask, line_sum, CV_32S);
-    auto count = [](const cv::Mat& sum, const cv::Rect& r) {
-        return sum.at<int>(r.y + r.height, r.x + r.width) - sum.at<int>(r.y, r.x + r.width) -
-               sum.at<int>(r.y + r.height, r.x) + sum.at<int>(r.y, r.x);
-    };
-    cv::Rect box(pad, pad, box_w, box_h);
-    double fewest = -1.0;
-    const int step_x = std::max(1, box_w / 4), step_y = std::max(1, box_h / 4);
-    for (int y = pad; y + box_h <= canvas.rows - pad; y += step_y)
-        for (int x = pad; x + box_w <= canvas.cols - pad; x += step_x) {
-            const cv::Rect candidate(x, y, box_w, box_h);
-            double cost = 100.0 * count(cloth_sum, candidate) + 10.0 * count(line_sum, candidate);
-            for (const auto& p : {supports.first, supports.second})
-                if (candidate.contains(cv::Point(cvRound(p.x()), cvRound(p.y())))) cost += 1e9;
-            if (fewest < 0 || cost < fewest) {
-                fewest = cost;
-                box = candidate;
-            }
-        }
+    // A white box, one key row (crest, valley, support) then the numbers.
+    const detail::LegendFont f = detail::legend_font(layout.font_scale);
+    const int font = cv::FONT_HERSHEY_SIMPLEX, pad = f.pad, line_h = f.line_h, key_w = f.key_w;
+    const auto& keys = detail::legend_keys();
+    int baseline = 0;
     cv::Mat roi = canvas(box);
     cv::Mat tint(roi.size(), roi.type(), white);
     cv::addWeighted(roi, 0.15, tint, 0.85, 0.0, roi);
     cv::rectangle(canvas, box, black, 1);
-    const int text_dy = line_h / 2 - baseline - 1;
+    const int text_dy = line_h / 2 - f.baseline - 1;
     {
         const int y = box.y + pad + line_h / 2;
         int x = box.x + pad;
@@ -249,13 +204,13 @@ Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, 
             } else {
                 cv::circle(canvas, {(x + x1) / 2, y}, line_h / 3, cv::Scalar(255, 0, 255), thick, cv::LINE_AA);
             }
-            cv::putText(canvas, keys[k], {x1 + pad, y + text_dy}, font, font_scale, black, text_thick, cv::LINE_AA);
-            x = x1 + pad + cv::getTextSize(keys[k], font, font_scale, text_thick, &baseline).width + 2 * pad;
+            cv::putText(canvas, keys[k], {x1 + pad, y + text_dy}, font, f.scale, black, f.thickness, cv::LINE_AA);
+            x = x1 + pad + cv::getTextSize(keys[k], font, f.scale, f.thickness, &baseline).width + 2 * pad;
         }
     }
     for (size_t i = 0; i < legend.size(); ++i) {
         const int y = box.y + pad + static_cast<int>(i + 1) * line_h + line_h / 2;
-        cv::putText(canvas, legend[i], {box.x + pad, y + text_dy}, font, font_scale, black, text_thick, cv::LINE_AA);
+        cv::putText(canvas, legend[i], {box.x + pad, y + text_dy}, font, f.scale, black, f.thickness, cv::LINE_AA);
     }
     return detail::from_bgr8(canvas);
 }

@@ -180,7 +180,7 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
     }
 
     // Legend: predicted against measured first, the numbers a textile engineer compares;
-    // short lines, so that it fits beside the cloth.
+    // short lines, so that it fits beside the cloth (where layout_legend puts it).
     const auto& s = out.solution;
     out.legend.push_back(s.folds > 0 ? "predicted: n = " + std::to_string(s.folds) + ", Q = " + fixed(s.Q, 2) +
                                            " (zmax " + fixed(100 * s.zmax_m, 1) + " cm)"
@@ -234,7 +234,8 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         for (size_t i = 0; i < out.assumptions.size(); ++i) line += (i ? "; " : "") + out.assumptions[i];
         out.legend.push_back(line);
     }
-    out.picture = draw_overlay(photo, out.lines, supports, out.legend, out.mask);
+    out.legend_layout = layout_legend(out.legend, photo.width, photo.height, out.mask, out.lines, supports);
+    out.picture = draw_overlay(photo, out.lines, supports, out.legend, out.legend_layout);
     return out;
 }
 

@@ -5,7 +5,9 @@
 // and fit prefer it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "compare_test_util.hpp"
 #include "foldcast/compare/photo_overlay.hpp"
@@ -326,6 +328,98 @@ TEST(PhotoOverlay, GeometryFromTheMaskLinesOnTheClothAndErrors) {
         bad = r;
         bad.tolerance = t;
         EXPECT_THROW(compare::overlay_photo(s.photo, bad), InputError) << t;
+    }
+}
+
+namespace {
+
+// The synthetic photo and mask with `left` and `right` px of background added at the sides.
+struct Framed {
+    compare::Image photo, mask;
+    compare::SupportPixels supports;
+};
+Framed framed(const Synthetic& s, int left, int right) {
+    Framed f;
+    const int w = s.photo.width + left + right, h = s.photo.height;
+    f.photo = constant_image(w, h, 3, 0.9f);
+    f.mask = constant_image(w, h, 1, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < s.photo.width; ++x) {
+            f.mask.at(x + left, y, 0) = s.mask.at(x, y, 0);
+            for (int c = 0; c < 3; ++c) f.photo.at(x + left, y, c) = s.photo.at(x, y, c);
+        }
+    f.supports = {s.supports.first + Eigen::Vector2d(left, 0), s.supports.second + Eigen::Vector2d(left, 0)};
+    return f;
+}
+
+// Cloth pixels under the legend's box (the photo lies at the picture's top left).
+int cloth_under(const compare::LegendLayout& l, const compare::Image& mask) {
+    int n = 0;
+    for (int y = std::max(0, l.y); y < std::min(mask.height, l.y + l.height); ++y)
+        for (int x = std::max(0, l.x); x < std::min(mask.width, l.x + l.width); ++x) n += mask.at(x, y, 0) > 0.5f;
+    return n;
+}
+
+// Cloth pixels the picture changed, away from the support rings (drawn without fold lines).
+int cloth_changed(const compare::Image& picture, const Framed& f) {
+    int n = 0;
+    for (int y = 0; y < f.photo.height; ++y)
+        for (int x = 0; x < f.photo.width; ++x) {
+            const Eigen::Vector2d q(x, y);
+            if (f.mask.at(x, y, 0) < 0.5f || (q - f.supports.first).norm() < 25 || (q - f.supports.second).norm() < 25)
+                continue;
+            n += std::abs(picture.at(x, y, 0) - f.photo.at(x, y, 0)) > 0.01f;
+        }
+    return n;
+}
+
+}  // namespace
+
+TEST(OverlayLegend, NeverCoversTheClothAtASmallSizeOrBesideAnEdge) {
+    // The legend of a real run, on the 370 x 435 synthetic photo: the cloth fills its middle
+    // with 80 px beside it, too narrow for the box (the old placement put it over the cloth).
+    const auto& s = synthetic();
+    compare::OverlayRequest r;
+    r.supports = s.supports;
+    r.look_name = "test";
+    r.mechanics.young_mpa = 5.0;
+    r.mask = s.mask;
+    r.width_m = 0.5;
+    r.inset_m = 0.1;
+    r.score = true;
+    const auto result = compare::overlay_photo(s.photo, r);
+    ASSERT_GE(result.legend.size(), 3u);
+    EXPECT_EQ(cloth_under(result.legend_layout, s.mask), 0);
+    EXPECT_EQ(result.picture.width, result.legend_layout.picture_width);
+    EXPECT_EQ(result.picture.height, result.legend_layout.picture_height);
+
+    // Cloth in the middle, at the left edge and at the right edge of the frame.
+    for (const auto& [left, right] : {std::pair{0, 0}, std::pair{0, 420}, std::pair{420, 0}}) {
+        const Framed f = framed(s, left, right);
+        const auto layout =
+            compare::layout_legend(result.legend, f.photo.width, f.photo.height, f.mask, {}, f.supports);
+        const auto picture = compare::draw_overlay(f.photo, {}, f.supports, result.legend, f.mask);
+        EXPECT_EQ(cloth_under(layout, f.mask), 0) << left << " " << right;
+        EXPECT_EQ(cloth_changed(picture, f), 0) << left << " " << right;
+        EXPECT_GE(layout.font_scale, compare::kLegendMinFontScale);
+        // Every legend line inside the picture.
+        EXPECT_GE(layout.x, 0);
+        EXPECT_GE(layout.y, 0);
+        EXPECT_LE(layout.x + layout.width, picture.width);
+        EXPECT_LE(layout.y + layout.height, picture.height);
+        if (left == right) {
+            // No clear place on the photo: a band, the photo kept whole at the top left.
+            EXPECT_NE(layout.place, compare::LegendLayout::Place::photo);
+            EXPECT_GT(picture.width * picture.height, f.photo.width * f.photo.height);
+        } else {
+            // Room beside the cloth: on the photo, on that side.
+            EXPECT_EQ(layout.place, compare::LegendLayout::Place::photo);
+            EXPECT_EQ(picture.width, f.photo.width);
+            if (left > 0)
+                EXPECT_LE(layout.x + layout.width, f.supports.first.x()) << layout.x;
+            else
+                EXPECT_GE(layout.x, f.supports.second.x()) << layout.x;
+        }
     }
 }
 

@@ -50,9 +50,12 @@ std::vector<PredictedLine> clip_to_cloth(const std::vector<PredictedLine>& lines
 
 // The photo with positive folds solid black, negative folds dashed white (each with a thin
 // halo of the other colour so both read on any cloth), line widths proportional to the
-// image's diagonal, supports ringed, and a legend box with `legend` lines placed where it
-// covers the least cloth (`mask`, may be empty) and then the fewest lines.  Same size as
-// the photo.
+// image's diagonal, supports ringed, and a legend box with `legend` lines where `layout`
+// says (foldcast/compare/legend_layout.hpp): the photo's size, or larger by the layout's
+// band.  Without a layout, layout_legend's for the cloth `mask` (may be empty).
+struct LegendLayout;
+Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, const SupportPixels& supports,
+                   const std::vector<std::string>& legend, const LegendLayout& layout);
 Image draw_overlay(const Image& photo, const std::vector<PredictedLine>& lines, const SupportPixels& supports,
                    const std::vector<std::string>& legend, const Image& mask = {});
 

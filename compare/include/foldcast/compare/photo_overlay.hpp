@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "foldcast/compare/legend_layout.hpp"
 #include "foldcast/compare/overlay.hpp"
 #include "foldcast/looks.hpp"
 
@@ -61,7 +62,8 @@ struct OverlayResult {
     std::optional<FoldScore> score;
     std::optional<FitResult> fit;
     std::vector<std::string> legend;
-    Image picture;  // the photo with the lines and the legend
+    LegendLayout legend_layout;  // where the legend box went, in the picture
+    Image picture;               // the photo with the lines and the legend (and the legend's band, if any)
 };
 
 OverlayResult overlay_photo(const Image& photo, const OverlayRequest& request);
