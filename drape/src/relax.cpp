@@ -309,7 +309,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             }
             w.row_sum[std::size_t(j)] = sum, w.row_max[std::size_t(j)] = max, w.row_energy[std::size_t(j)] = energy;
             // The right-hand side, a coordinate at a time (x has no fold-line pull).  Pinned
-            // vertices get one too; the solve ignores it.
+            // vertices get one too, set to 0 below.
             const auto rows = [&](auto up, auto down) {
                 rhs_row(up, down, px, nullptr, row, w.global_rhs[0].data());
                 rhs_row(up, down, py, w.target_y.data(), row, w.global_rhs[1].data());
@@ -326,6 +326,10 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             else
                 rows(No{}, No{});
         });
+        // The pins' right-hand sides, which the solve ignores, as +0: then it need not copy
+        // the rest to zero them.
+        for (const int p : m.pinned_vertices)
+            for (Eigen::VectorXd& b : w.global_rhs) b[p] = 0.0;
         Local out{0.0, 0.0, 0.0};
         for (int j = 0; j < grid.nv; ++j)
             out.energy += w.row_energy[std::size_t(j)], out.mean += w.row_sum[std::size_t(j)],
