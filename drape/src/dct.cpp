@@ -114,9 +114,8 @@ struct Lines {
         }
     }
 
-    // REDFT10 of `count` lines from `in` to `out` (in == out allowed), each output value
-    // multiplied by scale's entry at the same place when scale is given (scale laid out as out).
-    void forward(int count, const double* in, Layout from, double* out, Layout to, const double* scale) const {
+    // REDFT10 of `count` lines from `in` to `out` (in == out allowed).
+    void forward(int count, const double* in, Layout from, double* out, Layout to) const {
         BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
         double* const v = s.v->data;
         each(count, (n + 1) / 2, from, [&](int c, int m) {
@@ -126,10 +125,7 @@ struct Lines {
             v[std::ptrdiff_t(c) * n + n - 1 - m] = in[c * from.line + (2 * m + 1) * from.sample];
         });
         fftw_execute_dft_r2c(r2c[count], v, s.spectrum->data);
-        const auto put = [&](int c, int k, double value) {
-            const std::ptrdiff_t at = c * to.line + k * to.sample;
-            out[at] = scale ? value * scale[at] : value;
-        };
+        const auto put = [&](int c, int k, double value) { out[c * to.line + k * to.sample] = value; };
         each(count, n / 2 + 1, to, [&](int c, int k) {
             const fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
             if (k == 0) {
@@ -143,18 +139,23 @@ struct Lines {
         });
     }
 
-    // REDFT01 of `count` lines from `in` to `out` (in == out allowed).
-    void inverse(int count, const double* in, Layout from, double* out, Layout to) const {
+    // REDFT01 of `count` lines from `in` to `out` (in == out allowed), each input value
+    // multiplied by scale's entry at the same place first when scale is given (scale laid out
+    // as in).
+    void inverse(int count, const double* in, Layout from, double* out, Layout to, const double* scale) const {
         BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
+        const auto get = [&](int c, int k) {
+            const std::ptrdiff_t at = c * from.line + k * from.sample;
+            return scale ? in[at] * scale[at] : in[at];
+        };
         each(count, n / 2 + 1, from, [&](int c, int k) {
             fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
-            const double* x = in + c * from.line;
             if (k == 0) {
-                spectrum[0][0] = 0.5 * x[0], spectrum[0][1] = 0.0;
+                spectrum[0][0] = 0.5 * get(c, 0), spectrum[0][1] = 0.0;
                 return;
             }
             // conj(w_k) (X_k - i X_{N-k}) / 2; at k = N/2 both are X_{N/2}
-            const double a = x[k * from.sample], b = x[(n - k) * from.sample];
+            const double a = get(c, k), b = get(c, n - k);
             const double co = cos_k[std::size_t(k)], sn = sin_k[std::size_t(k)];
             spectrum[k][0] = 0.5 * (co * a + sn * b);
             spectrum[k][1] = 0.5 * (sn * a - co * b);
@@ -178,7 +179,7 @@ struct GridDct::Impl {
 
     // Every row, then every column, kBlock lines at a time, each block read and written in
     // place (Lines::Layout).  transform(lines, count, in, from, out, to, scale) runs one
-    // block; scale is given to the column pass only (the last).
+    // block; scale is given to the row pass only (the first, which reads rows contiguously).
     template <typename Transform>
     void separable(const double* in, double* out, const double* scale, Transform&& transform) const {
         const int nu = grid.nu, nv = grid.nv;
@@ -186,13 +187,13 @@ struct GridDct::Impl {
             const std::ptrdiff_t start = std::ptrdiff_t(block) * kBlock * nu;
             const Lines::Layout row_block{1, nu};
             transform(*rows, std::min(kBlock, nv - block * kBlock), in + start, row_block, out + start, row_block,
-                      nullptr);
+                      scale ? scale + start : nullptr);
         });
         tbb::parallel_for(0, (nu + kBlock - 1) / kBlock, [&](int block) {
             const int first = block * kBlock;
             const Lines::Layout column_block{nu, 1};
             transform(*columns, std::min(kBlock, nu - first), out + first, column_block, out + first, column_block,
-                      scale ? scale + first : nullptr);
+                      nullptr);
         });
     }
 };
@@ -205,16 +206,16 @@ GridDct::GridDct(GridSize grid) : impl_(std::make_unique<Impl>()) {
 
 GridDct::~GridDct() = default;
 
-void GridDct::forward(const double* in, double* out, const double* scale) const {
-    impl_->separable(in, out, scale,
-                     [](const Lines& lines, int count, const double* a, Lines::Layout from, double* b,
-                        Lines::Layout to, const double* by) { lines.forward(count, a, from, b, to, by); });
-}
-
-void GridDct::inverse(const double* in, double* out) const {
+void GridDct::forward(const double* in, double* out) const {
     impl_->separable(in, out, nullptr,
                      [](const Lines& lines, int count, const double* a, Lines::Layout from, double* b,
-                        Lines::Layout to, const double*) { lines.inverse(count, a, from, b, to); });
+                        Lines::Layout to, const double*) { lines.forward(count, a, from, b, to); });
+}
+
+void GridDct::inverse(const double* in, double* out, const double* scale) const {
+    impl_->separable(in, out, scale,
+                     [](const Lines& lines, int count, const double* a, Lines::Layout from, double* b,
+                        Lines::Layout to, const double* by) { lines.inverse(count, a, from, b, to, by); });
 }
 
 }  // namespace foldcast::drape::detail

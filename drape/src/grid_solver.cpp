@@ -26,8 +26,8 @@ struct GridSolver::Impl {
 
     // y = (L + anchor I)^-1 b, pins ignored; with zero_pins, b's entries on the pins are taken
     // as 0 (b itself is left as it is).  The forward DCT reads b where it can (no copy when
-    // the pins' entries are +0 already, or there are none to zero) and scales by the inverse
-    // eigenvalues as it writes.
+    // the pins' entries are +0 already, or there are none to zero); the inverse DCT scales by
+    // the inverse eigenvalues as it reads.
     void free_solve(const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> y, bool zero_pins = false) const {
         bool copy = false;
         if (zero_pins)
@@ -38,8 +38,8 @@ struct GridSolver::Impl {
             for (int p : pinned) y[p] = 0.0;
             in = y.data();
         }
-        dct->forward(in, y.data(), inverse_eigenvalues.data());
-        dct->inverse(y.data(), y.data());
+        dct->forward(in, y.data());
+        dct->inverse(y.data(), y.data(), inverse_eigenvalues.data());
     }
 };
 
