@@ -114,10 +114,60 @@ struct Lines {
         }
     }
 
+    // One contiguous line each (a block of rows): the same operations as the general loops
+    // below, in loops the compiler vectorises.
+    void reorder_line(const double* __restrict x, double* __restrict v) const {
+        for (int m = 0; 2 * m < n; ++m) v[m] = x[2 * m];
+        for (int m = 0; 2 * m + 1 < n; ++m) v[n - 1 - m] = x[2 * m + 1];
+    }
+    void twiddle_line(const double* __restrict spectrum, double* __restrict x) const {
+        const double* __restrict co = cos_k.data();
+        const double* __restrict sn = sin_k.data();
+        x[0] = 2.0 * spectrum[0];
+        for (int k = 1; 2 * k < n; ++k) {
+            const double re = spectrum[2 * k], im = spectrum[2 * k + 1];
+            x[k] = 2.0 * (co[k] * re + sn[k] * im);
+            x[n - k] = -2.0 * (co[k] * im - sn[k] * re);
+        }
+        if (n % 2 == 0 && n > 0) {
+            const int k = n / 2;
+            x[k] = 2.0 * (co[k] * spectrum[2 * k] + sn[k] * spectrum[2 * k + 1]);
+        }
+    }
+    void untwiddle_line(const double* __restrict x, const double* __restrict scale, double* __restrict spectrum) const {
+        const double* __restrict co = cos_k.data();
+        const double* __restrict sn = sin_k.data();
+        spectrum[0] = 0.5 * (scale ? x[0] * scale[0] : x[0]), spectrum[1] = 0.0;
+        if (scale) {
+            for (int k = 1; 2 * k <= n; ++k) {
+                const double a = x[k] * scale[k], b = x[n - k] * scale[n - k];
+                spectrum[2 * k] = 0.5 * (co[k] * a + sn[k] * b);
+                spectrum[2 * k + 1] = 0.5 * (sn[k] * a - co[k] * b);
+            }
+        } else {
+            for (int k = 1; 2 * k <= n; ++k) {
+                const double a = x[k], b = x[n - k];
+                spectrum[2 * k] = 0.5 * (co[k] * a + sn[k] * b);
+                spectrum[2 * k + 1] = 0.5 * (sn[k] * a - co[k] * b);
+            }
+        }
+    }
+    void unorder_line(const double* __restrict v, double* __restrict x) const {
+        for (int m = 0; 2 * m < n; ++m) x[2 * m] = 2.0 * v[m];
+        for (int m = 0; 2 * m + 1 < n; ++m) x[2 * m + 1] = 2.0 * v[n - 1 - m];
+    }
+
     // REDFT10 of `count` lines from `in` to `out` (in == out allowed).
     void forward(int count, const double* in, Layout from, double* out, Layout to) const {
         BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
         double* const v = s.v->data;
+        if (from.sample == 1 && to.sample == 1) {
+            for (int c = 0; c < count; ++c) reorder_line(in + c * from.line, v + std::ptrdiff_t(c) * n);
+            fftw_execute_dft_r2c(r2c[count], v, s.spectrum->data);
+            for (int c = 0; c < count; ++c)
+                twiddle_line(&s.spectrum->data[std::ptrdiff_t(c) * half][0], out + c * to.line);
+            return;
+        }
         each(count, (n + 1) / 2, from, [&](int c, int m) {
             v[std::ptrdiff_t(c) * n + m] = in[c * from.line + 2 * m * from.sample];
         });
@@ -144,6 +194,14 @@ struct Lines {
     // as in).
     void inverse(int count, const double* in, Layout from, double* out, Layout to, const double* scale) const {
         BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
+        if (from.sample == 1 && to.sample == 1) {
+            for (int c = 0; c < count; ++c)
+                untwiddle_line(in + c * from.line, scale ? scale + c * from.line : nullptr,
+                               &s.spectrum->data[std::ptrdiff_t(c) * half][0]);
+            fftw_execute_dft_c2r(c2r[count], s.spectrum->data, s.v->data);
+            for (int c = 0; c < count; ++c) unorder_line(s.v->data + std::ptrdiff_t(c) * n, out + c * to.line);
+            return;
+        }
         const auto get = [&](int c, int k) {
             const std::ptrdiff_t at = c * from.line + k * from.sample;
             return scale ? in[at] * scale[at] : in[at];
