@@ -8,7 +8,10 @@
 // over memory per step, so every pass runs over TBB in fixed chunks, its dot products summed
 // per chunk and then in chunk order: the result does not depend on the thread count.  The
 // history is a ring of preallocated slots with the dot products of its differences kept beside
-// it (one new row per step instead of the whole normal matrix), read oldest first.
+// it (one new row per step instead of the whole normal matrix), read oldest first.  A step is
+// two sweeps over memory: the residual, the new differences and their dot products in one (each
+// array read once, the sums in the order Eigen's dot() uses, so the bits are dot()'s), the
+// accelerated point in the other, both a SIMD packet at a time.
 #include <Eigen/Core>
 #include <array>
 #include <vector>

@@ -26,8 +26,10 @@ public:
     // dimension).  in and out: nu * nv values; they may be the same array.
     void forward(const double* in, double* out) const;
     // out = REDFT01 in both directions (y_n = X_0 + 2 sum_k>0 X_k cos(pi k (2n + 1) / 2N)),
-    // the inverse of forward up to the factor 4 nu nv.  in and out may be the same array.
-    void inverse(const double* in, double* out) const;
+    // the inverse of forward up to the factor 4 nu nv, of in multiplied entry by entry by scale
+    // when scale is given (the same bits as multiplying in first).  in, out, scale: nu * nv
+    // values; in and out may be the same array.
+    void inverse(const double* in, double* out, const double* scale = nullptr) const;
 
 private:
     struct Impl;

@@ -25,14 +25,21 @@ struct GridSolver::Impl {
     Eigen::LDLT<Eigen::MatrixXd> capacitance;
 
     // y = (L + anchor I)^-1 b, pins ignored; with zero_pins, b's entries on the pins are taken
-    // as 0 (b itself is left as it is).
+    // as 0 (b itself is left as it is).  The forward DCT reads b where it can (no copy when
+    // the pins' entries are +0 already, or there are none to zero); the inverse DCT scales by
+    // the inverse eigenvalues as it reads.
     void free_solve(const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> y, bool zero_pins = false) const {
-        y = b;
+        bool copy = false;
         if (zero_pins)
+            for (int p : pinned) copy = copy || b[p] != 0.0 || std::signbit(b[p]);
+        const double* in = b.data();
+        if (copy) {
+            y = b;
             for (int p : pinned) y[p] = 0.0;
-        dct->forward(y.data(), y.data());
-        y.array() *= inverse_eigenvalues.array();
-        dct->inverse(y.data(), y.data());
+            in = y.data();
+        }
+        dct->forward(in, y.data());
+        dct->inverse(y.data(), y.data(), inverse_eigenvalues.data());
     }
 };
 

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
+#include <type_traits>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape_relax.hpp"
@@ -42,6 +43,9 @@ struct GridRelaxer::Impl {
 
 struct GridRelaxer::Impl::Workspace {
     std::vector<double> right_len, down_len;  // each edge's length (to the right, below)
+    std::vector<double> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
+    std::vector<double> target_y, target_z;         // the targets' height and depth, as doubles
+    std::vector<double> pull;                       // per vertex: its fold-line pull (0: none)
     std::vector<double> row_sum, row_max, row_energy;
     std::array<Eigen::VectorXd, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
     // Positions, every vertex's x, then every y, then every z: what the global step returns
@@ -52,6 +56,11 @@ struct GridRelaxer::Impl::Workspace {
     Workspace(std::size_t n, int rows)
         : right_len(n, 0.0),
           down_len(n, 0.0),
+          right_factor(n, 0.0),
+          down_factor(n, 0.0),
+          target_y(n),
+          target_z(n),
+          pull(n),
           row_sum(std::size_t(rows)),
           row_max(std::size_t(rows)),
           row_energy(std::size_t(rows)),
@@ -180,62 +189,147 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     };
     // Each edge's length, computed once per local step (the edge to the right of and the one
     // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
-    // and |x_o - x_k| are the same bits, so the result is too.
+    // and |x_o - x_k| are the same bits, so the result is too.  Likewise rest / length.
     std::vector<double>&right_len = w.right_len, &down_len = w.down_len;
-    const auto local = [&](const double* positions_now) -> Local {
-        const auto x = [&](std::size_t k) {
-            return Eigen::Vector3d(positions_now[k], positions_now[n + k], positions_now[2 * n + k]);
+    std::vector<double>&right_factor = w.right_factor, &down_factor = w.down_factor;
+    for (std::size_t k = 0; k < n; ++k)
+        w.target_y[k] = double(targets[k].y()), w.target_z[k] = double(targets[k].z());
+    // Each vertex's pull towards its fold-line target (crest weight x anchor_scale), 0 where
+    // it has none: set again whenever anchor_scale changes.
+    const auto set_pull = [&] {
+        for (std::size_t k = 0; k < n; ++k)
+            w.pull[k] = !m.is_pinned[k] && crest[k] > 0.0 ? crest[k] * anchor_scale : 0.0;
+    };
+    set_pull();
+    const int nu = grid.nu, nv = grid.nv;
+    const double rest_u = m.rest_u, rest_v = m.rest_v;
+    // One coordinate of one row of the global step's right-hand side:
+    //   anchor (x_k + pull (t_k - x_k)) + sum over the edges (x_k - x_o) rest / len
+    // (left, right, up, down, the same operations in the same order as a vertex at a time;
+    // a zero pull or factor adds an exact zero).  Up and Down: whether the row has rows
+    // above and below.  Branch-free inside the row, so it vectorises.
+    const auto rhs_row = [&](auto up, auto down, const double* __restrict x, const double* __restrict target,
+                             std::size_t row, double* __restrict out) {
+        const double* __restrict const pull = w.pull.data();
+        const double* __restrict const rf = right_factor.data();
+        const double* __restrict const df = down_factor.data();
+        constexpr bool kUp = decltype(up)::value, kDown = decltype(down)::value;
+        const std::size_t stride = std::size_t(nu);
+        const auto vertex = [&](std::size_t k, bool left, bool right) {
+            double b = x[k];
+            if (target) b += pull[k] * (target[k] - x[k]);
+            b *= anchor;
+            if (left) b += (x[k] - x[k - 1]) * rf[k - 1];
+            if (right) b += (x[k] - x[k + 1]) * rf[k];
+            if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
+            if (kDown) b += (x[k] - x[k + stride]) * df[k];
+            out[k] = b;
         };
-        tbb::parallel_for(0, grid.nv, [&](int j) {
-            for (int i = 0; i < grid.nu; ++i) {
-                const int k = j * grid.nu + i;
-                const Eigen::Vector3d xk = x(std::size_t(k));
-                if (i + 1 < grid.nu) right_len[std::size_t(k)] = (x(std::size_t(k + 1)) - xk).norm();
-                if (j + 1 < grid.nv) down_len[std::size_t(k)] = (x(std::size_t(k + grid.nu)) - xk).norm();
-            }
-        });
-        tbb::parallel_for(0, grid.nv, [&](int j) {
-            double sum = 0.0, max = 0.0, energy = 0.0;
-            for (int i = 0; i < grid.nu; ++i) {
-                const int k = j * grid.nu + i;
-                const Eigen::Vector3d xk = x(std::size_t(k));
-                // Each edge once: to the right and below.
-                if (i + 1 < grid.nu) {
-                    const double len = right_len[std::size_t(k)];
-                    sum += std::abs(len / m.rest_u - 1.0), max = std::max(max, std::abs(len / m.rest_u - 1.0));
-                    energy += (len - m.rest_u) * (len - m.rest_u);
-                }
-                if (j + 1 < grid.nv) {
-                    const double len = down_len[std::size_t(k)];
-                    sum += std::abs(len / m.rest_v - 1.0), max = std::max(max, std::abs(len / m.rest_v - 1.0));
-                    energy += (len - m.rest_v) * (len - m.rest_v);
-                }
-                if (m.is_pinned[std::size_t(k)]) continue;
-                Eigen::Vector3d b = xk;
-                if (const double wk = crest[std::size_t(k)]; wk > 0.0) {
-                    // Towards the fold line's height and depth, by the fraction wk; the
-                    // position across stays free (the model's rows are too long).
-                    const Eigen::Vector3d t = targets[std::size_t(k)].cast<double>();
-                    const double pull = wk * anchor_scale;
-                    for (int c = 1; c < 3; ++c) {
-                        b(c) += pull * (t(c) - xk(c));
-                        energy += anchor * pull * (xk(c) - t(c)) * (xk(c) - t(c));
-                    }
-                }
+        vertex(row, false, nu > 1);
+        const std::size_t end = row + stride - 1;
+        if (target) {
+            for (std::size_t k = row + 1; k < end; ++k) {
+                double b = x[k];
+                b += pull[k] * (target[k] - x[k]);
                 b *= anchor;
-                // Edge terms |x_k - x_o - p|^2, p the edge at its rest length (the neighbour
-                // itself, free or pinned, sits in the matrix); left, right, up, down.
-                const auto edge = [&](int other, double rest, double len) {
-                    if (len > 0.0) b += (xk - x(std::size_t(other))) * (rest / len);
-                };
-                if (i > 0) edge(k - 1, m.rest_u, right_len[std::size_t(k - 1)]);
-                if (i + 1 < grid.nu) edge(k + 1, m.rest_u, right_len[std::size_t(k)]);
-                if (j > 0) edge(k - grid.nu, m.rest_v, down_len[std::size_t(k - grid.nu)]);
-                if (j + 1 < grid.nv) edge(k + grid.nu, m.rest_v, down_len[std::size_t(k)]);
-                for (int c = 0; c < 3; ++c) w.global_rhs[std::size_t(c)][k] = b(c);
+                b += (x[k] - x[k - 1]) * rf[k - 1];
+                b += (x[k] - x[k + 1]) * rf[k];
+                if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
+                if (kDown) b += (x[k] - x[k + stride]) * df[k];
+                out[k] = b;
+            }
+        } else {
+            for (std::size_t k = row + 1; k < end; ++k) {
+                double b = x[k];
+                b *= anchor;
+                b += (x[k] - x[k - 1]) * rf[k - 1];
+                b += (x[k] - x[k + 1]) * rf[k];
+                if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
+                if (kDown) b += (x[k] - x[k + stride]) * df[k];
+                out[k] = b;
+            }
+        }
+        if (nu > 1) vertex(end, true, false);
+    };
+    const auto local = [&](const double* positions_now) -> Local {
+        const double* const px = positions_now;
+        const double* const py = positions_now + n;
+        const double* const pz = positions_now + 2 * n;
+        tbb::parallel_for(0, nv, [&](int j) {
+            const std::size_t row = std::size_t(j) * std::size_t(nu);
+            // |x_o - x_k| as Eigen's norm() sums it, (dx^2 + dy^2) + dz^2, for the edges from
+            // `first` to the vertex `step` further on; rest / |x_o - x_k| beside it (no
+            // division by 0, so that the loop vectorises).
+            const auto lengths = [&](std::size_t first, std::size_t count, std::size_t step, double rest,
+                                     double* __restrict len_out, double* __restrict factor_out) {
+                const double* __restrict x = px + first;
+                const double* __restrict y = py + first;
+                const double* __restrict z = pz + first;
+                len_out += first, factor_out += first;
+                for (std::size_t e = 0; e < count; ++e) {
+                    const double dx = x[e + step] - x[e], dy = y[e + step] - y[e], dz = z[e + step] - z[e];
+                    len_out[e] = dx * dx + dy * dy + dz * dz;
+                }
+                // Eigen's packet square root (std::sqrt's errno check keeps the loop scalar).
+                Eigen::Map<Eigen::ArrayXd> squared(len_out, Eigen::Index(count));
+                squared = squared.sqrt();
+                for (std::size_t e = 0; e < count; ++e) {
+                    const double len = len_out[e];
+                    const double factor = rest / (len > 0.0 ? len : 1.0);
+                    factor_out[e] = len > 0.0 ? factor : 0.0;
+                }
+            };
+            lengths(row, std::size_t(nu) - 1, 1, rest_u, right_len.data(), right_factor.data());
+            if (j + 1 < nv) lengths(row, std::size_t(nu), std::size_t(nu), rest_v, down_len.data(), down_factor.data());
+        });
+        tbb::parallel_for(0, nv, [&](int j) {
+            const std::size_t row = std::size_t(j) * std::size_t(nu);
+            // The stretch and the energy, summed along the row in vertex order (each edge
+            // once: to the right and below), then the fold-line terms.
+            double sum = 0.0, max = 0.0, energy = 0.0;
+            for (int i = 0; i < nu; ++i) {
+                const std::size_t k = row + std::size_t(i);
+                if (i + 1 < nu) {
+                    const double len = right_len[k];
+                    const double stretch = std::abs(len / rest_u - 1.0);
+                    sum += stretch, max = std::max(max, stretch);
+                    energy += (len - rest_u) * (len - rest_u);
+                }
+                if (j + 1 < nv) {
+                    const double len = down_len[k];
+                    const double stretch = std::abs(len / rest_v - 1.0);
+                    sum += stretch, max = std::max(max, stretch);
+                    energy += (len - rest_v) * (len - rest_v);
+                }
+                if (const double pull = w.pull[k]; pull > 0.0) {
+                    const double dy = py[k] - w.target_y[k], dz = pz[k] - w.target_z[k];
+                    energy += anchor * pull * dy * dy;
+                    energy += anchor * pull * dz * dz;
+                }
             }
             w.row_sum[std::size_t(j)] = sum, w.row_max[std::size_t(j)] = max, w.row_energy[std::size_t(j)] = energy;
+            // The right-hand side, a coordinate at a time (x has no fold-line pull).  Pinned
+            // vertices get one too, set to 0 below.
+            const auto rows = [&](auto up, auto down) {
+                rhs_row(up, down, px, nullptr, row, w.global_rhs[0].data());
+                rhs_row(up, down, py, w.target_y.data(), row, w.global_rhs[1].data());
+                rhs_row(up, down, pz, w.target_z.data(), row, w.global_rhs[2].data());
+            };
+            using Yes = std::true_type;
+            using No = std::false_type;
+            if (j > 0 && j + 1 < nv)
+                rows(Yes{}, Yes{});
+            else if (j > 0)
+                rows(Yes{}, No{});
+            else if (j + 1 < nv)
+                rows(No{}, Yes{});
+            else
+                rows(No{}, No{});
         });
+        // The pins' right-hand sides, which the solve ignores, as +0: then it need not copy
+        // the rest to zero them.
+        for (const int p : m.pinned_vertices)
+            for (Eigen::VectorXd& b : w.global_rhs) b[p] = 0.0;
         Local out{0.0, 0.0, 0.0};
         for (int j = 0; j < grid.nv; ++j)
             out.energy += w.row_energy[std::size_t(j)], out.mean += w.row_sum[std::size_t(j)],
@@ -258,6 +352,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             // Not there yet: the targets ask for more than the cloth can give; soften them
             // (a new fixed-point map, so the history goes).
             anchor_scale *= 0.5;
+            set_pull();
             anderson.forget();
             state = local(w.current.data());
             accepted_energy = state.energy;

@@ -1,0 +1,116 @@
+// The relaxation's Anderson step (drape/src/anderson.hpp) against a plain implementation of the
+// same arithmetic: the residual and differences in separate passes, each dot product by Eigen's
+// dot() over each chunk of 8192 entries, the chunks summed in order.  The step fuses those
+// passes and sums the dot products itself, in dot()'s order: the bits must be the same, every
+// step, with the history filling, wrapping round the ring and forgotten.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <vector>
+
+#include "anderson.hpp"
+
+namespace foldcast::drape::detail {
+namespace {
+
+class PlainAnderson {
+public:
+    explicit PlainAnderson(Eigen::Index size) : size_(size) {}
+    void forget() { dg_.clear(), df_.clear(); }
+
+    // Returns false (next untouched) where Anderson::step does.
+    bool step(const Eigen::VectorXd& current, const Eigen::VectorXd& g, Eigen::VectorXd& next) {
+        const Eigen::VectorXd f = g - current;
+        if (!started_) {
+            started_ = true;
+            g_prev_ = g, f_prev_ = f;
+            return false;
+        }
+        if (int(df_.size()) == Anderson::kHistory) dg_.pop_front(), df_.pop_front();
+        dg_.push_back(g - g_prev_), df_.push_back(f - f_prev_);
+        g_prev_ = g, f_prev_ = f;
+        const int h = int(df_.size());
+        const auto dot = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+            double sum = 0.0;
+            for (Eigen::Index begin = 0; begin < size_; begin += kChunk) {
+                const Eigen::Index length = std::min(kChunk, size_ - begin);
+                sum += a.segment(begin, length).dot(b.segment(begin, length));
+            }
+            return sum;
+        };
+        // The normal matrix's entries are computed once, when the newer of the two arrives
+        // (new . older, as the step does), and kept.
+        std::vector<double> row(static_cast<std::size_t>(h));
+        for (int a = 0; a < h; ++a) row[std::size_t(a)] = dot(df_.back(), df_[std::size_t(a)]);
+        dots_.push_back(row);
+        if (int(dots_.size()) > Anderson::kHistory) dots_.pop_front();
+        Eigen::MatrixXd normal(h, h);
+        Eigen::VectorXd right(h);
+        for (int a = 0; a < h; ++a) {
+            right(a) = dot(df_[std::size_t(a)], f);
+            for (int b = 0; b <= a; ++b) {
+                // dots_[a] holds slot a's dot products with the slots before it, oldest first.
+                const std::vector<double>& newer = dots_[std::size_t(a)];
+                normal(a, b) = normal(b, a) = newer[newer.size() - std::size_t(a - b) - 1];
+            }
+        }
+        normal.diagonal() *= 1.0 + 1e-10;
+        const Eigen::VectorXd theta = normal.ldlt().solve(right);
+        if (!theta.allFinite()) return false;
+        next = g;
+        for (Eigen::Index e = 0; e < size_; ++e) {
+            double v = g[e];
+            for (int a = 0; a < h; ++a) v -= theta(a) * dg_[std::size_t(a)][e];
+            next[e] = v;
+        }
+        return true;
+    }
+
+    void reset_dots() { dots_.clear(); }
+
+private:
+    static constexpr Eigen::Index kChunk = 8192;
+    Eigen::Index size_;
+    bool started_ = false;
+    Eigen::VectorXd g_prev_, f_prev_;
+    std::deque<Eigen::VectorXd> dg_, df_;
+    std::deque<std::vector<double>> dots_;
+};
+
+// A smooth nonlinear contraction, so that the history is neither degenerate nor trivial.
+Eigen::VectorXd map(const Eigen::VectorXd& x) {
+    Eigen::VectorXd g(x.size());
+    for (Eigen::Index e = 0; e < x.size(); ++e)
+        g[e] = 0.8 * x[e] + 0.1 * std::sin(3.0 * x[(e + 7) % x.size()]) + 0.01 * std::cos(0.001 * double(e));
+    return g;
+}
+
+void same_bits_as_plain(Eigen::Index size) {
+    Anderson fused(size);
+    PlainAnderson plain(size);
+    fused.restart();
+    Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(size, -1.0, 1.0), next_fused(size), next_plain(size);
+    for (int step = 0; step < 14; ++step) {
+        if (step == 9) fused.forget(), plain.forget(), plain.reset_dots();  // as after a rejected step
+        const Eigen::VectorXd g = map(x);
+        std::copy(g.data(), g.data() + size, fused.g());
+        const bool accelerated = fused.step(x.data(), next_fused.data());
+        ASSERT_EQ(accelerated, plain.step(x, g, next_plain)) << "step " << step;
+        if (!accelerated) {
+            x = g;
+            continue;
+        }
+        ASSERT_EQ(std::memcmp(next_fused.data(), next_plain.data(), sizeof(double) * std::size_t(size)), 0)
+            << "step " << step << ", size " << size;
+        x = next_fused;
+    }
+}
+
+TEST(Anderson, SameBitsAsThePlainPassesWhereEveryChunkIsFused) { same_bits_as_plain(3 * 8192); }
+TEST(Anderson, SameBitsAsThePlainPassesWithARaggedLastChunk) { same_bits_as_plain(2 * 8192 + 4103); }
+
+}  // namespace
+}  // namespace foldcast::drape::detail
