@@ -18,6 +18,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape_relax.hpp"
+#include "thread_directions.hpp"
 #include "anderson.hpp"
 #include "fold_surface.hpp"
 #include "grid_solver.hpp"
@@ -42,6 +43,7 @@ struct GridRelaxer::Impl {
 };
 
 struct GridRelaxer::Impl::Workspace {
+    detail::ThreadDirections directions;  // the smoothing phase's edge directions
     std::vector<double> right_len, down_len;  // each edge's length (to the right, below)
     std::vector<double> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
     std::vector<double> target_y, target_z;         // the targets' height and depth, as doubles
@@ -251,10 +253,15 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         }
         if (nu > 1) vertex(end, true, false);
     };
+    int iteration = 0;  // the local step reads it: in the smoothing phase or not
     const auto local = [&](const double* positions_now) -> Local {
         const double* const px = positions_now;
         const double* const py = positions_now + n;
         const double* const pz = positions_now + 2 * n;
+        const bool smoothing = iteration < m.settings.smoothing_iterations && m.settings.smoothing > 0.0;
+        // In the smoothing phase the edge terms come from the blended directions below, so
+        // the rows' right-hand sides get the anchor terms only (rest 0 gives factors 0).
+        const double factor_u = smoothing ? 0.0 : rest_u, factor_v = smoothing ? 0.0 : rest_v;
         tbb::parallel_for(0, nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(nu);
             // |x_o - x_k| as Eigen's norm() sums it, (dx^2 + dy^2) + dz^2, for the edges from
@@ -279,8 +286,9 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                     factor_out[e] = len > 0.0 ? factor : 0.0;
                 }
             };
-            lengths(row, std::size_t(nu) - 1, 1, rest_u, right_len.data(), right_factor.data());
-            if (j + 1 < nv) lengths(row, std::size_t(nu), std::size_t(nu), rest_v, down_len.data(), down_factor.data());
+            lengths(row, std::size_t(nu) - 1, 1, factor_u, right_len.data(), right_factor.data());
+            if (j + 1 < nv)
+                lengths(row, std::size_t(nu), std::size_t(nu), factor_v, down_len.data(), down_factor.data());
         });
         tbb::parallel_for(0, nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(nu);
@@ -326,6 +334,25 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             else
                 rows(No{}, No{});
         });
+        if (smoothing) {
+            // Each edge at its rest length along its blended direction d: +d for the edge
+            // arriving at a vertex, -d for the one leaving it.
+            detail::thread_directions(px, py, pz, grid, m.settings.smoothing, w.directions);
+            const detail::ThreadDirections& d = w.directions;
+            tbb::parallel_for(0, nv, [&](int j) {
+                for (int i = 0; i < nu; ++i) {
+                    const std::size_t k = std::size_t(j) * std::size_t(nu) + std::size_t(i);
+                    for (std::size_t c = 0; c < 3; ++c) {
+                        double b = 0.0;
+                        if (i > 0) b += rest_u * d.right[c][k - 1];
+                        if (i + 1 < nu) b -= rest_u * d.right[c][k];
+                        if (j > 0) b += rest_v * d.down[c][k - std::size_t(nu)];
+                        if (j + 1 < nv) b -= rest_v * d.down[c][k];
+                        w.global_rhs[c][Eigen::Index(k)] += b;
+                    }
+                }
+            });
+        }
         // The pins' right-hand sides, which the solve ignores, as +0: then it need not copy
         // the rest to zero them.
         for (const int p : m.pinned_vertices)
@@ -345,7 +372,6 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     anderson.restart();
     Local state = local(w.current.data());
     double accepted_energy = state.energy;
-    int iteration = 0;
     while (!(state.mean <= m.settings.target_mean && state.max <= m.settings.target_max) &&
            iteration < m.settings.max_iterations) {
         if (iteration > 0 && iteration % kSoftenEvery == 0) {
@@ -353,6 +379,12 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             // (a new fixed-point map, so the history goes).
             anchor_scale *= 0.5;
             set_pull();
+            anderson.forget();
+            state = local(w.current.data());
+            accepted_energy = state.energy;
+        }
+        if (iteration > 0 && iteration == m.settings.smoothing_iterations) {
+            // The smoothing phase is over: plain projections from here (a new map).
             anderson.forget();
             state = local(w.current.data());
             accepted_energy = state.energy;

@@ -18,6 +18,12 @@ struct RelaxSettings {
     // Pull of a centre-fibre crest towards the model's height and depth, relative to an
     // edge's pull towards its rest length, for a 64-column grid (scaled as 1/nu).
     double anchor_weight = 0.1;
+    // Thread smoothing (docs/drape.md): for the first smoothing_iterations the edges are
+    // projected onto their directions blended with their neighbours' along the thread (weight
+    // `smoothing`), so that threads which must lengthen bend instead of kinking at every
+    // vertex; then plain iterations until the stretch bounds.  0 iterations: none.
+    double smoothing = 0.5;
+    int smoothing_iterations = 40;
 };
 
 struct RelaxReport {
