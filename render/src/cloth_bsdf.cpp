@@ -19,10 +19,6 @@ constexpr float kMinSheenRough = 0.07f;  // Charlie: exponent 1/alpha stays <= ~
 float sqr(float x) { return x * x; }
 
 // --- GGX (anisotropic, height-correlated Smith) -------------------------------------------
-float ggx_d(const V3& h, float ax, float ay) {
-    const float e = sqr(h.x() / ax) + sqr(h.y() / ay) + sqr(h.z());
-    return 1.0f / (kPiF * ax * ay * e * e);
-}
 float ggx_lambda(const V3& w, float ax, float ay) {
     const float z2 = sqr(w.z());
     if (z2 <= 0.0f) return 1e30f;
@@ -154,6 +150,10 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(w
         sxy > 1e-12f ? std::sqrt((sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())) / sxy) : std::sqrt(ax_ * ay_);
     e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
     lambda_o_ = ggx_lambda(wo_, ax_, ay_);
+    ax2_ = ax_ * ax_, ay2_ = ay_ * ay_;
+    inv_ax2_ = 1.0f / ax2_, inv_ay2_ = 1.0f / ay2_;
+    d_scale_ = 1.0f / (kPiF * ax_ * ay_);
+    pdf_scale_ = wo_.z() > 0.0f ? 1.0f / (4.0f * wo_.z() * (1.0f + lambda_o_)) : 0.0f;
     sheen_scale_ = std::clamp(p_.sheen.maxCoeff(), 0.0f, 1.0f);
     e_sheen_ = sheen_scale_ > 0.0f ? sheen_albedo(mu, p_.sheen_roughness) : 0.0f;
     base_weight_ = 1.0f - e_spec_;
@@ -175,12 +175,18 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(w
 // The specular lobe's value (f, without the cosine) and its sampling pdf at wi, from one
 // half vector and one D: eval needs both, and the half vector's normalisation and D's
 // divisions were most of the lobe's cost when each was computed twice.
+// Every factor that depends on wo alone is set up in the constructor, so a call costs one
+// square root and four divisions (it took two square roots and ten divisions).
 ClothBsdf::SpecTerms ClothBsdf::spec_terms(const V3& wi) const {
-    const V3 h = (wo_ + wi).normalized();
-    const float d = ggx_d(h, ax_, ay_);
-    const float g2 = 1.0f / (1.0f + lambda_o_ + ggx_lambda(wi, ax_, ay_));
-    const float f = schlick(p_.f0, wo_.dot(h)) * d * g2 / (4.0f * wo_.z() * wi.z());
-    return {f, d / (4.0f * wo_.z() * (1.0f + lambda_o_))};
+    const V3 sum = wo_ + wi;
+    const V3 h = sum * (1.0f / std::sqrt(sum.squaredNorm()));
+    const float e = sqr(h.x()) * inv_ax2_ + sqr(h.y()) * inv_ay2_ + sqr(h.z());
+    const float d = d_scale_ / (e * e);  // GGX D
+    const float wz2 = sqr(wi.z());
+    const float lambda_i = wz2 > 0.0f ? 0.5f * (-1.0f + std::sqrt(1.0f + (ax2_ * sqr(wi.x()) + ay2_ * sqr(wi.y())) / wz2))
+                                      : 1e30f;
+    const float f = schlick(p_.f0, wo_.dot(h)) * d / ((1.0f + lambda_o_ + lambda_i) * 4.0f * wo_.z() * wi.z());
+    return {f, d * pdf_scale_};
 }
 
 float ClothBsdf::sheen_d_v(const V3& wi) const {
