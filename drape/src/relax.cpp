@@ -229,10 +229,12 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         };
         vertex(row, false, nu > 1);
         const std::size_t end = row + stride - 1;
-        if (target) {
+        // The interior of the row, branch-free so that it vectorises: with the fold-line pull
+        // (y and z) or without it (x).
+        const auto interior = [&](auto with_target) {
             for (std::size_t k = row + 1; k < end; ++k) {
                 double b = x[k];
-                b += pull[k] * (target[k] - x[k]);
+                if constexpr (decltype(with_target)::value) b += pull[k] * (target[k] - x[k]);
                 b *= anchor;
                 b += (x[k] - x[k - 1]) * rf[k - 1];
                 b += (x[k] - x[k + 1]) * rf[k];
@@ -240,17 +242,11 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                 if (kDown) b += (x[k] - x[k + stride]) * df[k];
                 out[k] = b;
             }
-        } else {
-            for (std::size_t k = row + 1; k < end; ++k) {
-                double b = x[k];
-                b *= anchor;
-                b += (x[k] - x[k - 1]) * rf[k - 1];
-                b += (x[k] - x[k + 1]) * rf[k];
-                if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
-                if (kDown) b += (x[k] - x[k + stride]) * df[k];
-                out[k] = b;
-            }
-        }
+        };
+        if (target)
+            interior(std::true_type{});
+        else
+            interior(std::false_type{});
         if (nu > 1) vertex(end, true, false);
     };
     int iteration = 0;  // the local step reads it: in the smoothing phase or not
