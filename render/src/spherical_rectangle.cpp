@@ -67,8 +67,10 @@ Vec3f SphericalRectangle::sample(float u, float v) const {
     // The x of the sample: the solid angle left of it is u times the whole.
     const float au = u * solid_angle_ + k_;
     const float fu = (std::cos(au) * b0_ - b1_) / std::sin(au);
-    const float cu = std::clamp((fu > 0.0f ? 1.0f : -1.0f) / std::sqrt(fu * fu + b0_ * b0_), -1.0f, 1.0f);
-    const float xu = std::clamp(-(cu * z0_) / std::max(1e-7f, std::sqrt(1.0f - cu * cu)), x0_, x1_);
+    // With cu = +/-1 / sqrt(F), F = fu^2 + b0^2 >= 1, the paper's xu = -cu z0 / sqrt(1 - cu^2)
+    // is -/+z0 / sqrt(F - 1): one square root and one division fewer.
+    const float f2 = fu * fu + b0_ * b0_;
+    const float xu = std::clamp((fu > 0.0f ? -z0_ : z0_) / std::sqrt(std::max(1e-14f, f2 - 1.0f)), x0_, x1_);
     // Its y: uniform in the projected height of that column.
     const float dist2 = xu * xu + z0_ * z0_;
     const float h0 = y0_ / std::sqrt(dist2 + y0_ * y0_), h1 = y1_ / std::sqrt(dist2 + y1_ * y1_);
