@@ -2,7 +2,8 @@
 // al. 2014, without inertia): minimise
 //   sum_edges |x_i - x_j - p_e|^2 + anchor sum_vertices |x_k - t_k|^2
 // over the free vertices, alternating the local step (p_e = the edge's current direction at
-// its rest length) with the global step, a linear solve whose matrix (graph Laplacian +
+// its rest length; in the first RelaxSettings::smoothing_iterations that direction blended
+// along the thread, thread_directions.hpp) with the global step, a linear solve whose matrix (graph Laplacian +
 // anchor) depends only on the grid and the pinned set: diagonal in the grid's DCT basis, it is
 // solved by two DCTs and a small system for the pins (grid_solver.hpp), set up once and
 // reused for every iteration and every frame.
