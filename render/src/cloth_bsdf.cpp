@@ -150,8 +150,7 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(w
         sxy > 1e-12f ? std::sqrt((sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())) / sxy) : std::sqrt(ax_ * ay_);
     e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
     lambda_o_ = ggx_lambda(wo_, ax_, ay_);
-    ax2_ = ax_ * ax_, ay2_ = ay_ * ay_;
-    inv_ax2_ = 1.0f / ax2_, inv_ay2_ = 1.0f / ay2_;
+    inv_ax2_ = 1.0f / (ax_ * ax_), inv_ay2_ = 1.0f / (ay_ * ay_);
     d_scale_ = 1.0f / (kPiF * ax_ * ay_);
     pdf_scale_ = wo_.z() > 0.0f ? 1.0f / (4.0f * wo_.z() * (1.0f + lambda_o_)) : 0.0f;
     sheen_scale_ = std::clamp(p_.sheen.maxCoeff(), 0.0f, 1.0f);
@@ -175,17 +174,15 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(w
 // The specular lobe's value (f, without the cosine) and its sampling pdf at wi, from one
 // half vector and one D: eval needs both, and the half vector's normalisation and D's
 // divisions were most of the lobe's cost when each was computed twice.
-// Every factor that depends on wo alone is set up in the constructor, so a call costs one
-// square root and four divisions (it took two square roots and ten divisions).
+// Every factor that depends on wo alone is set up in the constructor (D's 1/ax^2, 1/ay^2 and
+// scale, the pdf's scale), so a call costs two square roots and four divisions (it took ten).
 ClothBsdf::SpecTerms ClothBsdf::spec_terms(const V3& wi) const {
     const V3 sum = wo_ + wi;
     const V3 h = sum * (1.0f / std::sqrt(sum.squaredNorm()));
     const float e = sqr(h.x()) * inv_ax2_ + sqr(h.y()) * inv_ay2_ + sqr(h.z());
     const float d = d_scale_ / (e * e);  // GGX D
-    const float wz2 = sqr(wi.z());
-    const float lambda_i = wz2 > 0.0f ? 0.5f * (-1.0f + std::sqrt(1.0f + (ax2_ * sqr(wi.x()) + ay2_ * sqr(wi.y())) / wz2))
-                                      : 1e30f;
-    const float f = schlick(p_.f0, wo_.dot(h)) * d / ((1.0f + lambda_o_ + lambda_i) * 4.0f * wo_.z() * wi.z());
+    const float f = schlick(p_.f0, wo_.dot(h)) * d /
+                    ((1.0f + lambda_o_ + ggx_lambda(wi, ax_, ay_)) * 4.0f * wo_.z() * wi.z());
     return {f, d * pdf_scale_};
 }
 

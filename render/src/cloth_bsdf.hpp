@@ -52,7 +52,7 @@ private:
     V3 wo_;
     float ax_ = 0.0f, ay_ = 0.0f;
     float lambda_o_ = 0.0f;  // Smith Lambda of wo, used by every evaluation
-    float ax2_ = 0.0f, ay2_ = 0.0f, inv_ax2_ = 0.0f, inv_ay2_ = 0.0f;
+    float inv_ax2_ = 0.0f, inv_ay2_ = 0.0f;  // 1 / alpha^2 along x and y, for D
     float d_scale_ = 0.0f;    // 1 / (pi ax ay): GGX D = d_scale / e^2
     float pdf_scale_ = 0.0f;  // 1 / (4 cos_o (1 + Lambda_o)): the VNDF pdf of a reflection is D times it
     float sheen_alpha_ = 0.0f;
