@@ -85,6 +85,20 @@ void combine_chunk(Eigen::Index begin, Eigen::Index end, const double* g,
     }
 }
 
+// Calls body(std::integral_constant<int, h>{}) for a history length h in 1..kHistory, so that
+// the chunk loops are compiled for each length (their per-slot loops unrolled).
+template <typename Body>
+void with_history_length(int h, Body&& body) {
+    static_assert(Anderson::kHistory == 5, "one case per history length");
+    switch (h) {
+        case 1: return body(std::integral_constant<int, 1>{});
+        case 2: return body(std::integral_constant<int, 2>{});
+        case 3: return body(std::integral_constant<int, 3>{});
+        case 4: return body(std::integral_constant<int, 4>{});
+        default: return body(std::integral_constant<int, 5>{});
+    }
+}
+
 }  // namespace
 
 Anderson::Anderson(Eigen::Index size)
@@ -130,20 +144,12 @@ bool Anderson::step(const double* current, double* next) {
             2 * Eigen::Index(Eigen::internal::packet_traits<double>::size);
         for_chunks(size_, [&](Eigen::Index c, Eigen::Index begin, Eigen::Index end) {
             double* const sums = partial + c * 2 * kHistory;
-            if ((end - begin) % kTwoPackets == 0) {
-                const auto fused = [&](auto history_length) {
+            if ((end - begin) % kTwoPackets == 0 && h >= 1) {
+                with_history_length(h, [&](auto history_length) {
                     fused_chunk<decltype(history_length)::value>(begin, end, g, current, g_prev, f_prev, f, new_dg,
                                                                  new_df, history, sums, sums + kHistory);
-                };
-                static_assert(kHistory == 5, "one case per history length");
-                switch (h) {
-                    case 1: fused(std::integral_constant<int, 1>{}); return;
-                    case 2: fused(std::integral_constant<int, 2>{}); return;
-                    case 3: fused(std::integral_constant<int, 3>{}); return;
-                    case 4: fused(std::integral_constant<int, 4>{}); return;
-                    case 5: fused(std::integral_constant<int, 5>{}); return;
-                    default: break;
-                }
+                });
+                return;
             }
             for (Eigen::Index e = begin; e < end; ++e) {
                 const double fe = g[e] - current[e];
@@ -182,16 +188,9 @@ bool Anderson::step(const double* current, double* next) {
         std::array<const double*, kHistory> dg{};
         for (int a = 0; a < h; ++a) dg[std::size_t(a)] = dg_[slot_of(a)].data();
         for_chunks(size_, [&](Eigen::Index, Eigen::Index begin, Eigen::Index end) {
-            const auto combine = [&](auto history_length) {
+            with_history_length(h, [&](auto history_length) {
                 combine_chunk<decltype(history_length)::value>(begin, end, g, dg, theta.data(), next);
-            };
-            switch (h) {
-                case 1: combine(std::integral_constant<int, 1>{}); return;
-                case 2: combine(std::integral_constant<int, 2>{}); return;
-                case 3: combine(std::integral_constant<int, 3>{}); return;
-                case 4: combine(std::integral_constant<int, 4>{}); return;
-                default: combine(std::integral_constant<int, 5>{}); return;
-            }
+            });
         });
         return true;
     }
