@@ -371,17 +371,12 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     double accepted_energy = state.energy;
     while (!(state.mean <= m.settings.target_mean && state.max <= m.settings.target_max) &&
            iteration < m.settings.max_iterations) {
-        if (iteration > 0 && iteration % kSoftenEvery == 0) {
-            // Not there yet: the targets ask for more than the cloth can give; soften them
-            // (a new fixed-point map, so the history goes).
-            anchor_scale *= 0.5;
-            set_pull();
-            anderson.forget();
-            state = local(w.current.data());
-            accepted_energy = state.energy;
-        }
-        if (iteration > 0 && iteration == m.settings.smoothing_iterations) {
-            // The smoothing phase is over: plain projections from here (a new map).
+        // Not there yet after every kSoftenEvery iterations: the targets ask for more than the
+        // cloth can give, so soften them.  After the smoothing phase: plain projections.
+        const bool soften = iteration > 0 && iteration % kSoftenEvery == 0;
+        const bool smoothing_over = iteration > 0 && iteration == m.settings.smoothing_iterations;
+        if (soften) anchor_scale *= 0.5, set_pull();
+        if (soften || smoothing_over) {  // a new fixed-point map: the history goes
             anderson.forget();
             state = local(w.current.data());
             accepted_energy = state.energy;

@@ -33,8 +33,11 @@ void thread_directions(const double* x, const double* y, const double* z, GridSi
     const std::size_t nu = std::size_t(grid.nu), nv = std::size_t(grid.nv), n = nu * nv;
     const double* const p[3] = {x, y, z};
     // The raw directions first (every one is read by its neighbours' blends), then the blend.
+    // Every entry with an edge is written below, so zeros (the entries without) are only set
+    // when the storage is new.
     for (std::size_t c = 0; c < 3; ++c)
-        for (auto* v : {&out.raw_right[c], &out.raw_down[c], &out.right[c], &out.down[c]}) v->assign(n, 0.0);
+        for (auto* v : {&out.raw_right[c], &out.raw_down[c], &out.right[c], &out.down[c]})
+            if (v->size() != n) v->assign(n, 0.0);
     tbb::parallel_for(std::size_t(0), nv, [&](std::size_t j) {
         for (std::size_t i = 0; i < nu; ++i) {
             const std::size_t k = j * nu + i;

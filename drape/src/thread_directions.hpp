@@ -23,7 +23,8 @@ struct ThreadDirections {
 // towards its neighbour); w = `weight`.  On a circular arc the blend is the edge's own
 // direction, so smoothing leaves even bending alone and removes alternating kinks.  Each
 // entry depends only on the input, so the result is the same for any thread count.  `out`
-// keeps its storage between calls.
+// keeps its storage between calls; reuse it for one grid size only (its zeros are set when
+// the storage is new).
 void thread_directions(const double* x, const double* y, const double* z, GridSize grid, double weight,
                        ThreadDirections& out);
 
