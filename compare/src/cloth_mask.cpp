@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <opencv2/imgproc.hpp>
 
 #include "foldcast/compare/folds.hpp"
@@ -41,6 +42,72 @@ cv::Mat largest_component_filled(const cv::Mat& fg, cv::Point seed) {
     return out;
 }
 
+
+cv::Mat lab_of(const cv::Mat& bgr) {
+    cv::Mat lab;
+    cv::cvtColor(bgr, lab, cv::COLOR_BGR2Lab);
+    return lab;
+}
+
+// The median 8-bit CIELAB colour of a rectangle (per channel; the rectangle is not empty).
+cv::Vec3d median_lab(const cv::Mat& lab, const cv::Rect& r) {
+    cv::Vec3d out(0, 0, 0);
+    if (r.area() == 0) return out;
+    std::vector<int> v;
+    for (int c = 0; c < 3; ++c) {
+        v.clear();
+        for (int y = r.y; y < r.y + r.height; ++y)
+            for (int x = r.x; x < r.x + r.width; ++x) v.push_back(lab.at<cv::Vec3b>(y, x)[c]);
+        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+        out[c] = v[v.size() / 2];
+    }
+    return out;
+}
+
+// Where the cloth surely is, to seed GrabCut: a strip on the centre line between the supports
+// (a, b, in the small image), where the cloth first shows going down from the support line.
+// With slack the top edge sags, by half the support distance D or more, and above it the
+// background shows through; so the centre line is read downwards and the strip starts at
+// the first run of rows (0.05 D) that differ from the background seen just above the support
+// line (which a hanging cloth leaves clear) and agree with each other, and goes on while
+// they do (to 0.25 D).  Without such a run (no background above the line in the picture,
+// or nothing different below it) the strip is 0.1-0.35 D below the line, where a cloth with
+// little slack is.
+cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const double d = (b - a).norm();
+    const Eigen::Vector2d mid = 0.5 * (a + b);
+    const cv::Rect bounds(0, 0, lab.cols, lab.rows);
+    const int x0 = static_cast<int>(mid.x() - 0.05 * d), x1 = static_cast<int>(mid.x() + 0.05 * d) + 1;
+    const auto rows = [&](double from, double to) {
+        return cv::Rect(cv::Point(x0, static_cast<int>(from)), cv::Point(x1, static_cast<int>(to) + 1)) & bounds;
+    };
+    const cv::Rect fallback = rows(mid.y() + 0.1 * d, mid.y() + 0.35 * d);
+    const cv::Rect above = rows(mid.y() - 0.25 * d, mid.y() - 0.08 * d);
+    if (above.area() < 4) return fallback;
+    const cv::Vec3d background = median_lab(lab, above);
+    constexpr double kDiffers = 12.0, kAgrees = 10.0;  // 8-bit CIELAB distances
+    const int run = std::max(2, static_cast<int>(0.05 * d));
+    const int first = std::max(0, static_cast<int>(mid.y())), last = lab.rows - run;
+    for (int y = first; y < last; ++y) {
+        const cv::Vec3d top = median_lab(lab, rows(y, y));
+        if (cv::norm(top - background) < kDiffers) continue;
+        bool holds = true;
+        for (int k = 1; k < run && holds; ++k) {
+            const cv::Vec3d row = median_lab(lab, rows(y + k, y + k));
+            holds = cv::norm(row - background) >= kDiffers && cv::norm(row - top) < kAgrees;
+        }
+        if (!holds) continue;
+        int end = y + run;  // the strip goes on while the rows still agree, to 0.25 D
+        while (end < std::min(lab.rows, y + static_cast<int>(0.25 * d))) {
+            const cv::Vec3d row = median_lab(lab, rows(end, end));
+            if (cv::norm(row - background) < kDiffers || cv::norm(row - top) >= kAgrees) break;
+            ++end;
+        }
+        return rows(y + 1, end - 1);
+    }
+    return fallback;
+}
+
 }  // namespace
 
 Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>& supports) {
@@ -57,23 +124,19 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
 
     const Eigen::Vector2d a = supports->first * scale, b = supports->second * scale;
     const double d = (b - a).norm();
-    const Eigen::Vector2d mid = 0.5 * (a + b);
     const cv::Rect bounds(0, 0, small.cols, small.rows);
-    const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::min(a.x(), b.x()) - 0.3 * d),
+    // Where cloth can be: beside the supports by 0.4 D and anywhere below them.  A cloth may
+    // hang several times D (a tall panel on close supports); below the supports the colour
+    // prior, not the rectangle, keeps a table or a floor out.
+    const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::min(a.x(), b.x()) - 0.4 * d),
                                              static_cast<int>(std::min(a.y(), b.y()) - 0.08 * d)),
-                                   cv::Point(static_cast<int>(std::max(a.x(), b.x()) + 0.3 * d),
-                                             static_cast<int>(std::max(a.y(), b.y()) + 1.3 * d))) &
+                                   cv::Point(static_cast<int>(std::max(a.x(), b.x()) + 0.4 * d), small.rows)) &
                           bounds;
-    cv::Mat labels(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
-    const cv::Rect seed =
-        cv::Rect(cv::Point(static_cast<int>(mid.x() - 0.05 * d), static_cast<int>(mid.y() + 0.1 * d)),
-                 cv::Point(static_cast<int>(mid.x() + 0.05 * d) + 1, static_cast<int>(mid.y() + 0.35 * d) + 1)) &
-        bounds;
+    const cv::Mat lab = lab_of(small);
+    const cv::Rect seed = cloth_seed(lab, a, b);
     // Inside the rectangle, the cloth's colour decides the first guess: chroma (CIELAB a, b)
-    // near the seed strip's median is probably cloth, the rest probably not.  This keeps a
-    // table or wall touching the hem out of the mask.
-    cv::Mat lab;
-    cv::cvtColor(small, lab, cv::COLOR_BGR2Lab);
+    // near the seed's median is probably cloth, the rest probably not.  This keeps a table or
+    // wall touching the hem out of the mask.
     std::vector<int> seed_a, seed_b;
     for (int y = seed.y; y < seed.y + seed.height; ++y)
         for (int x = seed.x; x < seed.x + seed.width; ++x) {
@@ -85,18 +148,18 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
     std::nth_element(seed_b.begin(), seed_b.begin() + seed_b.size() / 2, seed_b.end());
     const double ma = seed_a[seed_a.size() / 2], mb = seed_b[seed_b.size() / 2];
     constexpr double kSameCloth = 20.0;  // 8-bit Lab chroma units
+    const auto same_cloth = [&](const cv::Vec3b& v) { return std::hypot(v[1] - ma, v[2] - mb) < kSameCloth; };
+    cv::Mat labels(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
     for (int y = rect.y; y < rect.y + rect.height; ++y)
-        for (int x = rect.x; x < rect.x + rect.width; ++x) {
-            const cv::Vec3b v = lab.at<cv::Vec3b>(y, x);
-            labels.at<uchar>(y, x) = std::hypot(v[1] - ma, v[2] - mb) < kSameCloth ? cv::GC_PR_FGD : cv::GC_PR_BGD;
-        }
+        for (int x = rect.x; x < rect.x + rect.width; ++x)
+            labels.at<uchar>(y, x) = same_cloth(lab.at<cv::Vec3b>(y, x)) ? cv::GC_PR_FGD : cv::GC_PR_BGD;
     labels(seed).setTo(cv::GC_FGD);
     cv::Mat bgd_model, fgd_model;
     cv::setRNGSeed(12345);  // GrabCut's GMM initialisation draws from OpenCV's RNG
     cv::grabCut(small, labels, rect, bgd_model, fgd_model, 5, cv::GC_INIT_WITH_MASK);
     cv::Mat fg = (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
     cv::morphologyEx(fg, fg, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
-    fg = largest_component_filled(fg, cv::Point(static_cast<int>(mid.x()), static_cast<int>(mid.y() + 0.2 * d)));
+    fg = largest_component_filled(fg, (seed.tl() + seed.br()) / 2);
     cv::Mat up;
     cv::resize(fg, up, full.size(), 0, 0, cv::INTER_LINEAR);
     cv::Mat binary = up > 127;

@@ -239,14 +239,32 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
             }
     }
     const float mr = median_of(rs), mg = median_of(gs);
+    // Light that bounces between the walls of a fold takes the cloth's colour again at each
+    // bounce, so a fold's shaded valley is the cloth's colour, more saturated: its
+    // chromaticity lies further out along the line from white through the cloth's.  A print's
+    // lies anywhere else (another hue, or nearer white).  So the distance that marks a print
+    // is to the half-line from the cloth's chromaticity away from white, not to the point
+    // (on a saturated red cloth in a studio render the point's distance marked every fold's
+    // valley as print).  A near-white cloth has no such direction: the point it is.
+    constexpr float kWhite = 1.0f / 3.0f, kNeutral = 0.02f;
+    const float hue_r = mr - kWhite, hue_g = mg - kWhite, hue_len = std::hypot(hue_r, hue_g);
+    const auto print_distance = [&](float r, float g) {
+        const float dr = r - mr, dg = g - mg;
+        if (hue_len < kNeutral) return std::hypot(dr, dg);
+        const float along = (dr * hue_r + dg * hue_g) / hue_len;
+        if (along <= 0.0f) return std::hypot(dr, dg);
+        return std::abs(dr * hue_g - dg * hue_r) / hue_len;  // across the half-line
+    };
     cv::Mat distance(rgb.size(), CV_32F);
     std::vector<float> ds;
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x) {
-            const float d = std::hypot(chroma_r.at<float>(y, x) - mr, chroma_g.at<float>(y, x) - mg);
-            distance.at<float>(y, x) = d;
-            if (cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x)) ds.push_back(d);
+            const float r = chroma_r.at<float>(y, x), g = chroma_g.at<float>(y, x);
+            distance.at<float>(y, x) = print_distance(r, g);
+            if (cloth.at<uchar>(y, x) && !dark.at<uchar>(y, x)) ds.push_back(std::hypot(r - mr, g - mg));
         }
+    // The limit: the spread of the cloth's chromaticity about its median (the photo's noise,
+    // its white balance across the cloth), from the distance to the point.
     const float median_d = median_of(ds);
     for (float& d : ds) d = std::abs(d - median_d);
     const float limit = std::max(0.04f, median_d + 6.0f * 1.4826f * median_of(ds));

@@ -60,10 +60,11 @@ struct FoldDetection {
     double high_threshold = 0.0, low_threshold = 0.0;
 };
 
-// Cloth mask by GrabCut: the rectangle around the supports (0.3 D to the sides, 1.3 D
-// below, D = support distance) may be cloth, everything outside is background, a strip
-// just below the supports' midpoint is cloth.  Largest component, holes filled.
-// Deterministic.  Without supports the whole image counts as cloth.
+// Cloth mask by GrabCut: from 0.4 D beside the supports (D = support distance) down to the
+// picture's bottom may be cloth, everything else is background; the cloth is surely where
+// it first shows going down the centre line from the support line (below a sagging top
+// edge the background shows through).  Largest component, holes filled.  Deterministic.
+// Without supports the whole image counts as cloth.
 Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>& supports);
 
 // Reads a mask file: any pixel above half scale is cloth.  Throws InputError naming the file
