@@ -170,6 +170,21 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
             for (int k = -margin; k <= margin; ++k)
                 if (int(i) + k >= 0 && int(i) + k < int(p.size())) unreadable[size_t(int(i) + k)] = true;
 
+    // As the 2-D detector's hysteresis: an extremum under the high threshold but over the low
+    // one counts where a detected line of its sign crosses the fibre there (the line was
+    // seeded by a stronger stretch elsewhere).  On glossy cloth the highlights raise the
+    // region's median response, hence the high threshold, above the folds' own strength on
+    // the fibre while the lines through them are found.
+    const auto on_detected_line = [&](int depth, int sign, double sigma) {
+        const Eigen::Vector2d at = mid + depth * down;
+        const double reach = std::max(2.0, sigma);
+        for (const DetectedFold& f : detection.folds) {
+            if (f.sign != sign) continue;
+            for (const Eigen::Vector2d& q : f.points_px)
+                if (std::abs((q - at).dot(down)) <= reach && std::abs((q - at).dot(ex)) <= half_band) return true;
+        }
+        return false;
+    };
     struct Extremum {
         int depth;
         int sign;
@@ -200,8 +215,11 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
             if (!(d1a * d1b <= 0) || (d1a == 0 && d1b == 0)) continue;
             const double d2 = smooth[i + 1] - 2 * smooth[i] + smooth[i - 1];
             const double strength = norm * std::abs(d2);
-            if (strength < detection.high_threshold) continue;
-            found.push_back({first + i, d2 < 0 ? 1 : -1, strength});
+            const int sign = d2 < 0 ? 1 : -1;
+            if (strength < detection.high_threshold &&
+                !(strength >= detection.low_threshold && on_detected_line(first + i, sign, sigma)))
+                continue;
+            found.push_back({first + i, sign, strength});
         }
     }
     // One extremum per place (the strongest scale), then strict alternation: two crests in

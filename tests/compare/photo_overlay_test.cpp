@@ -124,6 +124,25 @@ TEST(CentreLine, MeasuresTheFoldCountAndQDrawnFromTheModel) {
     EXPECT_EQ(compare::measure_centre_line(compare::detect_folds(flat, s.mask), s.supports).folds, 0);
 }
 
+// As the 2-D detector's hysteresis: with the high threshold raised above every fold's
+// strength on the fibre (as glossy cloth's highlights raise it), a fold still counts where a
+// detected line of its sign crosses the fibre and it clears the low threshold; without the
+// lines, it does not.
+TEST(CentreLine, FoldsUnderTheHighThresholdCountWhereADetectedLineCrossesTheFibre) {
+    const auto& s = synthetic();
+    compare::FoldDetection detection = compare::detect_folds(s.photo, s.mask);
+    ASSERT_FALSE(detection.folds.empty());
+    const int seen = compare::measure_centre_line(detection, s.supports).folds;
+    ASSERT_EQ(seen, s.solution.folds);
+    detection.high_threshold *= 100.0;  // no extremum on the fibre reaches it
+    EXPECT_EQ(compare::measure_centre_line(detection, s.supports).folds, seen);
+    detection.low_threshold *= 100.0;  // nor the low one now
+    EXPECT_EQ(compare::measure_centre_line(detection, s.supports).folds, 0);
+    detection.low_threshold /= 100.0;
+    detection.folds.clear();  // no line crosses the fibre
+    EXPECT_EQ(compare::measure_centre_line(detection, s.supports).folds, 0);
+}
+
 TEST(OverlayScore, ThreeTimesTheVisibleFoldsScoresWorseThanTheRightCount) {
     const auto& s = synthetic();
     const auto detection = compare::detect_folds(s.photo, s.mask);
