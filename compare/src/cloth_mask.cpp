@@ -68,8 +68,9 @@ cv::Vec3d median_lab(const cv::Mat& lab, const cv::Rect& r) {
 // (a, b, in the small image), where the cloth first shows going down from the support line.
 // With slack the top edge sags, by half the support distance D or more, and above it the
 // background shows through; so the centre line is read downwards and the strip starts at
-// the first run of rows (0.05 D) that differ from the background seen just above the support
-// line (which a hanging cloth leaves clear) and agree with each other, and goes on while
+// the first run of rows (0.05 D) that differ from the background seen 0.15-0.35 D above the
+// support line (which a hanging cloth leaves clear; a collar held at the shoulders may rise a
+// little above the line) and agree with each other, and goes on while
 // they do (to 0.25 D).  Without such a run (no background above the line in the picture,
 // or nothing different below it) the strip is 0.1-0.35 D below the line, where a cloth with
 // little slack is.
@@ -82,7 +83,7 @@ cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::V
         return cv::Rect(cv::Point(x0, static_cast<int>(from)), cv::Point(x1, static_cast<int>(to) + 1)) & bounds;
     };
     const cv::Rect fallback = rows(mid.y() + 0.1 * d, mid.y() + 0.35 * d);
-    const cv::Rect above = rows(mid.y() - 0.25 * d, mid.y() - 0.08 * d);
+    const cv::Rect above = rows(mid.y() - 0.35 * d, mid.y() - 0.15 * d);
     if (above.area() < 4) return fallback;
     const cv::Vec3d background = median_lab(lab, above);
     constexpr double kDiffers = 12.0, kAgrees = 10.0;  // 8-bit CIELAB distances
