@@ -182,7 +182,12 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                             any = true;
                             sampler[k].emplace(settings.seed, static_cast<std::uint64_t>(y) * width + x,
                                                static_cast<std::uint32_t>(s));
-                            const Eigen::Vector2f jitter = sampler[k]->get2d(), lens = sampler[k]->get2d();
+                            const Eigen::Vector2f jitter = sampler[k]->get2d();
+                            Eigen::Vector2f lens(0.5f, 0.5f);  // a pinhole's: unread
+                            if (cam.has_lens())
+                                lens = sampler[k]->get2d();
+                            else
+                                sampler[k]->skip2d();  // no hashing for a sample the pinhole ignores
                             cam.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y(), lens.x(),
                                     lens.y(), &o, &d);
                         }
