@@ -1,7 +1,7 @@
 // Turntables: the camera rig (camera, lights, cyclorama) orbits the garment; each frame is a
 // still written as DIR/frame_NNNN.png, and complete sequences are encoded to MP4.
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/videoio.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -16,6 +16,7 @@
 #include "foldcast/preview.hpp"
 #include "foldcast/render/studio_setup.hpp"
 #include "foldcast/render/tracer.hpp"
+#include "mp4_stream.hpp"
 #include "temporal_window.hpp"
 
 namespace foldcast::batch {
@@ -57,12 +58,7 @@ void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame
     check_writable(mp4);
     cv::Mat first = cv::imread(frame_to_read(outputs, frames_dir, 0).string(), cv::IMREAD_COLOR);
     if (first.empty()) throw InputError("turntable frames in " + frames_dir.string() + ": frame_0000.png is missing");
-    // A registered temporary of a unique name beside the target (removed on failure or interrupt).
-    const fs::path temp = outputs.stage_file(mp4);
-    cv::VideoWriter writer(temp.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
-                           cv::Size(first.cols, first.rows));
-    if (!writer.isOpened())
-        throw std::runtime_error("cannot open an MP4 writer (OpenCV videoio, mp4v) for " + mp4.string());
+    Mp4Stream stream(outputs, mp4, fps, first.size());
     for (int f = 0; f < frame_count; ++f) {
         const fs::path p = turntable_frame_path(frames_dir, f);
         cv::Mat img = cv::imread(frame_to_read(outputs, frames_dir, f).string(), cv::IMREAD_COLOR);
@@ -71,8 +67,17 @@ void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame
                              " is missing (render every range with --frames A:B first)");
         if (img.cols != first.cols || img.rows != first.rows)
             throw InputError(p.string() + ": size differs from frame_0000.png");
-        writer.write(img);
+        stream.add(img);
     }
+    stream.close();
+}
+
+// A frame as its PNG holds it (8-bit sRGB, no alpha), in OpenCV's BGR order for the MP4.
+cv::Mat video_frame(const render::Image& beauty, const SceneSpec& opaque) {
+    std::vector<std::uint8_t> rgb = render::to_srgb8(beauty, opaque.exposure_ev, false);
+    cv::Mat bgr;
+    cv::cvtColor(cv::Mat(beauty.height, beauty.width, CV_8UC3, rgb.data()), bgr, cv::COLOR_RGB2BGR);
+    return bgr;
 }
 }  // namespace
 
@@ -122,11 +127,26 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     TurntableResult result;
     // This run's frames and the MP4 replace the old ones together when every frame is done.
     OutputTransaction outputs;
-    // Frame f is written (sRGB, PNG) on a second thread while frame f+1 renders; at most one
-    // write is in flight, so memory stays at two frames and a failed write stops the loop.
+    // Frame f is finished on a second thread while frame f+1 renders: denoised (path traced
+    // frames with --denoise; its serial set-up and the next frame's single-threaded BVH build
+    // then overlap the other's parallel work instead of idling cores) and written (sRGB, PNG).
+    // At most one frame is in flight, so memory stays at two frames and a failed write stops
+    // the loop.  Each step's output depends only on its input: the same bytes as in sequence.
+    const bool denoise_in_finish = settings.denoise && !options.preview && !options.temporal;
+    TraceSettings trace_only = settings;
+    if (denoise_in_finish) {
+        trace_only.denoise = false;
+        trace_only.keep_raw = false;
+        trace_only.denoised_later = true;  // adaptive sampling judges the packets as for denoise
+        trace_only.keep_features = true;   // what the finishing thread's denoiser is guided by
+    }
     SceneSpec opaque = setup.lit_scene();
     opaque.transparent = false;  // video frames have no alpha
-    std::future<void> writing;   // after what its task uses: waits for the task when destroyed early
+    // The whole orbit to an MP4: each frame is encoded right after its PNG is written.
+    std::unique_ptr<Mp4Stream> mp4;
+    if (to_mp4 && first == 0 && last == total)
+        mp4 = std::make_unique<Mp4Stream>(outputs, out, scene.turntable_fps, cv::Size(width, height));
+    std::future<void> writing;  // after what its task uses: waits for the task when destroyed early
     std::unique_ptr<PreviewRenderer> rasteriser;
     if (options.preview) rasteriser = std::make_unique<PreviewRenderer>(width, height, options.msaa_samples);
     std::unique_ptr<TemporalWindow> window;
@@ -163,25 +183,32 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
         } else {
             const FrameGeometry geometry = setup.geometry(garment_frame(f), turn(f));
             r = rasteriser ? preview_frame(*rasteriser, setup.lit_scene(), geometry, camera, {})
-                           : Tracer(setup.lit_scene(), geometry).render(camera, settings, frame_progress);
+                           : Tracer(setup.lit_scene(), geometry).render(camera, trace_only, frame_progress);
             if (rasteriser && progress) progress("turntable", (done + 1.0) / count);
             ++traced;
         }
         result.stats.rays += r.stats.rays;
         result.stats.mean_spp += r.stats.mean_spp;
-        auto beauty_only = std::make_shared<RenderResult>();
-        beauty_only->beauty = std::move(r.beauty);
-        beauty_only->raw = std::move(r.raw);
+        auto frame = std::make_shared<RenderResult>();
+        frame->beauty = std::move(r.beauty);
+        frame->raw = std::move(r.raw);
+        if (denoise_in_finish) frame->features = std::move(r.features);
         const fs::path p = turntable_frame_path(dir, f);
         if (writing.valid()) writing.get();
-        writing = std::async(std::launch::async,
-                             [beauty_only, p, &opaque, &outputs] { write_render(outputs, p, *beauty_only, opaque); });
+        writing = std::async(std::launch::async, [frame, p, &opaque, &outputs, &settings, &mp4] {
+            if (frame->features) {
+                render::denoise_traced(*frame, settings.keep_raw, settings.threads);
+                frame->features.reset();  // the PNG is the beauty (and raw) only
+            }
+            write_render(outputs, p, *frame, opaque);
+            if (mp4) mp4->add(video_frame(frame->beauty, opaque));
+        });
         result.written.push_back(p);
         ++result.frames_rendered;
     }
     if (writing.valid()) writing.get();
-    if (to_mp4 && first == 0 && last == total) {
-        stage_mp4(outputs, dir, total, scene.turntable_fps, out);
+    if (mp4) {
+        mp4->close();
         result.written.push_back(out);
     }
     outputs.commit();

@@ -51,6 +51,8 @@ public:
         *py = (1.0f - d.dot(up_) / (z * tan_y_)) * 0.5f * static_cast<float>(height_);
         return true;
     }
+    // Whether ray() reads its lens sample (a thin lens; a pinhole ignores it).
+    bool has_lens() const { return aperture_ > 0.0f; }
     const Vec3f& forward() const { return forward_; }
     const Vec3f& position() const { return origin_; }
     // Cone spread of one pixel (radians), for texture footprints.

@@ -64,7 +64,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         Hit hit = scene_.surface(cur_ray, cur_hit);
         cone += hit.t * spread;
         const Vec3f wo = -d;
-        Frame frame(hit.ns, hit.tangent);
+        Frame frame;  // every material sets it (after orienting the normals towards wo)
         const float cos_view = std::max(0.2f, std::abs(wo.dot(hit.ng)));
         const BsdfParams params = materials_.at(hit, wo, cone / cos_view, &frame);
         const ClothBsdf bsdf(params, frame.to_local(wo));

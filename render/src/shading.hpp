@@ -15,6 +15,7 @@ namespace foldcast::render {
 // An orthonormal basis; the tangent follows `t_hint` where possible.
 struct Frame {
     Vec3f t, b, n;
+    Frame() = default;  // unset, for Materials::at to fill
     Frame(const Vec3f& normal, const Vec3f& t_hint) : n(normal) {
         Vec3f tt = t_hint - n * n.dot(t_hint);
         if (tt.squaredNorm() < 1e-10f) {

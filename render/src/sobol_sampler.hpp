@@ -101,6 +101,10 @@ public:
                 to_unit_float(owen_scramble(sobol_dim1(i), static_cast<std::uint32_t>(h2)))};
     }
 
+    // Passes over the next two dimensions (a pair whose values would go unused), so that
+    // the ones after keep their numbers.
+    void skip2d() { ++dimension_; }
+
 private:
     std::uint64_t next_hash() { return mix64(key_ + 0x9e3779b97f4a7c15ULL * ++dimension_); }
 

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "camera_model.hpp"
 #include "embree_scene.hpp"
@@ -111,6 +112,12 @@ TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& option
     return settings;
 }
 
+void denoise_traced(RenderResult& result, bool keep_raw, int threads) {
+    if (!result.features) throw std::logic_error("denoise_traced: the frame was traced without keep_features");
+    if (keep_raw) result.raw = result.beauty;
+    denoise(result.beauty, *result.features, threads);
+}
+
 RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings, const ProgressFn& progress) const {
     const auto start = std::chrono::steady_clock::now();
     const Impl& m = *impl_;
@@ -175,7 +182,12 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                             any = true;
                             sampler[k].emplace(settings.seed, static_cast<std::uint64_t>(y) * width + x,
                                                static_cast<std::uint32_t>(s));
-                            const Eigen::Vector2f jitter = sampler[k]->get2d(), lens = sampler[k]->get2d();
+                            const Eigen::Vector2f jitter = sampler[k]->get2d();
+                            Eigen::Vector2f lens(0.5f, 0.5f);  // a pinhole's: unread
+                            if (cam.has_lens())
+                                lens = sampler[k]->get2d();
+                            else
+                                sampler[k]->skip2d();  // no hashing for a sample the pinhole ignores
                             cam.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y(), lens.x(),
                                     lens.y(), &o, &d);
                         }
@@ -197,8 +209,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     }
                     const int taken = s + 1;
                     if (threshold > 0.0f && (taken & (taken - 1)) == 0) {
-                        if (taken >= kMinAdaptiveSpp &&
-                            packet_error_below(sums, inside, gain, threshold, settings.denoise || settings.denoised_later))
+                        if (taken >= kMinAdaptiveSpp && packet_error_below(sums, inside, gain, threshold,
+                                                                           settings.denoise || settings.denoised_later))
                             for (PixelSums& p : sums) p.done = true;
                         for (PixelSums& p : sums) p.checkpoint();
                     }

@@ -52,6 +52,12 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// What render() does after tracing when TraceSettings::denoise is set, for a result traced
+// with keep_features (and denoised_later, so that adaptive sampling judged it alike): keeps
+// the image as `raw` when asked, then denoises it.  A turntable calls it on one thread for
+// frame f while frame f+1 traces on the others; the bytes are those of render() with denoise.
+void denoise_traced(RenderResult& result, bool keep_raw, int threads);
+
 // Puts the render thread into flush-to-zero / denormals-are-zero mode (Embree's advice).
 void set_ftz_daz();
 
