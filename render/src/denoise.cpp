@@ -13,28 +13,24 @@
 namespace foldcast::render {
 namespace {
 
-constexpr int kPasses = 5;
+constexpr int kPasses = 5;  // steps 1-16
+constexpr int kCrossPasses = 3;  // of them cross-filtered when there are two halves
 constexpr float kSigmaLuminance = 4.0f;  // in standard deviations of the pixel's noise
 constexpr float kSigmaDepth = 1.0f;      // in local depth steps per pixel of distance
 constexpr float kMaxExponent = 20.0f;    // taps weighted below exp(-20) are skipped
-// The normal weight is cos^(2^k): 2^7 = 128 in general, 2^6 = 64 between two cloth pixels,
-// whose shading normals carry the weave's bump averaged over the pixel's few samples.
-constexpr int kNormalSquarings = 7;
-constexpr int kClothNormalSquarings = 6;
 
 struct Pixel {
     V3 n = V3::Zero();  // unit normal, or zero for the sky
     float depth = 0.0f;
     float depth_step = 0.0f;  // how much depth changes per pixel here
     bool covered = true;      // alpha > 0
-    bool cloth = false;       // most of its samples hit the garment
 };
 
-float normal_weight(const V3& a, const V3& b, int squarings) {
+float normal_weight(const V3& a, const V3& b) {
     const bool sky_a = a.squaredNorm() == 0.0f, sky_b = b.squaredNorm() == 0.0f;
     if (sky_a || sky_b) return sky_a == sky_b ? 1.0f : 0.0f;
     float c = std::max(0.0f, a.dot(b));
-    for (int i = 0; i < squarings; ++i) c *= c;
+    for (int i = 0; i < 7; ++i) c *= c;  // c^128
     return c;
 }
 
@@ -124,7 +120,7 @@ public:
                         const float e_b = b ? e_depth + std::abs(a.lum[j] - lum_a) * inv_sigma_a : kMaxExponent + 1.0f;
                         // Beyond this the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
                         if (e_a > kMaxExponent && e_b > kMaxExponent) continue;
-                        const float nw = normal_weight(p.n, q.n, p.cloth && q.cloth ? kClothNormalSquarings : kNormalSquarings);
+                        const float nw = normal_weight(p.n, q.n);
                         if (nw == 0.0f) continue;
                         const float k = kKernel[dx + 1] * kKernel[dy + 1] * nw;
                         if (e_a <= kMaxExponent) {
@@ -169,6 +165,15 @@ private:
     tbb::task_arena arena_;
 };
 
+// The halves merged into `a` by their shares of the samples.
+void merge(Buffer& a, const Buffer& b, const std::vector<float>& share) {
+    for (std::size_t i = 0; i < share.size(); ++i) {
+        const float s = share[i];
+        a.light[i] = s * a.light[i] + (1.0f - s) * b.light[i];
+        a.variance[i] = s * s * a.variance[i] + (1.0f - s) * (1.0f - s) * b.variance[i];
+    }
+}
+
 }  // namespace
 
 void denoise(Image& rgba, const PixelFeatures& features, int threads) {
@@ -185,7 +190,6 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         p.n = features.normal[i];
         p.depth = features.depth[i];
         p.covered = rgba.pixels[4 * i + 3] > 0.0f;
-        p.cloth = features.cloth.size() == count && features.cloth[i] > 0.5f;
         const float* c = &rgba.pixels[4 * i];
         for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
         const float al = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
@@ -220,16 +224,24 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         }
 
     Filter filter(w, h, px, threads);
+    const bool had_halves = b.has_value();
     for (int pass = 0; pass < kPasses; ++pass) {
+        if (b && pass == kCrossPasses) merge(a, *b, features.half_share), b.reset();
         filter.prepare(a);
         if (b) filter.prepare(*b);
         filter.pass(1 << pass, a, b ? &*b : nullptr);
     }
+    if (had_halves) {
+        // One more pass at step 1 guided by the merged light, whose noise is half either
+        // half's: it takes out the pixel-scale noise the halves' weights, each from fewer
+        // samples, left.
+        if (b) merge(a, *b, features.half_share), b.reset();
+        filter.prepare(a);
+        filter.pass(1, a, nullptr);
+    }
     for (std::size_t i = 0; i < count; ++i) {
         if (!px[i].covered) continue;
-        const V3 light = b ? V3(features.half_share[i] * a.light[i] + (1.0f - features.half_share[i]) * b->light[i])
-                           : a.light[i];
-        for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = light[k] * albedo[i][k];
+        for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = a.light[i][k] * albedo[i][k];
     }
 }
 
