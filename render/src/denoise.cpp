@@ -18,19 +18,28 @@ constexpr int kCrossPasses = 3;  // of them cross-filtered when there are two ha
 constexpr float kSigmaLuminance = 4.0f;  // in standard deviations of the pixel's noise
 constexpr float kSigmaDepth = 1.0f;      // in local depth steps per pixel of distance
 constexpr float kMaxExponent = 20.0f;    // taps weighted below exp(-20) are skipped
+// The normal weight is cos^(2^k): cos^128, and cos^4 in the last pass between two cloth
+// pixels whose albedos agree within kSameAlbedo (the weave not resolved there: their
+// shading normals differ by the bump averaged over a few samples and by the fold's curvature,
+// which in the shadowed troughs turns faster than cos^128 allows from one pixel to the next).
+constexpr int kNormalSquarings = 7;
+constexpr int kRelaxedNormalSquarings = 2;
+constexpr float kSameAlbedo = 0.005f;
 
 struct Pixel {
     V3 n = V3::Zero();  // unit normal, or zero for the sky
     float depth = 0.0f;
     float depth_step = 0.0f;  // how much depth changes per pixel here
     bool covered = true;      // alpha > 0
+    bool cloth = false;       // most of its samples hit the garment
+    V3 albedo = V3::Zero();   // first-hit albedo
 };
 
-float normal_weight(const V3& a, const V3& b) {
+float normal_weight(const V3& a, const V3& b, int squarings) {
     const bool sky_a = a.squaredNorm() == 0.0f, sky_b = b.squaredNorm() == 0.0f;
     if (sky_a || sky_b) return sky_a == sky_b ? 1.0f : 0.0f;
     float c = std::max(0.0f, a.dot(b));
-    for (int i = 0; i < 7; ++i) c *= c;  // c^128
+    for (int i = 0; i < squarings; ++i) c *= c;
     return c;
 }
 
@@ -82,8 +91,9 @@ public:
     // One a-trous pass at `stride`.  With two buffers each is averaged with colour weights
     // from the other (cross-filtering): whether a tap is taken does not depend on the noise
     // it carries, so a pixel's own noise cannot make it refuse its neighbours.  With one
-    // buffer (b == nullptr) it is guided by itself.
-    void pass(int stride, Buffer& a, Buffer* b) {
+    // buffer (b == nullptr) it is guided by itself.  `relaxed`: cloth pixels of one albedo
+    // take the relaxed normal weight.
+    void pass(int stride, Buffer& a, Buffer* b, bool relaxed = false) {
         float inv_distance[3][3];
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx)
@@ -120,7 +130,9 @@ public:
                         const float e_b = b ? e_depth + std::abs(a.lum[j] - lum_a) * inv_sigma_a : kMaxExponent + 1.0f;
                         // Beyond this the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
                         if (e_a > kMaxExponent && e_b > kMaxExponent) continue;
-                        const float nw = normal_weight(p.n, q.n);
+                        const bool same_cloth = relaxed && p.cloth && q.cloth &&
+                                                (p.albedo - q.albedo).cwiseAbs().maxCoeff() < kSameAlbedo;
+                        const float nw = normal_weight(p.n, q.n, same_cloth ? kRelaxedNormalSquarings : kNormalSquarings);
                         if (nw == 0.0f) continue;
                         const float k = kKernel[dx + 1] * kKernel[dy + 1] * nw;
                         if (e_a <= kMaxExponent) {
@@ -190,6 +202,8 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         p.n = features.normal[i];
         p.depth = features.depth[i];
         p.covered = rgba.pixels[4 * i + 3] > 0.0f;
+        p.cloth = features.cloth.size() == count && features.cloth[i] > 0.5f;
+        p.albedo = features.albedo[i];
         const float* c = &rgba.pixels[4 * i];
         for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
         const float al = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
@@ -234,10 +248,10 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
     if (had_halves) {
         // One more pass at step 1 guided by the merged light, whose noise is half either
         // half's: it takes out the pixel-scale noise the halves' weights, each from fewer
-        // samples, left.
+        // samples, left, with the relaxed normal weight on cloth of one albedo.
         if (b) merge(a, *b, features.half_share), b.reset();
         filter.prepare(a);
-        filter.pass(1, a, nullptr);
+        filter.pass(1, a, nullptr, true);
     }
     for (std::size_t i = 0; i < count; ++i) {
         if (!px[i].covered) continue;
