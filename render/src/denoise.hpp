@@ -6,8 +6,13 @@
 // other texture detail stay out of the filter and are multiplied back afterwards; the
 // remaining illumination is smoothed by five 3x3 a-trous passes (steps 1, 2, 4, 8, 16)
 // whose weights stop at changes of the shading normal (the weave's bump included), of depth
-// and of the illumination beyond what the pixel's own noise explains.  Each output pixel
-// depends only on the inputs, so the result is the same for any thread count.
+// and of the illumination beyond what the pixel's own noise explains.  Where the tracer kept
+// two half buffers (the first half of each pixel's samples and the rest), the first three
+// passes cross-filter them (Rousselle et al. 2012): each half is averaged with colour
+// weights taken from the other, so a pixel's noise does not decide whether that noise is
+// kept; the halves are then merged and, after the last two passes, one more pass at step 1
+// is guided by the merged light.  Each output pixel depends only on the inputs, so the
+// result is the same for any thread count.
 #include <vector>
 
 #include "cloth_bsdf.hpp"
@@ -22,7 +27,8 @@ inline float demodulation_divisor(float albedo) { return albedo < kMinDemodulati
 
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are
 // neither changed nor used), guided by the first-hit albedo, unit shading normal (zero for
-// the sky), depth and luminance variance of `features` (the tracer's PixelFeatures).
+// the sky), depth and luminance variance of `features` (the tracer's PixelFeatures), and
+// cross-filtering its half buffers when it has them.
 void denoise(Image& rgba, const PixelFeatures& features, int threads);
 
 }  // namespace foldcast::render

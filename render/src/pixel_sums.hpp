@@ -38,6 +38,14 @@ struct PixelSums {
     V3 albedo = V3::Zero(), normal = V3::Zero(), shading_normal = V3::Zero();
     float depth = 0.0f, fold = 0.0f;
     bool done = false;
+    // The colour sums at the last two powers of two of n: the denoiser's two half buffers
+    // (the first half of a pixel's samples and the rest, each a complete Sobol' stratification
+    // when n is a power of two).
+    struct Snapshot {
+        V3 all = V3::Zero(), fg = V3::Zero();
+        int fg_count = 0, n = 0;
+    };
+    Snapshot last_pow2, prev_pow2;
 
     void add(const PathSample& s) {
         ++n;
@@ -56,7 +64,14 @@ struct PixelSums {
         shading_normal += V3(s.shading_normal.x(), s.shading_normal.y(), s.shading_normal.z());
         depth += s.depth;
         fold += s.fold;
+        if ((n & (n - 1)) == 0) {
+            prev_pow2 = last_pow2;
+            last_pow2 = Snapshot{all, fg, fg_count, n};
+        }
     }
+    // The samples of the first half buffer: n / 2 when n is a power of two, otherwise the
+    // largest power of two below n (0 when n < 2: no halves).
+    const Snapshot& first_half() const { return last_pow2.n == n ? prev_pow2 : last_pow2; }
     float variance_of_mean() const {
         if (n < 2) return 0.0f;
         const double mean = lum / n;

@@ -57,6 +57,7 @@ struct Expected {
 struct Tap {
     Vec3f light;     // colour / albedo
     float variance;  // of the luminance
+    Vec3f light_a = Vec3f::Zero(), light_b = Vec3f::Zero();  // the same of the two half buffers, when kept
 };
 
 // The illumination another frame shows at the surface point `e`, or none where too little
@@ -72,7 +73,8 @@ std::optional<Tap> fetch(const TemporalFrame& g, const CameraModel& cam, const V
     const float tx = fx - static_cast<float>(x0), ty = fy - static_cast<float>(y0);
     const float distance = (e.point - camera_position).norm();
     const PixelFeatures& f = g.features;
-    Vec3f sum = Vec3f::Zero();
+    Vec3f sum = Vec3f::Zero(), sum_a = Vec3f::Zero(), sum_b = Vec3f::Zero();
+    const bool halves = !f.half_a.empty();
     float sum_w = 0.0f, sum_v = 0.0f, sum_l = 0.0f;
     for (int j = 0; j < 4; ++j) {
         const int x = x0 + (j & 1), y = y0 + (j >> 1);
@@ -86,6 +88,10 @@ std::optional<Tap> fetch(const TemporalFrame& g, const CameraModel& cam, const V
         if ((f.albedo[q] - e.albedo).cwiseAbs().maxCoeff() > kAlbedoTolerance) continue;
         const float* c = g.beauty.at(x, y);
         sum += b * demodulate(c, f.albedo[q]);
+        if (halves) {
+            sum_a += b * demodulate(f.half_a[q].data(), f.albedo[q]);
+            sum_b += b * demodulate(f.half_b[q].data(), f.albedo[q]);
+        }
         sum_l += b * luminance(Vec3f(c[0], c[1], c[2]));
         sum_v += b * f.variance[q];
         sum_w += b;
@@ -95,7 +101,7 @@ std::optional<Tap> fetch(const TemporalFrame& g, const CameraModel& cam, const V
     const float allowed =
         kNoiseSigmas * std::sqrt(std::max(variance, e.variance) + e.variance) + kShadingTolerance * 0.5f * (l + e.luminance);
     if (std::abs(l - e.luminance) > allowed + 1e-4f) return std::nullopt;
-    return Tap{sum / sum_w, variance};
+    return Tap{sum / sum_w, variance, sum_a / sum_w, sum_b / sum_w};
 }
 
 // How much depth changes per pixel at (x, y), as the denoiser's depth weight measures it.
@@ -121,6 +127,14 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
     const int w = c.beauty.width, h = c.beauty.height;
     Image out = c.beauty;
     std::vector<float> variance = f.variance;  // of the averaged pixels' luminance, for the denoiser
+    // The half buffers averaged alike (each frame's first halves together, and its second
+    // halves), when the frames kept them: the denoiser cross-filters the two averages.
+    const bool halves = f.half_a.size() == f.variance.size() &&
+                        std::all_of(window.begin(), window.end(), [&](const TemporalFrame* g) {
+                            return g->features.half_a.size() == f.half_a.size();
+                        });
+    std::vector<Vec3f> half_a = halves ? f.half_a : std::vector<Vec3f>{},
+                       half_b = halves ? f.half_b : std::vector<Vec3f>{};
     const CameraModel cam(camera, w, h);
     std::vector<float> local_variance(f.variance.size());
     for (int y = 0; y < h; ++y)
@@ -159,6 +173,8 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
                     const float step = depth_step(f.depth, w, h, x, y);
                     const float own_luminance = luminance(Vec3f(own_colour[0], own_colour[1], own_colour[2]));
                     Vec3f sum = demodulate(own_colour, f.albedo[i]);
+                    Vec3f sum_a = halves ? demodulate(f.half_a[i].data(), f.albedo[i]) : Vec3f::Zero();
+                    Vec3f sum_b = halves ? demodulate(f.half_b[i].data(), f.albedo[i]) : Vec3f::Zero();
                     float count = 1.0f, variance_sum = f.variance[i];
                     for (int k = 1; k <= radius; ++k) {
                         std::optional<Tap> side[2];
@@ -178,6 +194,8 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
                         // where the shading is going (or coming from).
                         if (!side[0] || !side[1]) continue;
                         sum += side[0]->light + side[1]->light;
+                        sum_a += side[0]->light_a + side[1]->light_a;
+                        sum_b += side[0]->light_b + side[1]->light_b;
                         variance_sum += side[0]->variance + side[1]->variance;
                         count += 2.0f;
                     }
@@ -185,6 +203,11 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
                     const Vec3f light = sum / count;
                     float* px = out.at(x, y);
                     for (int k = 0; k < 3; ++k) px[k] = light[k] * demodulation_divisor(f.albedo[i][k]);
+                    if (halves)
+                        for (int k = 0; k < 3; ++k) {
+                            half_a[i][k] = sum_a[k] / count * demodulation_divisor(f.albedo[i][k]);
+                            half_b[i][k] = sum_b[k] / count * demodulation_divisor(f.albedo[i][k]);
+                        }
                     variance[i] = variance_sum / (count * count);
                 }
         });
@@ -192,6 +215,8 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
     if (denoise_after) {
         PixelFeatures averaged = f;  // the denoiser reads the average's variance
         averaged.variance = std::move(variance);
+        averaged.half_a = std::move(half_a);
+        averaged.half_b = std::move(half_b);
         denoise(out, averaged, threads);
     }
     return out;

@@ -148,6 +148,13 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
         features.cloth.resize(pixel_count);
         features.variance.resize(pixel_count);
     }
+    // The half buffers for the denoiser (here or after a turntable's temporal filter).
+    const bool halves_wanted = (settings.denoise || (settings.denoised_later && settings.keep_features)) && spp >= 2;
+    if (halves_wanted) {
+        features.half_a.resize(pixel_count);
+        features.half_b.resize(pixel_count);
+        features.half_share.resize(pixel_count);
+    }
 
     const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
     const int tile_count = tiles_x * tiles_y;
@@ -250,6 +257,28 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         features.turning[i] = static_cast<float>(p.turning_count) * inv;
                         features.cloth[i] = static_cast<float>(p.garment_count) * inv;
                         features.variance[i] = p.variance_of_mean();
+                    }
+                    if (halves_wanted) {
+                        // The two half buffers, each made as the beauty pixel is from its samples.
+                        const std::size_t i = static_cast<std::size_t>(y) * width + x;
+                        const PixelSums::Snapshot& a = p.first_half();
+                        V3 ca = c, cb = c;
+                        float share = 0.5f;
+                        if (a.n > 0 && a.n < p.n) {
+                            const int nb = p.n - a.n, fb = p.fg_count - a.fg_count;
+                            if (!m.transparent) {
+                                ca = a.all / static_cast<float>(a.n);
+                                cb = (p.all - a.all) / static_cast<float>(nb);
+                                share = static_cast<float>(a.n) / static_cast<float>(p.n);
+                            } else if (a.fg_count > 0 && fb > 0) {
+                                ca = a.fg / static_cast<float>(a.fg_count);
+                                cb = (p.fg - a.fg) / static_cast<float>(fb);
+                                share = static_cast<float>(a.fg_count) / static_cast<float>(p.fg_count);
+                            }
+                        }
+                        features.half_a[i] = ca;
+                        features.half_b[i] = cb;
+                        features.half_share[i] = share;
                     }
                 }
             }

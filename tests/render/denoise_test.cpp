@@ -99,5 +99,61 @@ TEST(Denoise, SameResultForAnyThreadCount) {
     EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)));
 }
 
+// Two half buffers, each with its own noise (twice the variance of their mean), and the
+// image their mean: the denoiser cross-filters them.
+Scene with_halves(float sigma) {
+    Scene s = make_scene(sigma * std::sqrt(2.0f));
+    const Scene other = [&] {
+        Scene o = make_scene(sigma * std::sqrt(2.0f));
+        RandomStream rng(4, 5, 6);  // other noise on the same light
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const float u1 = std::max(1e-7f, rng.next()), u2 = rng.next();
+                const float g = std::sqrt(-2.0f * std::log(u1)) * std::cos(6.2831853f * u2);
+                const float albedo = o.features.albedo[static_cast<std::size_t>(y) * kW + x].x();
+                for (int c = 0; c < 3; ++c)
+                    o.noisy.at(x, y)[c] = o.clean.at(x, y)[c] + sigma * std::sqrt(2.0f) * g * albedo;
+            }
+        return o;
+    }();
+    const std::size_t n = static_cast<std::size_t>(kW) * kH;
+    s.features.half_a.resize(n);
+    s.features.half_b.resize(n);
+    s.features.half_share.assign(n, 0.5f);
+    s.features.variance.assign(n, sigma * sigma);
+    for (std::size_t i = 0; i < n; ++i) {
+        float* c = &s.noisy.pixels[4 * i];
+        const float* d = &other.noisy.pixels[4 * i];
+        for (int k = 0; k < 3; ++k) {
+            s.features.half_a[i][k] = c[k];
+            s.features.half_b[i][k] = d[k];
+            c[k] = 0.5f * (c[k] + d[k]);
+        }
+    }
+    return s;
+}
+
+TEST(Denoise, CrossFiltersTwoHalvesAndKeepsTheFold) {
+    Scene s = with_halves(0.1f);
+    const double before = rmse(s.noisy, s.clean);
+    Image out = s.noisy;
+    denoise(out, s.features, 2);
+    const double after = rmse(out, s.clean);
+    EXPECT_LT(after, 0.3 * before) << "before " << before << ", after " << after;
+    for (int y = 4; y < kH - 4; ++y) {
+        const float l = out.at(kW / 2 - 1, y)[0] / s.features.albedo[y * kW + kW / 2 - 1].x();
+        const float r = out.at(kW / 2, y)[0] / s.features.albedo[y * kW + kW / 2].x();
+        EXPECT_GT(l - r, 0.35f) << "row " << y;
+    }
+}
+
+TEST(Denoise, CrossFilteringIsTheSameForAnyThreadCount) {
+    const Scene s = with_halves(0.2f);
+    Image a = s.noisy, b = s.noisy;
+    denoise(a, s.features, 1);
+    denoise(b, s.features, 3);
+    EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)));
+}
+
 }  // namespace
 }  // namespace foldcast::render

@@ -186,6 +186,12 @@ struct PixelFeatures {
     std::vector<float> turning;     // share of samples that hit the garment or its supports
     std::vector<float> cloth;       // share of samples that hit the garment
     std::vector<float> variance;    // of the pixel's mean luminance (its samples' spread / n)
+    // The colour of the first half of the pixel's samples and of the rest, and the first
+    // half's share of them: two estimates with separate noise for the denoiser's
+    // cross-filtering.  Empty where not kept (below 2 spp, or not denoised): the denoiser
+    // then filters the colour alone.
+    std::vector<Vec3f> half_a, half_b;
+    std::vector<float> half_share;
 };
 
 struct RenderResult {
