@@ -189,6 +189,7 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
         int depth;
         int sign;
         double strength;
+        double sigma;
     };
     std::vector<Extremum> found;
     for (double sigma : detection.sigmas_px) {
@@ -219,7 +220,7 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
             if (strength < detection.high_threshold &&
                 !(strength >= detection.low_threshold && on_detected_line(first + i, sign, sigma)))
                 continue;
-            found.push_back({first + i, sign, strength});
+            found.push_back({first + i, sign, strength, sigma});
         }
     }
     // One extremum per place (the strongest scale), then strict alternation: two crests in
@@ -229,7 +230,7 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
     });
     std::vector<Extremum> merged;
     for (const auto& e : found) {
-        if (!merged.empty() && (e.depth - merged.back().depth < 2.0 * sigma_max || e.sign == merged.back().sign)) {
+        if (!merged.empty() && (e.depth - merged.back().depth < 2.0 * std::max(e.sigma, merged.back().sigma) || e.sign == merged.back().sign)) {
             if (e.strength > merged.back().strength) merged.back() = e;
             continue;
         }

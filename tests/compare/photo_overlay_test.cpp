@@ -143,6 +143,22 @@ TEST(CentreLine, FoldsUnderTheHighThresholdCountWhereADetectedLineCrossesTheFibr
     EXPECT_EQ(compare::measure_centre_line(detection, s.supports).folds, 0);
 }
 
+// Photo noise does not add folds: extrema are kept one per twice their own scale apart (not
+// the largest scale's), so pixel noise on the fibre must not pass for folds.
+TEST(CentreLine, NoiseOnThePhotoAddsNoFolds) {
+    const auto& s = synthetic();
+    for (const float amplitude : {0.03f, 0.1f}) {
+        compare::Image noisy = s.photo;
+        std::uint32_t state = 12345u;
+        for (float& v : noisy.values) {
+            state = state * 1664525u + 1013904223u;  // a fixed LCG: the same noise every run
+            v = std::clamp(v + amplitude * (float(state >> 8) / float(1u << 24) - 0.5f) * 2.0f, 0.0f, 1.0f);
+        }
+        const auto centre = compare::measure_centre_line(compare::detect_folds(noisy, s.mask), s.supports);
+        EXPECT_EQ(centre.folds, s.solution.folds) << "noise amplitude " << amplitude;
+    }
+}
+
 TEST(OverlayScore, ThreeTimesTheVisibleFoldsScoresWorseThanTheRightCount) {
     const auto& s = synthetic();
     const auto detection = compare::detect_folds(s.photo, s.mask);
