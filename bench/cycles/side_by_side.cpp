@@ -149,7 +149,7 @@ double time_for(const std::vector<Point>& pts, double target, double Seconds::*c
 
 int main(int argc, char** argv) {
     if (argc >= 4 && std::string(argv[1]) == "--rmse") {
-        for (int i = 3; i < argc; ++i) std::printf("%s %.4f\n", argv[i], rmse(argv[2], argv[i]));
+        for (int i = 3; i < argc; ++i) std::printf("%s %.6f\n", argv[i], rmse(argv[2], argv[i]));
         return 0;
     }
     Args args;

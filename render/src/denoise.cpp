@@ -25,6 +25,11 @@ constexpr float kMaxExponent = 20.0f;    // taps weighted below exp(-20) are ski
 constexpr int kNormalSquarings = 7;
 constexpr int kRelaxedNormalSquarings = 2;
 constexpr float kSameAlbedo = 0.005f;
+// A pixel that is partly a thin wire or the rod's or the cloth's edge and partly backdrop
+// (its share of samples on the garment and supports between 0 and 1) is not its neighbours'
+// mixture: taps whose share differs are refused, exp(-kMixScale |difference|).
+constexpr float kMixScale = 16.0f;
+constexpr float kMixDeadZone = 0.2f;
 
 struct Pixel {
     V3 n = V3::Zero();  // unit normal, or zero for the sky
@@ -32,6 +37,7 @@ struct Pixel {
     float depth_step = 0.0f;  // how much depth changes per pixel here
     bool covered = true;      // alpha > 0
     bool cloth = false;       // most of its samples hit the garment
+    float turning = 0.0f;     // share of its samples that hit the garment or its supports
     V3 albedo = V3::Zero();   // first-hit albedo
 };
 
@@ -125,7 +131,8 @@ public:
                         const std::size_t j = index(qx, qy);
                         const Pixel& q = px_[j];
                         if (!q.covered) continue;
-                        const float e_depth = std::abs(q.depth - p.depth) * inv_depth * inv_distance[dy + 1][dx + 1];
+                        const float e_depth = std::abs(q.depth - p.depth) * inv_depth * inv_distance[dy + 1][dx + 1] +
+                                              kMixScale * std::max(0.0f, std::abs(q.turning - p.turning) - kMixDeadZone);
                         const float e_a = e_depth + std::abs(g.lum[j] - lum_g) * inv_sigma_g;
                         const float e_b = b ? e_depth + std::abs(a.lum[j] - lum_a) * inv_sigma_a : kMaxExponent + 1.0f;
                         // Beyond this the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
@@ -203,6 +210,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         p.depth = features.depth[i];
         p.covered = rgba.pixels[4 * i + 3] > 0.0f;
         p.cloth = features.cloth.size() == count && features.cloth[i] > 0.5f;
+        p.turning = features.turning.size() == count ? features.turning[i] : 0.0f;
         p.albedo = features.albedo[i];
         const float* c = &rgba.pixels[4 * i];
         for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
