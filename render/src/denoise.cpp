@@ -27,7 +27,9 @@ constexpr int kRelaxedNormalSquarings = 2;
 constexpr float kSameAlbedo = 0.005f;
 // A pixel that is partly a thin wire or the rod's or the cloth's edge and partly backdrop
 // (its share of samples on the garment and supports between 0 and 1) is not its neighbours'
-// mixture: taps whose share differs are refused, exp(-kMixScale |difference|).
+// mixture: taps whose share differs by more than the dead zone (a 16-sample share's noise
+// is about 0.1) are refused, exp(-kMixScale (|difference| - kMixDeadZone)).  Measured in
+// docs/benchmarks.md ("The denoiser's mixture weight").
 constexpr float kMixScale = 16.0f;
 constexpr float kMixDeadZone = 0.2f;
 
