@@ -155,5 +155,37 @@ TEST(Denoise, CrossFilteringIsTheSameForAnyThreadCount) {
     EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)));
 }
 
+// A thin wire in front of the backdrop (make_scene's left half): its column's pixels are
+// partly wire (half their samples on it, so brighter), the rest plain backdrop, at the same
+// depth and normal (the features of a mixed pixel lean towards the backdrop's).  The wire's pixels must stay
+// bright: the share of samples on the garment and supports tells them apart, where depth,
+// normal and (noisy) light do not.  Without the mixture weight the column is averaged with
+// the backdrop beside it.
+TEST(Denoise, AThinWiresPartlyCoveredPixelsAreNotAveragedWithTheBackdrop) {
+    Scene s = make_scene(0.1f);
+    const std::size_t n = static_cast<std::size_t>(kW) * kH;
+    s.features.turning.assign(n, 0.0f);
+    const int wire = kW / 4;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * kW + x;
+            if (x != wire) continue;
+            s.features.turning[i] = 0.5f;
+            for (int c = 0; c < 3; ++c) {  // half again as much light as the backdrop beside it
+                s.clean.at(x, y)[c] *= 1.5f;
+                s.noisy.at(x, y)[c] *= 1.5f;
+            }
+        }
+    Image out = s.noisy;
+    denoise(out, s.features, 2);
+    double lost = 0.0;  // of the wire's extra light, on average over the column
+    for (int y = 4; y < kH - 4; ++y) {
+        const float clean = s.clean.at(wire, y)[0], backdrop = clean / 1.5f;
+        lost += (clean - out.at(wire, y)[0]) / (clean - backdrop);
+    }
+    lost /= kH - 8;
+    EXPECT_LT(std::abs(lost), 0.2) << "the wire's pixels lost " << lost << " of their extra light";
+}
+
 }  // namespace
 }  // namespace foldcast::render
