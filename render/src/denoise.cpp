@@ -15,6 +15,7 @@ namespace {
 
 constexpr int kPasses = 5;  // steps 1-16
 constexpr int kCrossPasses = 3;  // of them cross-filtered when there are two halves
+static_assert(kCrossPasses < kPasses, "the halves are merged before the last passes");
 constexpr float kSigmaLuminance = 4.0f;  // in standard deviations of the pixel's noise
 constexpr float kSigmaDepth = 1.0f;      // in local depth steps per pixel of distance
 constexpr float kMaxExponent = 20.0f;    // taps weighted below exp(-20) are skipped
@@ -248,18 +249,16 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         }
 
     Filter filter(w, h, px, threads);
-    const bool had_halves = b.has_value();
     for (int pass = 0; pass < kPasses; ++pass) {
         if (b && pass == kCrossPasses) merge(a, *b, features.half_share), b.reset();
         filter.prepare(a);
         if (b) filter.prepare(*b);
         filter.pass(1 << pass, a, b ? &*b : nullptr);
     }
-    if (had_halves) {
+    if (halves) {
         // One more pass at step 1 guided by the merged light, whose noise is half either
         // half's: it takes out the pixel-scale noise the halves' weights, each from fewer
         // samples, left, with the relaxed normal weight on cloth of one albedo.
-        if (b) merge(a, *b, features.half_share), b.reset();
         filter.prepare(a);
         filter.pass(1, a, nullptr, true);
     }
