@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <array>
+#include <vector>
 #include <opencv2/imgproc.hpp>
 
 #include "foldcast/compare/folds.hpp"
@@ -89,22 +90,21 @@ cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::V
     constexpr double kDiffers = 12.0, kAgrees = 10.0;  // 8-bit CIELAB distances
     const int run = std::max(2, static_cast<int>(0.05 * d));
     const int first = std::max(0, static_cast<int>(mid.y())), last = lab.rows - run;
+    if (first >= last) return fallback;
+    // Each row's colour once (the scan below compares every row with several starts).
+    std::vector<cv::Vec3d> colour(static_cast<std::size_t>(lab.rows - first));
+    for (int y = first; y < lab.rows; ++y) colour[static_cast<std::size_t>(y - first)] = median_lab(lab, rows(y, y));
+    const auto at = [&](int y) { return colour[static_cast<std::size_t>(y - first)]; };
+    const int longest = std::max(run, static_cast<int>(0.25 * d));
     for (int y = first; y < last; ++y) {
-        const cv::Vec3d top = median_lab(lab, rows(y, y));
+        const cv::Vec3d top = at(y);
         if (cv::norm(top - background) < kDiffers) continue;
-        bool holds = true;
-        for (int k = 1; k < run && holds; ++k) {
-            const cv::Vec3d row = median_lab(lab, rows(y + k, y + k));
-            holds = cv::norm(row - background) >= kDiffers && cv::norm(row - top) < kAgrees;
-        }
-        if (!holds) continue;
-        int end = y + run;  // the strip goes on while the rows still agree, to 0.25 D
-        while (end < std::min(lab.rows, y + static_cast<int>(0.25 * d))) {
-            const cv::Vec3d row = median_lab(lab, rows(end, end));
-            if (cv::norm(row - background) < kDiffers || cv::norm(row - top) >= kAgrees) break;
+        // The rows from y on that differ from the background and agree with row y, to 0.25 D.
+        int end = y + 1;
+        while (end < std::min(lab.rows, y + longest) && cv::norm(at(end) - background) >= kDiffers &&
+               cv::norm(at(end) - top) < kAgrees)
             ++end;
-        }
-        return rows(y + 1, end - 1);
+        if (end - y >= run) return rows(y + 1, end - 1);
     }
     return fallback;
 }
