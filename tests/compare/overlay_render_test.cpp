@@ -25,6 +25,7 @@
 #include "foldcast/compare/overlay.hpp"
 #include "foldcast/drape.hpp"
 #include "foldcast/render.hpp"
+#include "render_photo.hpp"
 
 namespace foldcast {
 namespace {
@@ -297,9 +298,7 @@ TEST(OverlayOnRender, PredictedLinesLieOnTheRenderedFoldsWithinTwoPixelsAndAScal
 TEST(OverlayOnRender, DrawnCrestsLieOnTheirPredictedPixels) {
     // The picture the user sees: draw_overlay over the render, positive folds solid black.
     const auto& r = rendered_drape();
-    const auto srgb = render::to_srgb8(r.result.beauty, r.scene.exposure_ev, false);
-    compare::Image photo(r.scene.width, r.scene.height, 3);
-    for (size_t k = 0; k < photo.values.size(); ++k) photo.values[k] = srgb[k] / 255.0f;
+    const compare::Image photo = test::photo_of(r.result.beauty, r.scene.exposure_ev);
     const auto overlay = compare::draw_overlay(photo, r.lines, r.supports, {"test"});
     ASSERT_EQ(overlay.width, photo.width);
     int checked = 0, black = 0;
@@ -396,12 +395,7 @@ const PrintedRender& printed_render() {
         render::RenderOptions options;
         options.aovs = {render::Aov::albedo};
         out.result = render::render_still(scene, options);
-        const auto srgb = render::to_srgb8(out.result.beauty, scene.exposure_ev, false);
-        out.photo = compare::Image(scene.width, scene.height, 3);
-        for (int y = 0; y < scene.height; ++y)
-            for (int x = 0; x < scene.width; ++x)
-                for (int k = 0; k < 3; ++k)
-                    out.photo.at(x, y, k) = srgb[(size_t(y) * scene.width + x) * 3 + k] / 255.0f;
+        out.photo = test::photo_of(out.result.beauty, scene.exposure_ev);
         const render::Image& albedo = out.result.aovs.at(0).image;
         out.print_edge.assign(size_t(scene.width) * scene.height, false);
         for (int y = 1; y + 1 < scene.height; ++y)

@@ -14,6 +14,7 @@
 #include "foldcast/compare/photo_overlay.hpp"
 #include "foldcast/drape.hpp"
 #include "foldcast/render.hpp"
+#include "render_photo.hpp"
 
 namespace foldcast {
 namespace {
@@ -26,22 +27,13 @@ struct StudioPhoto {
     drape::FoldSolution model;
 };
 
-compare::Image to_compare(const render::Image& beauty, const render::SceneSpec& scene) {
-    const auto srgb = render::to_srgb8(beauty, scene.exposure_ev, false);
-    compare::Image out(scene.width, scene.height, 3);
-    for (int y = 0; y < scene.height; ++y)
-        for (int x = 0; x < scene.width; ++x)
-            for (int k = 0; k < 3; ++k) out.at(x, y, k) = srgb[(size_t(y) * scene.width + x) * 3 + k] / 255.0f;
-    return out;
-}
-
 const StudioPhoto& studio_photo() {
     static const StudioPhoto s = [] {
         StudioPhoto out;
         out.scene = render::load_scene(std::filesystem::path(FOLDCAST_SOURCE_DIR) /
                                        "tests/compare/scenes/studio_sag.toml");
         const render::SceneSpec& scene = out.scene;
-        out.photo = to_compare(render::render_still(scene, {}).beauty, scene);
+        out.photo = test::photo_of(render::render_still(scene, {}).beauty, scene.exposure_ev);
         render::SceneSpec bare = scene;
         bare.backdrop = render::SceneSpec::Backdrop::none;
         bare.transparent = true;
