@@ -179,4 +179,5 @@ def main():
                     out.write(f"f {k} {k + nu} {k + 1}\nf {k + 1} {k + nu} {k + nu + 1}\n")
 
 
-main()
+if __name__ == "__main__":  # bench/blender_photo.py imports build() and centre_fibre_folds()
+    main()
