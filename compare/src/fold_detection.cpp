@@ -323,9 +323,10 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
 // cloth's highlights, many times the cloth's brightness, which on luma itself raised that
 // threshold above the folds (silk charmeuse on the studio scene).  The offset k m bounds the
 // gain of the log, 1 / (L + k m), at 1 / (k m) in the darkest pixels (a deep valley's floor,
-// a photo's noise near black) where the log would stretch a code value without limit; k =
-// 0.5 was chosen on the studio scene's ten looks (docs/compare.md): 0.3 and below count
-// denim's weave as folds, 1 and above lose poplin's and linen's fine folds.
+// a photo's noise near black) where the log would stretch a code value without limit.  k
+// from the studio scene's ten looks (docs/compare.md): silk measures 2 / 3 / 3 / 1 folds at k
+// = 0.1 / 0.25 / 0.5 / 1 (a larger k is nearly linear over a highlight, a smaller one
+// stretches the noise of the dark valleys), every other look the same at all four.
 cv::Mat relative_shading(const cv::Mat& luma, const cv::Mat& cloth) {
     constexpr float kOffset = 0.5f;
     std::vector<float> values;
