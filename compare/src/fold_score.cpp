@@ -225,7 +225,8 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
             const double d1a = smooth[i] - smooth[i - 1], d1b = smooth[i + 1] - smooth[i];
             if (!(d1a * d1b <= 0) || (d1a == 0 && d1b == 0)) continue;
             const double d2 = second_difference(smooth, i);
-            const double strength = norm * std::abs(d2), luma_strength = norm * std::abs(second_difference(smooth_luma, i));
+            const double strength = norm * std::abs(d2);
+            const double luma_strength = norm * std::abs(second_difference(smooth_luma, i));
             const int sign = d2 < 0 ? 1 : -1;
             const bool high = strength >= detection.high_threshold && luma_strength >= detection.high_floor;
             const bool low = strength >= detection.low_threshold && luma_strength >= detection.low_floor;

@@ -49,8 +49,7 @@ StudioPhoto make_studio_photo(const render::SceneSpec& studio) {
     const auto& g = scene.garment;
     const drape::ClothParams params = drape::cloth_from_look(scene.look.mechanics, g.width_m, g.height_m, g.inset_m);
     out.model = drape::solve_folds(params);
-    const render::Camera camera =
-        render::frame_camera(scene.camera, {}, double(scene.width) / scene.height);
+    const render::Camera camera = render::frame_camera(scene.camera, {}, double(scene.width) / scene.height);
     const auto seen = [&](double x) {
         Eigen::Vector2d pixel;
         if (!render::project(camera, scene.width, scene.height, Vec3f(float(x), 0.0f, 0.0f), &pixel))

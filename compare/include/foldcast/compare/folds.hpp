@@ -55,7 +55,7 @@ struct FoldDetection {
     // outline, one print colour against another) and on prints too small to normalise
     // (dilated).  Inside a print of one colour the shading is read (scaled to the cloth).
     Image print_outline;
-    Image luma;     // 1 channel: the photo's luma, prints scaled to the cloth and their outlines filled in
+    Image luma;  // 1 channel: the photo's luma, prints scaled to the cloth and their outlines filled in
     // 1 channel: what the ridge filter saw, the relative shading log(luma / m + 0.5), m the
     // cloth's median luma: a fold's response does not depend on the cloth's albedo.
     Image shading;
