@@ -63,8 +63,11 @@ int run_folds(const FoldsOptions& o) {
                          {"height", photo.height},
                          {"mask", o.mask.empty() ? (supports ? "grabcut" : "whole image") : o.mask},
                          {"sigmas_px", detection.sigmas_px},
+                         // On the relative shading's response; the floors on the luma's.
                          {"high_threshold", detection.high_threshold},
                          {"low_threshold", detection.low_threshold},
+                         {"high_floor", detection.high_floor},
+                         {"low_floor", detection.low_floor},
                          {"count", detection.folds.size()},
                          {"crests", crests},
                          {"valleys", static_cast<int>(detection.folds.size()) - crests},

@@ -315,6 +315,31 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
     return out;
 }
 
+// The shading the ridge filter measures: log((L + k m) / m), L the luma (prints scaled,
+// outlines filled in), m the cloth's median luma, k = 0.5.  A fold scales the light a patch
+// of cloth gets, so what it changes is a ratio: on log luma the same fold responds as strongly
+// on a dark cloth as on a light one, and the threshold taken from the cloth's own response
+// (4 x its median) does not follow the cloth's albedo.  The log also compresses a glossy
+// cloth's highlights, many times the cloth's brightness, which on luma itself raised that
+// threshold above the folds (silk charmeuse on the studio scene).  The offset k m bounds the
+// gain of the log, 1 / (L + k m), at 1 / (k m) in the darkest pixels (a deep valley's floor,
+// a photo's noise near black) where the log would stretch a code value without limit.  k
+// from the studio scene's ten looks (docs/compare.md): silk measures 2 / 3 / 3 / 1 folds at k
+// = 0.1 / 0.25 / 0.5 / 1 (a larger k is nearly linear over a highlight, a smaller one
+// stretches the noise of the dark valleys), every other look the same at all four.
+cv::Mat relative_shading(const cv::Mat& luma, const cv::Mat& cloth) {
+    constexpr float kOffset = 0.5f;
+    std::vector<float> values;
+    for (int y = 0; y < luma.rows; ++y)
+        for (int x = 0; x < luma.cols; ++x)
+            if (cloth.at<uchar>(y, x)) values.push_back(luma.at<float>(y, x));
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    const float median = std::max(values[values.size() / 2], 1e-3f);  // a black cloth: no ratio to read
+    cv::Mat shading;
+    cv::log(cv::max(luma, 0.0f) / median + kOffset, shading);
+    return shading;
+}
+
 // Where a fold's band lies across the line: the midpoint of the two places where the
 // brightness profile across it (along the normal, averaged over 3 px along the line) crosses
 // half the band's depth.  The extremum of the brightness, and with it the strongest ridge
@@ -423,7 +448,13 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             filled.convertTo(luma, CV_32F, top / 65535.0);
         }
     }
-    const RidgeField field = ridge_field(luma, out.sigmas_px, options.gamma);
+    // The ridge filter runs on the relative shading (see relative_shading); the floor of the
+    // threshold is checked on the luma itself, where a photo's noise (8-bit steps, JPEG's
+    // blocks) has the same size on every cloth: a fold on a dark cloth must still change the
+    // stored values by more than that.
+    const cv::Mat shading = relative_shading(luma, cloth);
+    const RidgeField field = ridge_field(shading, out.sigmas_px, options.gamma);
+    const cv::Mat stored_strength = ridge_field(luma, out.sigmas_px, options.gamma).strength;
     cv::Mat region;
     const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
     cv::erode(cloth, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
@@ -437,7 +468,8 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
         out.print_mask = detail::from_mat(r);
         unreadable.convertTo(r, CV_32F, 1.0 / 255.0);
         out.print_outline = detail::from_mat(r);
-        out.shading = detail::from_mat(luma);
+        out.shading = detail::from_mat(shading);
+        out.luma = detail::from_mat(luma);
     }
 
     // Non-maximum suppression across the line, with a parabolic sub-pixel offset.
@@ -469,7 +501,9 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
         }
     if (!any_candidate) return out;
     // Automatic threshold: well above the typical response of the cloth (its texture and
-    // noise), never below an absolute floor.
+    // noise, measured on the relative shading), and never below a floor on the luma's own
+    // response (0.006: the photo's noise floor; on s3, a dark navy shirt, the bump below its
+    // deep crease responds 0.0056 and is no fold, while the studio looks' folds clear it).
     std::vector<float> region_strengths;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
@@ -477,15 +511,20 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     std::nth_element(region_strengths.begin(), region_strengths.begin() + region_strengths.size() / 2,
                      region_strengths.end());
     const double median = region_strengths[region_strengths.size() / 2];
-    out.high_threshold = options.high_threshold > 0 ? options.high_threshold : std::max(0.006, 4.0 * median);
+    out.high_threshold = options.high_threshold > 0 ? options.high_threshold : 4.0 * median;
     out.low_threshold = options.low_ratio * out.high_threshold;
+    out.high_floor = 0.006;
+    out.low_floor = options.low_ratio * out.high_floor;
+    const auto clears = [&](int x, int y, double threshold, double floor) {
+        return field.strength.at<float>(y, x) >= threshold && stored_strength.at<float>(y, x) >= floor;
+    };
 
     // Hysteresis: grow from strong candidates through weaker ones of the same sign.
     cv::Mat kept = cv::Mat::zeros(luma.size(), CV_8U);
     std::deque<cv::Point> queue;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            if (candidate.at<uchar>(y, x) && field.strength.at<float>(y, x) >= out.high_threshold) {
+            if (candidate.at<uchar>(y, x) && clears(x, y, out.high_threshold, out.high_floor)) {
                 kept.at<uchar>(y, x) = 1;
                 queue.emplace_back(x, y);
             }
@@ -497,7 +536,7 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             if (qx < 0 || qy < 0 || qx >= w || qy >= h || kept.at<uchar>(qy, qx) || !candidate.at<uchar>(qy, qx))
                 continue;
             if (field.sign.at<schar>(qy, qx) != field.sign.at<schar>(p.y, p.x)) continue;
-            if (field.strength.at<float>(qy, qx) < out.low_threshold) continue;
+            if (!clears(qx, qy, out.low_threshold, out.low_floor)) continue;
             kept.at<uchar>(qy, qx) = 1;
             queue.emplace_back(qx, qy);
         }

@@ -103,9 +103,11 @@ FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDet
 
 CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixels& supports) {
     CentreLine out;
+    // The relative shading, on which the thresholds are, and the luma, on which the floors are.
     const Image& shading = detection.shading;
+    const Image& luma = detection.luma;
     const Image& mask = detection.mask;
-    if (shading.empty() || detection.sigmas_px.empty()) return out;
+    if (shading.empty() || luma.empty() || detection.sigmas_px.empty()) return out;
     const double d = supports.distance_px();
     const Eigen::Vector2d ex = (supports.second - supports.first) / d, down(-ex.y(), ex.x());
     const Eigen::Vector2d mid = 0.5 * (supports.first + supports.second);
@@ -117,29 +119,31 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
         *v = img.at(int(x), int(y), 0);
         return true;
     };
-    // The profile from the support line down to the lowest cloth pixel of the fibre: the
-    // band's mean shading over its cloth pixels.
-    std::vector<double> profile;
+    // The profiles from the support line down to the lowest cloth pixel of the fibre: the
+    // band's mean shading and mean luma over its cloth pixels.
+    std::vector<double> profile, luma_profile;
     std::vector<bool> on_cloth, on_print;
     const int max_depth = static_cast<int>(std::ceil(std::hypot(shading.width, shading.height)));
     int first = -1, last = -1;
     for (int depth = 0; depth < max_depth; ++depth) {
-        double sum = 0.0;
+        double sum = 0.0, luma_sum = 0.0;
         int n = 0, printed = 0;
         for (int k = -offsets; k <= offsets; ++k) {
             const Eigen::Vector2d p = mid + depth * down + k * ex;
-            float m = 0.0f, v = 0.0f, pm = 0.0f;
-            if (value(mask, p, &m) && m > 0.5f && value(shading, p, &v)) {
+            float m = 0.0f, v = 0.0f, l = 0.0f, pm = 0.0f;
+            if (value(mask, p, &m) && m > 0.5f && value(shading, p, &v) && value(luma, p, &l)) {
                 if (!detection.print_outline.empty() && value(detection.print_outline, p, &pm) && pm > 0.5f) {
                     ++printed;
                     continue;
                 }
                 sum += v;
+                luma_sum += l;
                 ++n;
             }
         }
         const bool cloth = 2 * (n + printed) > 2 * offsets + 1;  // most of the band is cloth
         profile.push_back(n > 0 ? sum / n : 0.0);
+        luma_profile.push_back(n > 0 ? luma_sum / n : 0.0);
         on_cloth.push_back(cloth);
         // A print's outline is filled in: no fold can be read there (inside a print of one
         // colour the shading is read, scaled to the cloth's brightness).
@@ -161,8 +165,9 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
     // Between first and last the profile may have gaps (holes in the band): fill by the
     // nearest cloth value so that the smoothing does not see the background.
     std::vector<double> p(profile.begin() + first, profile.begin() + last + 1);
+    std::vector<double> pl(luma_profile.begin() + first, luma_profile.begin() + last + 1);
     for (size_t i = 1; i < p.size(); ++i)
-        if (!on_cloth[first + i] || on_print[first + i]) p[i] = p[i - 1];
+        if (!on_cloth[first + i] || on_print[first + i]) p[i] = p[i - 1], pl[i] = pl[i - 1];
     // Within 2 sigma_max of a print or a gap the profile is not the cloth's own.
     std::vector<bool> unreadable(p.size(), false);
     for (size_t i = 0; i < p.size(); ++i)
@@ -192,34 +197,40 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
         double sigma;
     };
     std::vector<Extremum> found;
-    for (double sigma : detection.sigmas_px) {
-        // Gaussian smoothing and derivatives by finite differences, reflected ends.
+    const int n = static_cast<int>(p.size());
+    // Gaussian smoothing, reflected ends.
+    const auto smoothed = [n](const std::vector<double>& q, double sigma) {
         const int radius = static_cast<int>(std::ceil(3 * sigma));
         std::vector<double> kernel(2 * radius + 1);
         double ksum = 0.0;
         for (int k = -radius; k <= radius; ++k) ksum += kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
-        const int n = static_cast<int>(p.size());
-        std::vector<double> smooth(n, 0.0);
+        std::vector<double> result(n, 0.0);
         for (int i = 0; i < n; ++i) {
             double acc = 0.0;
             for (int k = -radius; k <= radius; ++k) {
                 int j = i + k;
                 while (j < 0 || j >= n) j = j < 0 ? -j : 2 * (n - 1) - j;
-                acc += kernel[k + radius] * p[std::clamp(j, 0, n - 1)];
+                acc += kernel[k + radius] * q[std::clamp(j, 0, n - 1)];
             }
-            smooth[i] = acc / ksum;
+            result[i] = acc / ksum;
         }
+        return result;
+    };
+    const auto second_difference = [](const std::vector<double>& q, int i) { return q[i + 1] - 2 * q[i] + q[i - 1]; };
+    for (double sigma : detection.sigmas_px) {
+        const std::vector<double> smooth = smoothed(p, sigma), smooth_luma = smoothed(pl, sigma);
         const double norm = std::pow(sigma * sigma, 0.75);  // the detector's gamma-normalisation
         for (int i = std::max(1, from - first); i < std::min(n - 1, to - first + 1); ++i) {
             if (unreadable[size_t(i)]) continue;
             const double d1a = smooth[i] - smooth[i - 1], d1b = smooth[i + 1] - smooth[i];
             if (!(d1a * d1b <= 0) || (d1a == 0 && d1b == 0)) continue;
-            const double d2 = smooth[i + 1] - 2 * smooth[i] + smooth[i - 1];
+            const double d2 = second_difference(smooth, i);
             const double strength = norm * std::abs(d2);
+            const double luma_strength = norm * std::abs(second_difference(smooth_luma, i));
             const int sign = d2 < 0 ? 1 : -1;
-            if (strength < detection.high_threshold &&
-                !(strength >= detection.low_threshold && on_detected_line(first + i, sign, sigma)))
-                continue;
+            const bool high = strength >= detection.high_threshold && luma_strength >= detection.high_floor;
+            const bool low = strength >= detection.low_threshold && luma_strength >= detection.low_floor;
+            if (!high && !(low && on_detected_line(first + i, sign, sigma))) continue;
             found.push_back({first + i, sign, strength, sigma});
         }
     }

@@ -127,18 +127,19 @@ TEST(CentreLine, MeasuresTheFoldCountAndQDrawnFromTheModel) {
 // As the 2-D detector's hysteresis: with the high threshold raised above every fold's
 // strength on the fibre (as glossy cloth's highlights raise it), a fold still counts where a
 // detected line of its sign crosses the fibre and it clears the low threshold; without the
-// lines, it does not.
+// lines, it does not.  Each threshold is raised with its floor (on this clean picture the
+// floor, on the luma's response, is what binds).
 TEST(CentreLine, FoldsUnderTheHighThresholdCountWhereADetectedLineCrossesTheFibre) {
     const auto& s = synthetic();
     compare::FoldDetection detection = compare::detect_folds(s.photo, s.mask);
     ASSERT_FALSE(detection.folds.empty());
     const int seen = compare::measure_centre_line(detection, s.supports).folds;
     ASSERT_EQ(seen, s.solution.folds);
-    detection.high_threshold *= 100.0;  // no extremum on the fibre reaches it
+    detection.high_threshold *= 100.0, detection.high_floor *= 100.0;  // no extremum on the fibre reaches them
     EXPECT_EQ(compare::measure_centre_line(detection, s.supports).folds, seen);
-    detection.low_threshold *= 100.0;  // nor the low one now
+    detection.low_threshold *= 100.0, detection.low_floor *= 100.0;  // nor the low ones now
     EXPECT_EQ(compare::measure_centre_line(detection, s.supports).folds, 0);
-    detection.low_threshold /= 100.0;
+    detection.low_threshold /= 100.0, detection.low_floor /= 100.0;
     detection.folds.clear();  // no line crosses the fibre
     EXPECT_EQ(compare::measure_centre_line(detection, s.supports).folds, 0);
 }
@@ -157,6 +158,34 @@ TEST(CentreLine, NoiseOnThePhotoAddsNoFolds) {
         const auto centre = compare::measure_centre_line(compare::detect_folds(noisy, s.mask), s.supports);
         EXPECT_EQ(centre.folds, s.solution.folds) << "noise amplitude " << amplitude;
     }
+}
+
+// A fold changes the light a patch of cloth gets by a ratio, so the same drape on a darker
+// cloth (the photo, its noise included, at half the brightness) shows the same folds: on the
+// relative shading the ridge filter reads, they respond as strongly and the threshold (4 x the
+// cloth's median response) is the same.  On the luma itself both halved with the cloth's
+// albedo, and a dark cloth's folds fell under the floor of the threshold first.
+TEST(CentreLine, ADarkerClothMeasuresTheSameFoldsAtTheSameStrength) {
+    const auto& s = synthetic();
+    compare::Image light = s.photo;
+    std::uint32_t state = 12345u;
+    for (float& v : light.values) {
+        state = state * 1664525u + 1013904223u;
+        v = std::clamp(v + 0.03f * (float(state >> 8) / float(1u << 24) - 0.5f) * 2.0f, 0.0f, 1.0f);
+    }
+    compare::Image dark = light;
+    for (float& v : dark.values) v *= 0.5f;
+    const auto a = compare::detect_folds(light, s.mask), b = compare::detect_folds(dark, s.mask);
+    EXPECT_NEAR(b.high_threshold, a.high_threshold, 1e-3 * a.high_threshold);
+    ASSERT_FALSE(a.folds.empty());
+    ASSERT_EQ(b.folds.size(), a.folds.size());
+    for (size_t k = 0; k < a.folds.size(); ++k)
+        EXPECT_NEAR(b.folds[k].mean_strength, a.folds[k].mean_strength, 1e-3 * a.folds[k].mean_strength) << k;
+    const auto centre_light = compare::measure_centre_line(a, s.supports);
+    const auto centre_dark = compare::measure_centre_line(b, s.supports);
+    EXPECT_EQ(centre_light.folds, s.solution.folds);
+    EXPECT_EQ(centre_dark.folds, centre_light.folds);
+    EXPECT_EQ(centre_dark.depths_px, centre_light.depths_px);
 }
 
 TEST(OverlayScore, ThreeTimesTheVisibleFoldsScoresWorseThanTheRightCount) {

@@ -37,7 +37,7 @@ struct DetectedFold {
 struct FoldDetectionOptions {
     std::vector<double> sigmas_px;  // empty: 5 scales, a factor sqrt(2) apart, from max(1.5, diagonal/600)
     double gamma = 0.75;            // scale normalisation t^gamma (Lindeberg's choice for ridges)
-    double high_threshold = 0.0;    // 0: max(0.006, 4 x median response over the search region)
+    double high_threshold = 0.0;    // 0: 4 x median response (of the relative shading) over the search region
     double low_ratio = 0.5;         // low threshold = low_ratio x high
     double min_length_px = 0.0;     // 0: max(10, 3 % of the image diagonal)
     bool exclude_prints = true;     // ignore printed motifs: pixels whose chromaticity is far from the cloth's
@@ -55,9 +55,15 @@ struct FoldDetection {
     // outline, one print colour against another) and on prints too small to normalise
     // (dilated).  Inside a print of one colour the shading is read (scaled to the cloth).
     Image print_outline;
-    Image shading;        // 1 channel: the luma the ridge filter saw (prints scaled, outlines filled in)
+    Image luma;  // 1 channel: the photo's luma, prints scaled to the cloth and their outlines filled in
+    // 1 channel: what the ridge filter saw, the relative shading log(luma / m + 0.5), m the
+    // cloth's median luma: a fold's response does not depend on the cloth's albedo.
+    Image shading;
     std::vector<double> sigmas_px;
+    // A line is seeded where the shading's response clears high_threshold and the luma's
+    // clears high_floor (the photo's noise floor, in stored values); it grows through the low ones.
     double high_threshold = 0.0, low_threshold = 0.0;
+    double high_floor = 0.0, low_floor = 0.0;
 };
 
 // Cloth mask by GrabCut: from 0.4 D beside the supports (D = support distance) down to the
