@@ -1,9 +1,11 @@
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 #include <opencv2/imgproc.hpp>
 
 #include "foldcast/compare/folds.hpp"
+#include "foldcast/core/colour.hpp"
 #include "mat_convert.hpp"
 
 namespace foldcast::compare {
@@ -109,6 +111,81 @@ cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::V
     return fallback;
 }
 
+// Pixels of the seed's hue: whose linear-light chromaticity (r, g) = (R, G) / (R + G + B)
+// lies within 0.04 of the half-line from white through the seed's median chromaticity, at
+// least half as far out from white as the seed's (a warm white wall lies a little way out
+// along a red cloth's line).  Shading scales R, G and B alike, and light bounced between a
+// fold's walls moves the chromaticity further out along that line (fold_detection.cpp's
+// print test), so a fold's shadowed inside and its lit front both match.  Too dark a pixel
+// (linear R + G + B < 0.03) has no reliable chromaticity and does not match; nothing matches
+// a grey seed, whose hue the background may share.
+cv::Mat same_hue(const cv::Mat& bgr, const cv::Rect& seed) {
+    cv::Mat same = cv::Mat::zeros(bgr.size(), CV_8U);
+    cv::Mat rg(bgr.size(), CV_32FC2);
+    for (int y = 0; y < bgr.rows; ++y)
+        for (int x = 0; x < bgr.cols; ++x) {
+            const cv::Vec3b& p = bgr.at<cv::Vec3b>(y, x);
+            const float b = srgb_to_linear(p[0] / 255.0f), g = srgb_to_linear(p[1] / 255.0f),
+                        r = srgb_to_linear(p[2] / 255.0f), sum = r + g + b;
+            rg.at<cv::Vec2f>(y, x) = sum < 0.03f ? cv::Vec2f(-1.0f, -1.0f) : cv::Vec2f(r / sum, g / sum);
+        }
+    std::array<std::vector<float>, 2> seen;
+    for (int y = seed.y; y < seed.y + seed.height; ++y)
+        for (int x = seed.x; x < seed.x + seed.width; ++x)
+            if (const cv::Vec2f c = rg.at<cv::Vec2f>(y, x); c[0] >= 0.0f)
+                for (std::size_t k = 0; k < 2; ++k) seen[k].push_back(c[int(k)]);
+    if (seen[0].empty()) return same;
+    cv::Vec2f hue;  // the seed's median chromaticity less white's
+    for (std::size_t k = 0; k < 2; ++k) {
+        std::nth_element(seen[k].begin(), seen[k].begin() + seen[k].size() / 2, seen[k].end());
+        hue[int(k)] = seen[k][seen[k].size() / 2] - 1.0f / 3.0f;
+    }
+    constexpr float kNeutral = 0.02f, kAcross = 0.04f;
+    const float length = float(cv::norm(hue));
+    if (length < kNeutral) return same;
+    hue /= length;
+    for (int y = 0; y < bgr.rows; ++y)
+        for (int x = 0; x < bgr.cols; ++x) {
+            const cv::Vec2f c = rg.at<cv::Vec2f>(y, x);
+            if (c[0] < 0.0f) continue;
+            const cv::Vec2f v = c - cv::Vec2f(1.0f / 3.0f, 1.0f / 3.0f);
+            const float along = v.dot(hue), across = std::abs(v[0] * hue[1] - v[1] * hue[0]);
+            same.at<uchar>(y, x) = along >= 0.5f * length && across < kAcross ? 255 : 0;
+        }
+    return same;
+}
+
+// How far left and right of the supports (a, b, D apart) the cloth may reach: 0.4 D, or as far
+// as the cloth's own colour runs on from the seed.  Grippers holding a shirt some way in from
+// its sides leave the sides hanging beside them, and a GrabCut rectangle that cuts through the
+// cloth there makes it learn the cloth's colour as background (a panel reaching 0.6 D beside
+// its supports came out as its darker inner face alone).  The pixels of the cloth's colour
+// connected to the seed (`same`: 255 there) give its sides, unless they also spread above
+// the supports or to the picture's left or right edge: then they are background of the
+// cloth's colour and say nothing.
+std::pair<int, int> side_limits(const cv::Mat& same, const cv::Rect& seed, const Eigen::Vector2d& a,
+                                const Eigen::Vector2d& b) {
+    const double d = (b - a).norm();
+    std::pair<int, int> limits{static_cast<int>(std::min(a.x(), b.x()) - 0.4 * d),
+                               static_cast<int>(std::max(a.x(), b.x()) + 0.4 * d)};
+    if (seed.area() == 0) return limits;
+    cv::Mat open;  // thin bridges to the background cut
+    cv::morphologyEx(same, open, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(3, 3)));
+    cv::Mat labels, stats, centroids;
+    const int count = cv::connectedComponentsWithStats(open, labels, stats, centroids, 8, CV_32S);
+    std::vector<int> votes(static_cast<std::size_t>(count), 0);
+    for (int y = seed.y; y < seed.y + seed.height; ++y)
+        for (int x = seed.x; x < seed.x + seed.width; ++x) ++votes[static_cast<std::size_t>(labels.at<int>(y, x))];
+    votes[0] = 0;  // not the cloth's colour
+    const int cloth = static_cast<int>(std::max_element(votes.begin(), votes.end()) - votes.begin());
+    if (votes[static_cast<std::size_t>(cloth)] == 0) return limits;
+    const int left = stats.at<int>(cloth, cv::CC_STAT_LEFT), top = stats.at<int>(cloth, cv::CC_STAT_TOP);
+    const int right = left + stats.at<int>(cloth, cv::CC_STAT_WIDTH) - 1;
+    if (left == 0 || right == same.cols - 1 || top < std::min(a.y(), b.y()) - 0.15 * d) return limits;
+    const int margin = static_cast<int>(0.05 * d) + 1;
+    return {std::min(limits.first, left - margin), std::max(limits.second, right + margin)};
+}
+
 }  // namespace
 
 Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>& supports) {
@@ -126,18 +203,12 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
     const Eigen::Vector2d a = supports->first * scale, b = supports->second * scale;
     const double d = (b - a).norm();
     const cv::Rect bounds(0, 0, small.cols, small.rows);
-    // Where cloth can be: beside the supports by 0.4 D and anywhere below them.  A cloth may
-    // hang several times D (a tall panel on close supports); below the supports the colour
-    // prior, not the rectangle, keeps a table or a floor out.
-    const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::min(a.x(), b.x()) - 0.4 * d),
-                                             static_cast<int>(std::min(a.y(), b.y()) - 0.08 * d)),
-                                   cv::Point(static_cast<int>(std::max(a.x(), b.x()) + 0.4 * d), small.rows)) &
-                          bounds;
     const cv::Mat lab = lab_of(small);
     const cv::Rect seed = cloth_seed(lab, a, b);
-    // Inside the rectangle, the cloth's colour decides the first guess: chroma (CIELAB a, b)
-    // near the seed's median is probably cloth, the rest probably not.  This keeps a table or
-    // wall touching the hem out of the mask.
+    // The cloth's colour decides the first guess: chroma (CIELAB a, b) near the seed's median,
+    // or the seed's hue in any shade (same_hue: a seed on a fold's saturated shadowed inside
+    // then does not leave its lit front to the background), is probably cloth, the rest
+    // probably not.  This keeps a table or wall touching the hem out of the mask.
     std::vector<int> seed_a, seed_b;
     for (int y = seed.y; y < seed.y + seed.height; ++y)
         for (int x = seed.x; x < seed.x + seed.width; ++x) {
@@ -150,10 +221,23 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
     const double ma = seed_a[seed_a.size() / 2], mb = seed_b[seed_b.size() / 2];
     constexpr double kSameCloth = 20.0;  // 8-bit Lab chroma units
     const auto same_cloth = [&](const cv::Vec3b& v) { return std::hypot(v[1] - ma, v[2] - mb) < kSameCloth; };
+    cv::Mat same(small.size(), CV_8U);
+    for (int y = 0; y < small.rows; ++y)
+        for (int x = 0; x < small.cols; ++x) same.at<uchar>(y, x) = same_cloth(lab.at<cv::Vec3b>(y, x)) ? 255 : 0;
+    // Where cloth can be: beside the supports (side_limits) and anywhere below them.  A cloth
+    // may hang several times D (a tall panel on close supports); below the supports the colour
+    // prior, not the rectangle, keeps a table or a floor out.
+    const cv::Mat hue = same_hue(small, seed);
+    const auto [rect_left, rect_right] = side_limits(hue, seed, a, b);
+    same |= hue;
+    const cv::Rect rect =
+        cv::Rect(cv::Point(rect_left, static_cast<int>(std::min(a.y(), b.y()) - 0.08 * d)),
+                 cv::Point(rect_right, small.rows)) &
+        bounds;
     cv::Mat labels(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
     for (int y = rect.y; y < rect.y + rect.height; ++y)
         for (int x = rect.x; x < rect.x + rect.width; ++x)
-            labels.at<uchar>(y, x) = same_cloth(lab.at<cv::Vec3b>(y, x)) ? cv::GC_PR_FGD : cv::GC_PR_BGD;
+            labels.at<uchar>(y, x) = same.at<uchar>(y, x) ? cv::GC_PR_FGD : cv::GC_PR_BGD;
     labels(seed).setTo(cv::GC_FGD);
     cv::Mat bgd_model, fgd_model;
     cv::setRNGSeed(12345);  // GrabCut's GMM initialisation draws from OpenCV's RNG

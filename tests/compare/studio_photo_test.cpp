@@ -6,6 +6,7 @@
 // same scene rendered with neither backdrop nor clips, its alpha) and the model's folds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -144,6 +145,29 @@ TEST(StudioPhoto, TheOverlayFitSeesTheFoldsAndDrawsThemOnTheCloth) {
     EXPECT_GE(r.centre->folds, 1);
     EXPECT_LE(std::abs(r.solution.folds - r.centre->folds), 1);
     EXPECT_GT(r.score->f1, 0.3);
+}
+
+// Supports clicked well inside the cloth's width (grippers holding a shirt's top some way in
+// from its sides, the sides hanging beside them): here the studio panel with the supports
+// given halfway between its clips and the middle, so the cloth reaches more than 0.5 D beside
+// each, D the distance between the supports.  The GrabCut rectangle reached 0.4 D beside
+// the supports and cut the panel's sides off.
+TEST(StudioPhoto, TheMaskTakesAClothReachingFarBesideItsSupports) {
+    const StudioPhoto& s = studio_photo();
+    const Eigen::Vector2d middle = 0.5 * (s.supports.first + s.supports.second);
+    const compare::SupportPixels inside{middle + 0.5 * (s.supports.first - middle),
+                                        middle + 0.5 * (s.supports.second - middle)};
+    const double reach = (inside.second - inside.first).norm();
+    int left = s.cloth.width, right = 0;
+    for (int y = 0; y < s.cloth.height; ++y)
+        for (int x = 0; x < s.cloth.width; ++x)
+            if (s.cloth.at(x, y, 0) > 0.5f) left = std::min(left, x), right = std::max(right, x);
+    ASSERT_LT(left, inside.first.x() - 0.5 * reach);  // the set-up is what the test is about
+    ASSERT_GT(right, inside.second.x() + 0.5 * reach);
+    const compare::Image mask = compare::estimate_cloth_mask(s.photo, inside);
+    const double iou = intersection_over_union(mask, s.cloth);
+    std::printf("cloth mask with the supports inside the cloth's width: IoU %.3f with the cloth\n", iou);
+    EXPECT_GT(iou, 0.9);
 }
 
 // Glossy silk charmeuse on the same scene as bench/compare_studio_looks.sh renders it (inset
