@@ -1,5 +1,8 @@
 #include "denoise.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -38,17 +41,18 @@ constexpr float kMixDeadZone = 0.2f;
 // The guide the passes compare taps by, one array per quantity: a tap reads only what its
 // test needs (depth and share first; the normal, cloth flag and albedo after).
 struct Guide {
-    std::vector<V3> n;                      // unit normal, or zero for the sky
-    std::vector<std::uint8_t> sky;          // n is zero
+    std::vector<float> nx, ny, nz;          // unit normal, or zero for the sky
+    // Flags as 0 / 1 of the floats' width, so that the tap loop's tests vectorise.
+    std::vector<std::int32_t> sky;          // the normal is zero
     std::vector<float> depth;
     std::vector<float> inv_depth_tolerance;  // 1 / (kSigmaDepth * how much depth changes per pixel here)
-    std::vector<std::uint8_t> covered;      // alpha > 0
-    std::vector<std::uint8_t> cloth;        // most of its samples hit the garment
+    std::vector<std::int32_t> covered;      // alpha > 0
+    std::vector<std::int32_t> cloth;        // most of its samples hit the garment
     std::vector<float> turning;             // share of its samples that hit the garment or its supports
-    std::vector<V3> albedo;                 // first-hit albedo
+    std::vector<float> ax, ay, az;          // first-hit albedo
     explicit Guide(std::size_t count)
-        : n(count), sky(count), depth(count), inv_depth_tolerance(count), covered(count), cloth(count),
-          turning(count), albedo(count) {}
+        : nx(count), ny(count), nz(count), sky(count), depth(count), inv_depth_tolerance(count), covered(count),
+          cloth(count), turning(count), ax(count), ay(count), az(count) {}
 };
 
 constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
@@ -57,9 +61,9 @@ constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
 // pass its luminance and the colour weight's scale.
 struct Buffer {
     std::vector<V3> light, next;
-    std::vector<float> variance, next_variance, lum, sigma;
+    std::vector<float> variance, next_variance, lum, inv_sigma;
     explicit Buffer(std::size_t count)
-        : light(count), next(count), variance(count), next_variance(count), lum(count), sigma(count) {}
+        : light(count), next(count), variance(count), next_variance(count), lum(count), inv_sigma(count) {}
     void swap() {
         std::swap(light, next);
         std::swap(variance, next_variance);
@@ -90,7 +94,7 @@ public:
                     }
                 const float v = sum_w > 0.0f ? sum / sum_w : 0.0f;
                 const std::size_t i = index(x, y);
-                b.sigma[i] = kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f;
+                b.inv_sigma[i] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
                 b.lum[i] = luminance(b.light[i]);
             }
         });
@@ -102,104 +106,205 @@ public:
     // buffer (b == nullptr) it is guided by itself.  `relaxed`: cloth pixels of one albedo
     // take the relaxed normal weight.
     void pass(int stride, Buffer& a, Buffer* b, bool relaxed = false) {
-        if (b)
-            rows([&](int y) { pass_row<true>(y, stride, a, *b, *b, relaxed); });
-        else
-            rows([&](int y) { pass_row<false>(y, stride, a, a, a, relaxed); });
+        row_ranges([&](int y0, int y1) {
+            Row row(w_);
+            for (int y = y0; y < y1; ++y) {
+                if (b)
+                    pass_row<true>(row, y, stride, a, *b, *b, relaxed);
+                else
+                    pass_row<false>(row, y, stride, a, a, a, relaxed);
+            }
+        });
         a.swap();
         if (b) b->swap();
     }
 
 private:
+    // One row's scratch: per pixel of the row, the current tap's exponents and normal weight
+    // (0: not taken), and the sums so far.
+    struct Row {
+        std::vector<float> e_a, e_b, nw, nw4, sum_a, wa, va, sum_b, wb, vb;
+        explicit Row(int w)
+            : e_a(w), e_b(w), nw(w), nw4(w), sum_a(3 * w), wa(w), va(w), sum_b(3 * w), wb(w), vb(w) {}
+    };
+
     // Row y of a pass.  kCross: buffer a is guided by g (== b), b by a; else a by itself (g
-    // and b are a, b unused).  Every tap's weight is the same expression as the one-loop
-    // version this replaced, term for term, so the bytes do not depend on the split: the
-    // template drops the second buffer's work where there is none, and the mixture term is
-    // only added where it is not zero (its share difference beyond the dead zone).
+    // and b are a, b unused).  The row is filtered tap by tap: for each of the 9 taps, in the
+    // kernel's order, first every pixel's weight terms in a branch-free loop the compiler can
+    // vectorise, then the taps taken are weighted (exp) and added to each pixel's sums.  Each
+    // pixel's sums thus add the same terms in the same order as a pixel-by-pixel loop, and
+    // every term is the same expression, so the bytes do not depend on the order.
     template <bool kCross>
-    void pass_row(int y, int stride, Buffer& a, Buffer& b, const Buffer& g, bool relaxed) {
-        float inv_distance[3][3];
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx)
-                inv_distance[dy + 1][dx + 1] =
-                    1.0f / std::max(1.0f, static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy)));
-        const V3* const normal = g_.n.data();
-        const std::uint8_t* const sky = g_.sky.data();
+    void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, const Buffer& g, bool relaxed) {
+        const float* const nx = g_.nx.data();
+        const float* const ny = g_.ny.data();
+        const float* const nz = g_.nz.data();
+        const std::int32_t* const sky = g_.sky.data();
         const float* const depth = g_.depth.data();
-        const std::uint8_t* const covered = g_.covered.data();
-        const std::uint8_t* const cloth = g_.cloth.data();
+        const float* const inv_depth = g_.inv_depth_tolerance.data();
+        const std::int32_t* const covered = g_.covered.data();
+        const std::int32_t* const cloth = g_.cloth.data();
         const float* const turning = g_.turning.data();
-        const V3* const albedo = g_.albedo.data();
+        const float* const ax = g_.ax.data();
+        const float* const ay = g_.ay.data();
+        const float* const az = g_.az.data();
         const float* const g_lum = g.lum.data();
         const float* const a_lum = a.lum.data();
+        const float* const g_inv_sigma = g.inv_sigma.data();
+        const float* const a_inv_sigma = a.inv_sigma.data();
         const V3* const a_light = a.light.data();
         const float* const a_variance = a.variance.data();
         const V3* const b_light = b.light.data();
         const float* const b_variance = b.variance.data();
+        float* const e_a = row.e_a.data();
+        float* const e_b = row.e_b.data();
+        float* const nw = row.nw.data();
+        float* const nw4 = row.nw4.data();
+        float* const sum_a = row.sum_a.data();
+        float* const wa = row.wa.data();
+        float* const va = row.va.data();
+        float* const sum_b = row.sum_b.data();
+        float* const wb = row.wb.data();
+        float* const vb = row.vb.data();
+        std::fill(row.sum_a.begin(), row.sum_a.end(), 0.0f);
+        std::fill(row.wa.begin(), row.wa.end(), 0.0f);
+        std::fill(row.va.begin(), row.va.end(), 0.0f);
+        if (kCross) {
+            std::fill(row.sum_b.begin(), row.sum_b.end(), 0.0f);
+            std::fill(row.wb.begin(), row.wb.end(), 0.0f);
+            std::fill(row.vb.begin(), row.vb.end(), 0.0f);
+        }
+        const std::ptrdiff_t r = static_cast<std::ptrdiff_t>(index(0, y));
+        for (int dy = -1; dy <= 1; ++dy) {
+            const int qy = y + dy * stride;
+            if (qy < 0 || qy >= h_) continue;
+            for (int dx = -1; dx <= 1; ++dx) {
+                // The pixels x whose tap x + dx * stride is inside the row.
+                const int x0 = std::max(0, -dx * stride), x1 = std::min(w_, w_ - dx * stride);
+                if (x0 >= x1) continue;
+                const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dy) * stride * w_ + dx * stride;
+                const float inv_distance =
+                    1.0f / std::max(1.0f, static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy)));
+                // The row's pixels (p) and their taps (q), indexed by x: plain strided
+                // loads the compiler vectorises.
+                const float *const depth_p = depth + r, *const depth_q = depth_p + offset;
+                const float *const turning_p = turning + r, *const turning_q = turning_p + offset;
+                const float *const g_lum_p = g_lum + r, *const g_lum_q = g_lum_p + offset;
+                const float *const a_lum_p = a_lum + r, *const a_lum_q = a_lum_p + offset;
+                const float *const nx_p = nx + r, *const nx_q = nx_p + offset;
+                const float *const ny_p = ny + r, *const ny_q = ny_p + offset;
+                const float *const nz_p = nz + r, *const nz_q = nz_p + offset;
+                const std::int32_t *const sky_p = sky + r, *const sky_q = sky_p + offset;
+                const std::int32_t *const covered_p = covered + r, *const covered_q = covered_p + offset;
+                const float* const inv_depth_p = inv_depth + r;
+                const float* const g_inv_sigma_p = g_inv_sigma + r;
+                const float* const a_inv_sigma_p = a_inv_sigma + r;
+                int x = x0;
+#if defined(__SSE2__)
+                // Four pixels at a time, each lane the same operations in the same order as
+                // the loop below (which does the rest): the same floats.
+                const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+                const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+                const __m128 dead_zone = _mm_set1_ps(kMixDeadZone), mix_scale = _mm_set1_ps(kMixScale);
+                const __m128 inv_distance4 = _mm_set1_ps(inv_distance);
+                const auto abs_diff = [&](const float* q, const float* p) {
+                    return _mm_and_ps(_mm_sub_ps(_mm_loadu_ps(q), _mm_loadu_ps(p)), abs_mask);
+                };
+                const auto select = [](__m128 mask, __m128 if_set, __m128 if_clear) {
+                    return _mm_or_ps(_mm_and_ps(mask, if_set), _mm_andnot_ps(mask, if_clear));
+                };
+                const auto both = [](const std::int32_t* p, const std::int32_t* q) {
+                    const __m128i flags = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)),
+                                                        _mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
+                    return _mm_castsi128_ps(_mm_cmpeq_epi32(flags, _mm_set1_epi32(1)));
+                };
+                for (; x + 4 <= x1; x += 4) {
+                    const __m128 e_depth =
+                        _mm_mul_ps(_mm_mul_ps(abs_diff(depth_q + x, depth_p + x), _mm_loadu_ps(inv_depth_p + x)), inv_distance4);
+                    const __m128 mix = abs_diff(turning_q + x, turning_p + x);
+                    const __m128 e_mixed = _mm_add_ps(e_depth, _mm_mul_ps(mix_scale, _mm_sub_ps(mix, dead_zone)));
+                    const __m128 e = select(_mm_cmpgt_ps(mix, dead_zone), e_mixed, e_depth);
+                    _mm_storeu_ps(e_a + x, _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + x, g_lum_p + x),
+                                                                    _mm_loadu_ps(g_inv_sigma_p + x))));
+                    if (kCross)
+                        _mm_storeu_ps(e_b + x, _mm_add_ps(e, _mm_mul_ps(abs_diff(a_lum_q + x, a_lum_p + x),
+                                                                        _mm_loadu_ps(a_inv_sigma_p + x))));
+                    const __m128 dot = _mm_add_ps(
+                        _mm_mul_ps(_mm_loadu_ps(nx_p + x), _mm_loadu_ps(nx_q + x)),
+                        _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + x), _mm_loadu_ps(ny_q + x)),
+                                   _mm_mul_ps(_mm_loadu_ps(nz_p + x), _mm_loadu_ps(nz_q + x))));
+                    __m128 c = _mm_max_ps(dot, zero);  // dot > 0 ? dot : 0, as std::max(0.0f, dot)
+                    c = _mm_mul_ps(c, c);
+                    c = _mm_mul_ps(c, c);
+                    _mm_storeu_ps(nw4 + x, c);
+                    for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c = _mm_mul_ps(c, c);
+                    const __m128 n = select(both(sky_p + x, sky_q + x), one, c);
+                    _mm_storeu_ps(nw + x, _mm_and_ps(both(covered_p + x, covered_q + x), n));
+                }
+#endif
+                for (; x < x1; ++x) {
+                    const float e_depth = std::abs(depth_q[x] - depth_p[x]) * inv_depth_p[x] * inv_distance;
+                    // The mixture term, added only beyond the dead zone (where it is not 0).
+                    const float mix = std::abs(turning_q[x] - turning_p[x]);
+                    const float e = mix > kMixDeadZone ? e_depth + kMixScale * (mix - kMixDeadZone) : e_depth;
+                    e_a[x] = e + std::abs(g_lum_q[x] - g_lum_p[x]) * g_inv_sigma_p[x];
+                    if (kCross) e_b[x] = e + std::abs(a_lum_q[x] - a_lum_p[x]) * a_inv_sigma_p[x];
+                    // The normal weight cos^128, or cos^4 (the chain's second step) between
+                    // cloth pixels of one albedo in a relaxed pass (below); 0 between sky (zero
+                    // normal) and surface, 1 between two sky pixels.
+                    const float dot = nx_p[x] * nx_q[x] + (ny_p[x] * ny_q[x] + nz_p[x] * nz_q[x]);
+                    float c = std::max(0.0f, dot);
+                    c *= c;
+                    c *= c;
+                    nw4[x] = c;
+                    for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c *= c;
+                    // (bitwise & on the 0 / 1 flags: no branches)
+                    const float n = (sky_p[x] & sky_q[x]) ? 1.0f : c;
+                    nw[x] = (covered_p[x] & covered_q[x]) ? n : 0.0f;
+                }
+                if (relaxed)
+                    for (int x = x0; x < x1; ++x) {
+                        const std::ptrdiff_t i = r + x, j = i + offset;
+                        const bool same_cloth = cloth[i] && cloth[j] && std::abs(ax[i] - ax[j]) < kSameAlbedo &&
+                                                std::abs(ay[i] - ay[j]) < kSameAlbedo &&
+                                                std::abs(az[i] - az[j]) < kSameAlbedo;
+                        if (same_cloth && covered[i] && covered[j] && !(sky[i] && sky[j])) nw[x] = nw4[x];
+                    }
+                const float kernel = kKernel[dx + 1] * kKernel[dy + 1];
+                for (int x = x0; x < x1; ++x) {
+                    if (nw[x] == 0.0f) continue;
+                    const std::ptrdiff_t j = r + x + offset;
+                    const float k = kernel * nw[x];
+                    // Beyond kMaxExponent the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
+                    if (e_a[x] <= kMaxExponent) {
+                        const float wt = k * std::exp(-e_a[x]);
+                        for (int c = 0; c < 3; ++c) sum_a[3 * x + c] += wt * a_light[j][c];
+                        wa[x] += wt;
+                        va[x] += wt * wt * a_variance[j];
+                    }
+                    if (kCross && e_b[x] <= kMaxExponent) {
+                        const float wt = k * std::exp(-e_b[x]);
+                        for (int c = 0; c < 3; ++c) sum_b[3 * x + c] += wt * b_light[j][c];
+                        wb[x] += wt;
+                        vb[x] += wt * wt * b_variance[j];
+                    }
+                }
+            }
+        }
         for (int x = 0; x < w_; ++x) {
-            const std::size_t i = index(x, y);
+            const std::ptrdiff_t i = r + x;
             if (!covered[i]) {
                 a.next[i] = a_light[i];
                 a.next_variance[i] = a_variance[i];
                 if (kCross) b.next[i] = b_light[i], b.next_variance[i] = b_variance[i];
                 continue;
             }
-            const float inv_sigma_g = 1.0f / g.sigma[i], inv_sigma_a = 1.0f / a.sigma[i];
-            const float inv_depth = g_.inv_depth_tolerance[i];
-            const float depth_i = depth[i], turning_i = turning[i];
-            const float lum_g = g_lum[i], lum_a = a_lum[i];
-            const bool sky_i = sky[i] != 0;
-            const V3& n_i = normal[i];
-            const bool relaxed_i = relaxed && cloth[i];
-            V3 sum_a = V3::Zero(), sum_b = V3::Zero();
-            float wa_sum = 0.0f, va_sum = 0.0f, wb_sum = 0.0f, vb_sum = 0.0f;
-            for (int dy = -1; dy <= 1; ++dy) {
-                const int qy = y + dy * stride;
-                if (qy < 0 || qy >= h_) continue;
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int qx = x + dx * stride;
-                    if (qx < 0 || qx >= w_) continue;
-                    const std::size_t j = index(qx, qy);
-                    if (!covered[j]) continue;
-                    float e_depth = std::abs(depth[j] - depth_i) * inv_depth * inv_distance[dy + 1][dx + 1];
-                    const float mix = std::abs(turning[j] - turning_i);
-                    if (mix > kMixDeadZone) e_depth += kMixScale * (mix - kMixDeadZone);
-                    const float e_a = e_depth + std::abs(g_lum[j] - lum_g) * inv_sigma_g;
-                    const float e_b = kCross ? e_depth + std::abs(a_lum[j] - lum_a) * inv_sigma_a : kMaxExponent + 1.0f;
-                    // Beyond this the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
-                    if (e_a > kMaxExponent && e_b > kMaxExponent) continue;
-                    // The normal weight: 1 between two sky pixels, 0 between sky and surface.
-                    float nw = 1.0f;
-                    if (sky_i || sky[j]) {
-                        if (sky_i != (sky[j] != 0)) continue;
-                    } else {
-                        const bool same_cloth =
-                            relaxed_i && cloth[j] && (albedo[i] - albedo[j]).cwiseAbs().maxCoeff() < kSameAlbedo;
-                        const int squarings = same_cloth ? kRelaxedNormalSquarings : kNormalSquarings;
-                        nw = std::max(0.0f, n_i.dot(normal[j]));
-                        for (int s = 0; s < squarings; ++s) nw *= nw;
-                        if (nw == 0.0f) continue;
-                    }
-                    const float k = kKernel[dx + 1] * kKernel[dy + 1] * nw;
-                    if (e_a <= kMaxExponent) {
-                        const float wt = k * std::exp(-e_a);
-                        sum_a += wt * a_light[j];
-                        wa_sum += wt;
-                        va_sum += wt * wt * a_variance[j];
-                    }
-                    if (kCross && e_b <= kMaxExponent) {
-                        const float wt = k * std::exp(-e_b);
-                        sum_b += wt * b_light[j];
-                        wb_sum += wt;
-                        vb_sum += wt * wt * b_variance[j];
-                    }
-                }
-            }
-            a.next[i] = sum_a / wa_sum;  // the centre's own weight is > 0
-            a.next_variance[i] = va_sum / (wa_sum * wa_sum);
+            // The centre's own weight is > 0.
+            a.next[i] = V3(sum_a[3 * x] / wa[x], sum_a[3 * x + 1] / wa[x], sum_a[3 * x + 2] / wa[x]);
+            a.next_variance[i] = va[x] / (wa[x] * wa[x]);
             if (kCross) {
-                b.next[i] = sum_b / wb_sum;
-                b.next_variance[i] = vb_sum / (wb_sum * wb_sum);
+                b.next[i] = V3(sum_b[3 * x] / wb[x], sum_b[3 * x + 1] / wb[x], sum_b[3 * x + 2] / wb[x]);
+                b.next_variance[i] = vb[x] / (wb[x] * wb[x]);
             }
         }
     }
@@ -211,6 +316,14 @@ private:
             tbb::parallel_for(tbb::blocked_range<int>(0, h_), [&](const tbb::blocked_range<int>& r) {
                 for (int y = r.begin(); y != r.end(); ++y) f(y);
             });
+        });
+    }
+
+    template <class F>
+    void row_ranges(F&& f) {
+        arena_.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(0, h_),
+                              [&](const tbb::blocked_range<int>& r) { f(r.begin(), r.end()); });
         });
     }
 
@@ -240,13 +353,17 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
     std::optional<Buffer> b;
     if (halves) b.emplace(count);
     for (std::size_t i = 0; i < count; ++i) {
-        guide.n[i] = features.normal[i];
-        guide.sky[i] = guide.n[i].squaredNorm() == 0.0f;
+        guide.nx[i] = features.normal[i].x();
+        guide.ny[i] = features.normal[i].y();
+        guide.nz[i] = features.normal[i].z();
+        guide.sky[i] = features.normal[i].squaredNorm() == 0.0f;
         guide.depth[i] = features.depth[i];
         guide.covered[i] = rgba.pixels[4 * i + 3] > 0.0f;
         guide.cloth[i] = features.cloth.size() == count && features.cloth[i] > 0.5f;
         guide.turning[i] = features.turning.size() == count ? features.turning[i] : 0.0f;
-        guide.albedo[i] = features.albedo[i];
+        guide.ax[i] = features.albedo[i].x();
+        guide.ay[i] = features.albedo[i].y();
+        guide.az[i] = features.albedo[i].z();
         const float* c = &rgba.pixels[4 * i];
         for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
         const float al = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
