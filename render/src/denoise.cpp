@@ -79,23 +79,36 @@ public:
     // whose few samples happened to agree would otherwise refuse every neighbour and stay a
     // dark or bright speck.  Also the luminance the weight compares.
     void prepare(Buffer& b) {
-        rows([&](int y) {
-            for (int x = 0; x < w_; ++x) {
-                float sum = 0.0f, sum_w = 0.0f;
-                for (int dy = -1; dy <= 1; ++dy)
+        row_ranges([&](int y0, int y1) {
+            std::vector<float> sum(w_), sum_w(w_);
+            for (int y = y0; y < y1; ++y) {
+                std::fill(sum.begin(), sum.end(), 0.0f);
+                std::fill(sum_w.begin(), sum_w.end(), 0.0f);
+                // Tap by tap over the row, each pixel's sums in the kernel's order.  A tap
+                // that is not covered adds +0 instead of being skipped: the same sums (they
+                // start at +0 and only grow), without a branch.
+                for (int dy = -1; dy <= 1; ++dy) {
+                    const int qy = y + dy;
+                    if (qy < 0 || qy >= h_) continue;
                     for (int dx = -1; dx <= 1; ++dx) {
-                        const int qx = x + dx, qy = y + dy;
-                        if (qx < 0 || qx >= w_ || qy < 0 || qy >= h_) continue;
-                        const std::size_t j = index(qx, qy);
-                        if (!g_.covered[j]) continue;
+                        const int x0 = std::max(0, -dx), x1 = std::min(w_, w_ - dx);
+                        const std::size_t q0 = index(x0 + dx, qy);
+                        const float* const variance = b.variance.data() + q0;
+                        const std::int32_t* const covered = g_.covered.data() + q0;
                         const float k = kKernel[dx + 1] * kKernel[dy + 1];
-                        sum += k * b.variance[j];
-                        sum_w += k;
+                        for (int x = x0; x < x1; ++x) {
+                            const bool taken = covered[x - x0] != 0;
+                            sum[x] += taken ? k * variance[x - x0] : 0.0f;
+                            sum_w[x] += taken ? k : 0.0f;
+                        }
                     }
-                const float v = sum_w > 0.0f ? sum / sum_w : 0.0f;
-                const std::size_t i = index(x, y);
-                b.inv_sigma[i] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
-                b.lum[i] = luminance(b.light[i]);
+                }
+                for (int x = 0; x < w_; ++x) {
+                    const float v = sum_w[x] > 0.0f ? sum[x] / sum_w[x] : 0.0f;
+                    const std::size_t i = index(x, y);
+                    b.inv_sigma[i] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
+                    b.lum[i] = luminance(b.light[i]);
+                }
             }
         });
     }
@@ -130,8 +143,8 @@ private:
 
     // Row y of a pass.  kCross: buffer a is guided by g (== b), b by a; else a by itself (g
     // and b are a, b unused).  The row is filtered tap by tap: for each of the 9 taps, in the
-    // kernel's order, first every pixel's weight terms in a branch-free loop the compiler can
-    // vectorise, then the taps taken are weighted (exp) and added to each pixel's sums.  Each
+    // kernel's order, first every pixel's weight terms in a branch-free loop (with SSE2 four
+    // pixels at a time), then the taps taken are weighted (exp) and added to each pixel's sums.  Each
     // pixel's sums thus add the same terms in the same order as a pixel-by-pixel loop, and
     // every term is the same expression, so the bytes do not depend on the order.
     template <bool kCross>
@@ -185,21 +198,22 @@ private:
                 const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dy) * stride * w_ + dx * stride;
                 const float inv_distance =
                     1.0f / std::max(1.0f, static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy)));
-                // The row's pixels (p) and their taps (q), indexed by x: plain strided
-                // loads the compiler vectorises.
-                const float *const depth_p = depth + r, *const depth_q = depth_p + offset;
-                const float *const turning_p = turning + r, *const turning_q = turning_p + offset;
-                const float *const g_lum_p = g_lum + r, *const g_lum_q = g_lum_p + offset;
-                const float *const a_lum_p = a_lum + r, *const a_lum_q = a_lum_p + offset;
-                const float *const nx_p = nx + r, *const nx_q = nx_p + offset;
-                const float *const ny_p = ny + r, *const ny_q = ny_p + offset;
-                const float *const nz_p = nz + r, *const nz_q = nz_p + offset;
-                const std::int32_t *const sky_p = sky + r, *const sky_q = sky_p + offset;
-                const std::int32_t *const covered_p = covered + r, *const covered_q = covered_p + offset;
-                const float* const inv_depth_p = inv_depth + r;
-                const float* const g_inv_sigma_p = g_inv_sigma + r;
-                const float* const a_inv_sigma_p = a_inv_sigma + r;
-                int x = x0;
+                // The row's pixels (p) from x0 on and their taps (q), indexed by t = x - x0.
+                const float *const depth_p = depth + r + x0, *const depth_q = depth_p + offset;
+                const float *const turning_p = turning + r + x0, *const turning_q = turning_p + offset;
+                const float *const g_lum_p = g_lum + r + x0, *const g_lum_q = g_lum_p + offset;
+                const float *const a_lum_p = a_lum + r + x0, *const a_lum_q = a_lum_p + offset;
+                const float *const nx_p = nx + r + x0, *const nx_q = nx_p + offset;
+                const float *const ny_p = ny + r + x0, *const ny_q = ny_p + offset;
+                const float *const nz_p = nz + r + x0, *const nz_q = nz_p + offset;
+                const std::int32_t *const sky_p = sky + r + x0, *const sky_q = sky_p + offset;
+                const std::int32_t *const covered_p = covered + r + x0, *const covered_q = covered_p + offset;
+                const float* const inv_depth_p = inv_depth + r + x0;
+                const float* const g_inv_sigma_p = g_inv_sigma + r + x0;
+                const float* const a_inv_sigma_p = a_inv_sigma + r + x0;
+                const int taps = x1 - x0;
+                float *const e_a_t = e_a + x0, *const e_b_t = e_b + x0, *const nw_t = nw + x0, *const nw4_t = nw4 + x0;
+                int t = 0;
 #if defined(__SSE2__)
                 // Four pixels at a time, each lane the same operations in the same order as
                 // the loop below (which does the rest): the same floats.
@@ -218,49 +232,49 @@ private:
                                                         _mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
                     return _mm_castsi128_ps(_mm_cmpeq_epi32(flags, _mm_set1_epi32(1)));
                 };
-                for (; x + 4 <= x1; x += 4) {
+                for (; t + 4 <= taps; t += 4) {
                     const __m128 e_depth =
-                        _mm_mul_ps(_mm_mul_ps(abs_diff(depth_q + x, depth_p + x), _mm_loadu_ps(inv_depth_p + x)), inv_distance4);
-                    const __m128 mix = abs_diff(turning_q + x, turning_p + x);
+                        _mm_mul_ps(_mm_mul_ps(abs_diff(depth_q + t, depth_p + t), _mm_loadu_ps(inv_depth_p + t)), inv_distance4);
+                    const __m128 mix = abs_diff(turning_q + t, turning_p + t);
                     const __m128 e_mixed = _mm_add_ps(e_depth, _mm_mul_ps(mix_scale, _mm_sub_ps(mix, dead_zone)));
                     const __m128 e = select(_mm_cmpgt_ps(mix, dead_zone), e_mixed, e_depth);
-                    _mm_storeu_ps(e_a + x, _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + x, g_lum_p + x),
-                                                                    _mm_loadu_ps(g_inv_sigma_p + x))));
+                    _mm_storeu_ps(e_a_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + t, g_lum_p + t),
+                                                                    _mm_loadu_ps(g_inv_sigma_p + t))));
                     if (kCross)
-                        _mm_storeu_ps(e_b + x, _mm_add_ps(e, _mm_mul_ps(abs_diff(a_lum_q + x, a_lum_p + x),
-                                                                        _mm_loadu_ps(a_inv_sigma_p + x))));
+                        _mm_storeu_ps(e_b_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t),
+                                                                        _mm_loadu_ps(a_inv_sigma_p + t))));
                     const __m128 dot = _mm_add_ps(
-                        _mm_mul_ps(_mm_loadu_ps(nx_p + x), _mm_loadu_ps(nx_q + x)),
-                        _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + x), _mm_loadu_ps(ny_q + x)),
-                                   _mm_mul_ps(_mm_loadu_ps(nz_p + x), _mm_loadu_ps(nz_q + x))));
+                        _mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
+                        _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
+                                   _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
                     __m128 c = _mm_max_ps(dot, zero);  // dot > 0 ? dot : 0, as std::max(0.0f, dot)
                     c = _mm_mul_ps(c, c);
                     c = _mm_mul_ps(c, c);
-                    _mm_storeu_ps(nw4 + x, c);
+                    _mm_storeu_ps(nw4_t + t, c);
                     for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c = _mm_mul_ps(c, c);
-                    const __m128 n = select(both(sky_p + x, sky_q + x), one, c);
-                    _mm_storeu_ps(nw + x, _mm_and_ps(both(covered_p + x, covered_q + x), n));
+                    const __m128 n = select(both(sky_p + t, sky_q + t), one, c);
+                    _mm_storeu_ps(nw_t + t, _mm_and_ps(both(covered_p + t, covered_q + t), n));
                 }
 #endif
-                for (; x < x1; ++x) {
-                    const float e_depth = std::abs(depth_q[x] - depth_p[x]) * inv_depth_p[x] * inv_distance;
+                for (; t < taps; ++t) {
+                    const float e_depth = std::abs(depth_q[t] - depth_p[t]) * inv_depth_p[t] * inv_distance;
                     // The mixture term, added only beyond the dead zone (where it is not 0).
-                    const float mix = std::abs(turning_q[x] - turning_p[x]);
+                    const float mix = std::abs(turning_q[t] - turning_p[t]);
                     const float e = mix > kMixDeadZone ? e_depth + kMixScale * (mix - kMixDeadZone) : e_depth;
-                    e_a[x] = e + std::abs(g_lum_q[x] - g_lum_p[x]) * g_inv_sigma_p[x];
-                    if (kCross) e_b[x] = e + std::abs(a_lum_q[x] - a_lum_p[x]) * a_inv_sigma_p[x];
+                    e_a_t[t] = e + std::abs(g_lum_q[t] - g_lum_p[t]) * g_inv_sigma_p[t];
+                    if (kCross) e_b_t[t] = e + std::abs(a_lum_q[t] - a_lum_p[t]) * a_inv_sigma_p[t];
                     // The normal weight cos^128, or cos^4 (the chain's second step) between
                     // cloth pixels of one albedo in a relaxed pass (below); 0 between sky (zero
                     // normal) and surface, 1 between two sky pixels.
-                    const float dot = nx_p[x] * nx_q[x] + (ny_p[x] * ny_q[x] + nz_p[x] * nz_q[x]);
+                    const float dot = nx_p[t] * nx_q[t] + (ny_p[t] * ny_q[t] + nz_p[t] * nz_q[t]);
                     float c = std::max(0.0f, dot);
                     c *= c;
                     c *= c;
-                    nw4[x] = c;
+                    nw4_t[t] = c;
                     for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c *= c;
                     // (bitwise & on the 0 / 1 flags: no branches)
-                    const float n = (sky_p[x] & sky_q[x]) ? 1.0f : c;
-                    nw[x] = (covered_p[x] & covered_q[x]) ? n : 0.0f;
+                    const float n = (sky_p[t] & sky_q[t]) ? 1.0f : c;
+                    nw_t[t] = (covered_p[t] & covered_q[t]) ? n : 0.0f;
                 }
                 if (relaxed)
                     for (int x = x0; x < x1; ++x) {
