@@ -38,11 +38,11 @@ constexpr float kSameAlbedo = 0.005f;
 constexpr float kMixScale = 16.0f;
 constexpr float kMixDeadZone = 0.2f;
 
-// The guide the passes compare taps by, one array per quantity: a tap reads only what its
-// test needs (depth and share first; the normal, cloth flag and albedo after).
+// The guide the passes compare taps by, one array per quantity, so that the pass loads the
+// same quantity for four neighbouring pixels at once.
 struct Guide {
     std::vector<float> nx, ny, nz;          // unit normal, or zero for the sky
-    // Flags as 0 / 1 of the floats' width, so that the tap loop's tests vectorise.
+    // Flags as 0 / 1 of the floats' width, so that the SSE2 loop tests four at a time.
     std::vector<std::int32_t> sky;          // the normal is zero
     std::vector<float> depth;
     std::vector<float> inv_depth_tolerance;  // 1 / (kSigmaDepth * how much depth changes per pixel here)
@@ -58,7 +58,7 @@ struct Guide {
 constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
 
 // One buffer the passes filter: demodulated light, the variance of its luminance, and per
-// pass its luminance and the colour weight's scale.
+// pass its luminance and the reciprocal of the colour weight's scale.
 struct Buffer {
     std::vector<V3> light, next;
     std::vector<float> variance, next_variance, lum, inv_sigma;
@@ -144,9 +144,9 @@ private:
     // Row y of a pass.  kCross: buffer a is guided by g (== b), b by a; else a by itself (g
     // and b are a, b unused).  The row is filtered tap by tap: for each of the 9 taps, in the
     // kernel's order, first every pixel's weight terms in a branch-free loop (with SSE2 four
-    // pixels at a time), then the taps taken are weighted (exp) and added to each pixel's sums.  Each
-    // pixel's sums thus add the same terms in the same order as a pixel-by-pixel loop, and
-    // every term is the same expression, so the bytes do not depend on the order.
+    // pixels at a time), then the taps taken are weighted (exp) and added to each pixel's
+    // sums.  Each pixel's sums thus add the same terms in the same order as a pixel-by-pixel
+    // loop, and every term is the same expression, so the floats are the same as that loop's.
     template <bool kCross>
     void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, const Buffer& g, bool relaxed) {
         const float* const nx = g_.nx.data();
@@ -276,6 +276,8 @@ private:
                     const float n = (sky_p[t] & sky_q[t]) ? 1.0f : c;
                     nw_t[t] = (covered_p[t] & covered_q[t]) ? n : 0.0f;
                 }
+                // The relaxed pass (one in six): cos^4 between cloth pixels of one albedo,
+                // apart so that the loop above stays branch-free.
                 if (relaxed)
                     for (int x = x0; x < x1; ++x) {
                         const std::ptrdiff_t i = r + x, j = i + offset;
@@ -324,15 +326,7 @@ private:
     }
 
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * w_ + x; }
-    template <class F>
-    void rows(F&& f) {
-        arena_.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<int>(0, h_), [&](const tbb::blocked_range<int>& r) {
-                for (int y = r.begin(); y != r.end(); ++y) f(y);
-            });
-        });
-    }
-
+    // f(y0, y1) for the rows of each task, which then allocates its row scratch once.
     template <class F>
     void row_ranges(F&& f) {
         arena_.execute([&] {
