@@ -1,11 +1,15 @@
 #include "denoise.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 
 #include "foldcast/core/colour.hpp"
@@ -34,33 +38,32 @@ constexpr float kSameAlbedo = 0.005f;
 constexpr float kMixScale = 16.0f;
 constexpr float kMixDeadZone = 0.2f;
 
-struct Pixel {
-    V3 n = V3::Zero();  // unit normal, or zero for the sky
-    float depth = 0.0f;
-    float depth_step = 0.0f;  // how much depth changes per pixel here
-    bool covered = true;      // alpha > 0
-    bool cloth = false;       // most of its samples hit the garment
-    float turning = 0.0f;     // share of its samples that hit the garment or its supports
-    V3 albedo = V3::Zero();   // first-hit albedo
+// The guide the passes compare taps by, one array per quantity, so that the pass loads the
+// same quantity for four neighbouring pixels at once.
+struct Guide {
+    std::vector<float> nx, ny, nz;          // unit normal, or zero for the sky
+    // Flags as 0 / 1 of the floats' width, so that the SSE2 loop tests four at a time.
+    std::vector<std::int32_t> sky;          // the normal is zero
+    std::vector<float> depth;
+    std::vector<float> inv_depth_tolerance;  // 1 / (kSigmaDepth * how much depth changes per pixel here)
+    std::vector<std::int32_t> covered;      // alpha > 0
+    std::vector<std::int32_t> cloth;        // most of its samples hit the garment
+    std::vector<float> turning;             // share of its samples that hit the garment or its supports
+    std::vector<float> ax, ay, az;          // first-hit albedo
+    explicit Guide(std::size_t count)
+        : nx(count), ny(count), nz(count), sky(count), depth(count), inv_depth_tolerance(count), covered(count),
+          cloth(count), turning(count), ax(count), ay(count), az(count) {}
 };
-
-float normal_weight(const V3& a, const V3& b, int squarings) {
-    const bool sky_a = a.squaredNorm() == 0.0f, sky_b = b.squaredNorm() == 0.0f;
-    if (sky_a || sky_b) return sky_a == sky_b ? 1.0f : 0.0f;
-    float c = std::max(0.0f, a.dot(b));
-    for (int i = 0; i < squarings; ++i) c *= c;
-    return c;
-}
 
 constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
 
 // One buffer the passes filter: demodulated light, the variance of its luminance, and per
-// pass its luminance and the colour weight's scale.
+// pass its luminance and the reciprocal of the colour weight's scale.
 struct Buffer {
     std::vector<V3> light, next;
-    std::vector<float> variance, next_variance, lum, sigma;
+    std::vector<float> variance, next_variance, lum, inv_sigma;
     explicit Buffer(std::size_t count)
-        : light(count), next(count), variance(count), next_variance(count), lum(count), sigma(count) {}
+        : light(count), next(count), variance(count), next_variance(count), lum(count), inv_sigma(count) {}
     void swap() {
         std::swap(light, next);
         std::swap(variance, next_variance);
@@ -69,30 +72,43 @@ struct Buffer {
 
 class Filter {
 public:
-    Filter(int w, int h, const std::vector<Pixel>& px, int threads)
-        : w_(w), h_(h), px_(px), arena_(threads > 0 ? threads : tbb::task_arena::automatic) {}
+    Filter(int w, int h, const Guide& guide, int threads)
+        : w_(w), h_(h), g_(guide), arena_(threads > 0 ? threads : tbb::task_arena::automatic) {}
 
     // The colour weight's scale from the variance blurred over 3x3 pixels (SVGF): a pixel
     // whose few samples happened to agree would otherwise refuse every neighbour and stay a
     // dark or bright speck.  Also the luminance the weight compares.
     void prepare(Buffer& b) {
-        rows([&](int y) {
-            for (int x = 0; x < w_; ++x) {
-                float sum = 0.0f, sum_w = 0.0f;
-                for (int dy = -1; dy <= 1; ++dy)
+        row_ranges([&](int y0, int y1) {
+            std::vector<float> sum(w_), sum_w(w_);
+            for (int y = y0; y < y1; ++y) {
+                std::fill(sum.begin(), sum.end(), 0.0f);
+                std::fill(sum_w.begin(), sum_w.end(), 0.0f);
+                // Tap by tap over the row, each pixel's sums in the kernel's order.  A tap
+                // that is not covered adds +0 instead of being skipped: the same sums (they
+                // start at +0 and only grow), without a branch.
+                for (int dy = -1; dy <= 1; ++dy) {
+                    const int qy = y + dy;
+                    if (qy < 0 || qy >= h_) continue;
                     for (int dx = -1; dx <= 1; ++dx) {
-                        const int qx = x + dx, qy = y + dy;
-                        if (qx < 0 || qx >= w_ || qy < 0 || qy >= h_) continue;
-                        const std::size_t j = index(qx, qy);
-                        if (!px_[j].covered) continue;
+                        const int x0 = std::max(0, -dx), x1 = std::min(w_, w_ - dx);
+                        const std::size_t q0 = index(x0 + dx, qy);
+                        const float* const variance = b.variance.data() + q0;
+                        const std::int32_t* const covered = g_.covered.data() + q0;
                         const float k = kKernel[dx + 1] * kKernel[dy + 1];
-                        sum += k * b.variance[j];
-                        sum_w += k;
+                        for (int x = x0; x < x1; ++x) {
+                            const bool taken = covered[x - x0] != 0;
+                            sum[x] += taken ? k * variance[x - x0] : 0.0f;
+                            sum_w[x] += taken ? k : 0.0f;
+                        }
                     }
-                const float v = sum_w > 0.0f ? sum / sum_w : 0.0f;
-                const std::size_t i = index(x, y);
-                b.sigma[i] = kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f;
-                b.lum[i] = luminance(b.light[i]);
+                }
+                for (int x = 0; x < w_; ++x) {
+                    const float v = sum_w[x] > 0.0f ? sum[x] / sum_w[x] : 0.0f;
+                    const std::size_t i = index(x, y);
+                    b.inv_sigma[i] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
+                    b.lum[i] = luminance(b.light[i]);
+                }
             }
         });
     }
@@ -103,68 +119,13 @@ public:
     // buffer (b == nullptr) it is guided by itself.  `relaxed`: cloth pixels of one albedo
     // take the relaxed normal weight.
     void pass(int stride, Buffer& a, Buffer* b, bool relaxed = false) {
-        float inv_distance[3][3];
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx)
-                inv_distance[dy + 1][dx + 1] =
-                    1.0f / std::max(1.0f, static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy)));
-        // Buffer a is guided by g, b by a.
-        const Buffer& g = b ? *b : a;
-        rows([&](int y) {
-            for (int x = 0; x < w_; ++x) {
-                const std::size_t i = index(x, y);
-                const Pixel& p = px_[i];
-                if (!p.covered) {
-                    a.next[i] = a.light[i];
-                    a.next_variance[i] = a.variance[i];
-                    if (b) b->next[i] = b->light[i], b->next_variance[i] = b->variance[i];
-                    continue;
-                }
-                const float inv_sigma_g = 1.0f / g.sigma[i], inv_sigma_a = 1.0f / a.sigma[i];
-                const float inv_depth = 1.0f / (kSigmaDepth * p.depth_step);
-                const float lum_g = g.lum[i], lum_a = a.lum[i];
-                V3 sum_a = V3::Zero(), sum_b = V3::Zero();
-                float wa_sum = 0.0f, va_sum = 0.0f, wb_sum = 0.0f, vb_sum = 0.0f;
-                for (int dy = -1; dy <= 1; ++dy) {
-                    const int qy = y + dy * stride;
-                    if (qy < 0 || qy >= h_) continue;
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int qx = x + dx * stride;
-                        if (qx < 0 || qx >= w_) continue;
-                        const std::size_t j = index(qx, qy);
-                        const Pixel& q = px_[j];
-                        if (!q.covered) continue;
-                        const float e_depth = std::abs(q.depth - p.depth) * inv_depth * inv_distance[dy + 1][dx + 1] +
-                                              kMixScale * std::max(0.0f, std::abs(q.turning - p.turning) - kMixDeadZone);
-                        const float e_a = e_depth + std::abs(g.lum[j] - lum_g) * inv_sigma_g;
-                        const float e_b = b ? e_depth + std::abs(a.lum[j] - lum_a) * inv_sigma_a : kMaxExponent + 1.0f;
-                        // Beyond this the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
-                        if (e_a > kMaxExponent && e_b > kMaxExponent) continue;
-                        const bool same_cloth = relaxed && p.cloth && q.cloth &&
-                                                (p.albedo - q.albedo).cwiseAbs().maxCoeff() < kSameAlbedo;
-                        const float nw = normal_weight(p.n, q.n, same_cloth ? kRelaxedNormalSquarings : kNormalSquarings);
-                        if (nw == 0.0f) continue;
-                        const float k = kKernel[dx + 1] * kKernel[dy + 1] * nw;
-                        if (e_a <= kMaxExponent) {
-                            const float wt = k * std::exp(-e_a);
-                            sum_a += wt * a.light[j];
-                            wa_sum += wt;
-                            va_sum += wt * wt * a.variance[j];
-                        }
-                        if (e_b <= kMaxExponent) {
-                            const float wt = k * std::exp(-e_b);
-                            sum_b += wt * b->light[j];
-                            wb_sum += wt;
-                            vb_sum += wt * wt * b->variance[j];
-                        }
-                    }
-                }
-                a.next[i] = sum_a / wa_sum;  // the centre's own weight is > 0
-                a.next_variance[i] = va_sum / (wa_sum * wa_sum);
-                if (b) {
-                    b->next[i] = sum_b / wb_sum;
-                    b->next_variance[i] = vb_sum / (wb_sum * wb_sum);
-                }
+        row_ranges([&](int y0, int y1) {
+            Row row(w_);
+            for (int y = y0; y < y1; ++y) {
+                if (b)
+                    pass_row<true>(row, y, stride, a, *b, *b, relaxed);
+                else
+                    pass_row<false>(row, y, stride, a, a, a, relaxed);
             }
         });
         a.swap();
@@ -172,18 +133,210 @@ public:
     }
 
 private:
+    // One row's scratch: per pixel of the row, the current tap's exponents and normal weight
+    // (0: not taken), and the sums so far.
+    struct Row {
+        std::vector<float> e_a, e_b, nw, nw4, sum_a, wa, va, sum_b, wb, vb;
+        explicit Row(int w)
+            : e_a(w), e_b(w), nw(w), nw4(w), sum_a(3 * w), wa(w), va(w), sum_b(3 * w), wb(w), vb(w) {}
+    };
+
+    // Row y of a pass.  kCross: buffer a is guided by g (== b), b by a; else a by itself (g
+    // and b are a, b unused).  The row is filtered tap by tap: for each of the 9 taps, in the
+    // kernel's order, first every pixel's weight terms in a branch-free loop (with SSE2 four
+    // pixels at a time), then the taps taken are weighted (exp) and added to each pixel's
+    // sums.  Each pixel's sums thus add the same terms in the same order as a pixel-by-pixel
+    // loop, and every term is the same expression, so the floats are the same as that loop's.
+    template <bool kCross>
+    void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, const Buffer& g, bool relaxed) {
+        const float* const nx = g_.nx.data();
+        const float* const ny = g_.ny.data();
+        const float* const nz = g_.nz.data();
+        const std::int32_t* const sky = g_.sky.data();
+        const float* const depth = g_.depth.data();
+        const float* const inv_depth = g_.inv_depth_tolerance.data();
+        const std::int32_t* const covered = g_.covered.data();
+        const std::int32_t* const cloth = g_.cloth.data();
+        const float* const turning = g_.turning.data();
+        const float* const ax = g_.ax.data();
+        const float* const ay = g_.ay.data();
+        const float* const az = g_.az.data();
+        const float* const g_lum = g.lum.data();
+        const float* const a_lum = a.lum.data();
+        const float* const g_inv_sigma = g.inv_sigma.data();
+        const float* const a_inv_sigma = a.inv_sigma.data();
+        const V3* const a_light = a.light.data();
+        const float* const a_variance = a.variance.data();
+        const V3* const b_light = b.light.data();
+        const float* const b_variance = b.variance.data();
+        float* const e_a = row.e_a.data();
+        float* const e_b = row.e_b.data();
+        float* const nw = row.nw.data();
+        float* const nw4 = row.nw4.data();
+        float* const sum_a = row.sum_a.data();
+        float* const wa = row.wa.data();
+        float* const va = row.va.data();
+        float* const sum_b = row.sum_b.data();
+        float* const wb = row.wb.data();
+        float* const vb = row.vb.data();
+        std::fill(row.sum_a.begin(), row.sum_a.end(), 0.0f);
+        std::fill(row.wa.begin(), row.wa.end(), 0.0f);
+        std::fill(row.va.begin(), row.va.end(), 0.0f);
+        if (kCross) {
+            std::fill(row.sum_b.begin(), row.sum_b.end(), 0.0f);
+            std::fill(row.wb.begin(), row.wb.end(), 0.0f);
+            std::fill(row.vb.begin(), row.vb.end(), 0.0f);
+        }
+        const std::ptrdiff_t r = static_cast<std::ptrdiff_t>(index(0, y));
+        for (int dy = -1; dy <= 1; ++dy) {
+            const int qy = y + dy * stride;
+            if (qy < 0 || qy >= h_) continue;
+            for (int dx = -1; dx <= 1; ++dx) {
+                // The pixels x whose tap x + dx * stride is inside the row.
+                const int x0 = std::max(0, -dx * stride), x1 = std::min(w_, w_ - dx * stride);
+                if (x0 >= x1) continue;
+                const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dy) * stride * w_ + dx * stride;
+                const float inv_distance =
+                    1.0f / std::max(1.0f, static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy)));
+                // The row's pixels (p) from x0 on and their taps (q), indexed by t = x - x0.
+                const float *const depth_p = depth + r + x0, *const depth_q = depth_p + offset;
+                const float *const turning_p = turning + r + x0, *const turning_q = turning_p + offset;
+                const float *const g_lum_p = g_lum + r + x0, *const g_lum_q = g_lum_p + offset;
+                const float *const a_lum_p = a_lum + r + x0, *const a_lum_q = a_lum_p + offset;
+                const float *const nx_p = nx + r + x0, *const nx_q = nx_p + offset;
+                const float *const ny_p = ny + r + x0, *const ny_q = ny_p + offset;
+                const float *const nz_p = nz + r + x0, *const nz_q = nz_p + offset;
+                const std::int32_t *const sky_p = sky + r + x0, *const sky_q = sky_p + offset;
+                const std::int32_t *const covered_p = covered + r + x0, *const covered_q = covered_p + offset;
+                const float* const inv_depth_p = inv_depth + r + x0;
+                const float* const g_inv_sigma_p = g_inv_sigma + r + x0;
+                const float* const a_inv_sigma_p = a_inv_sigma + r + x0;
+                const int taps = x1 - x0;
+                float *const e_a_t = e_a + x0, *const e_b_t = e_b + x0, *const nw_t = nw + x0, *const nw4_t = nw4 + x0;
+                int t = 0;
+#if defined(__SSE2__)
+                // Four pixels at a time, each lane the same operations in the same order as
+                // the loop below (which does the rest): the same floats.
+                const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+                const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+                const __m128 dead_zone = _mm_set1_ps(kMixDeadZone), mix_scale = _mm_set1_ps(kMixScale);
+                const __m128 inv_distance4 = _mm_set1_ps(inv_distance);
+                const auto abs_diff = [&](const float* q, const float* p) {
+                    return _mm_and_ps(_mm_sub_ps(_mm_loadu_ps(q), _mm_loadu_ps(p)), abs_mask);
+                };
+                const auto select = [](__m128 mask, __m128 if_set, __m128 if_clear) {
+                    return _mm_or_ps(_mm_and_ps(mask, if_set), _mm_andnot_ps(mask, if_clear));
+                };
+                const auto both = [](const std::int32_t* p, const std::int32_t* q) {
+                    const __m128i flags = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)),
+                                                        _mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
+                    return _mm_castsi128_ps(_mm_cmpeq_epi32(flags, _mm_set1_epi32(1)));
+                };
+                for (; t + 4 <= taps; t += 4) {
+                    const __m128 e_depth =
+                        _mm_mul_ps(_mm_mul_ps(abs_diff(depth_q + t, depth_p + t), _mm_loadu_ps(inv_depth_p + t)), inv_distance4);
+                    const __m128 mix = abs_diff(turning_q + t, turning_p + t);
+                    const __m128 e_mixed = _mm_add_ps(e_depth, _mm_mul_ps(mix_scale, _mm_sub_ps(mix, dead_zone)));
+                    const __m128 e = select(_mm_cmpgt_ps(mix, dead_zone), e_mixed, e_depth);
+                    _mm_storeu_ps(e_a_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + t, g_lum_p + t),
+                                                                    _mm_loadu_ps(g_inv_sigma_p + t))));
+                    if (kCross)
+                        _mm_storeu_ps(e_b_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t),
+                                                                        _mm_loadu_ps(a_inv_sigma_p + t))));
+                    const __m128 dot = _mm_add_ps(
+                        _mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
+                        _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
+                                   _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
+                    __m128 c = _mm_max_ps(dot, zero);  // dot > 0 ? dot : 0, as std::max(0.0f, dot)
+                    c = _mm_mul_ps(c, c);
+                    c = _mm_mul_ps(c, c);
+                    _mm_storeu_ps(nw4_t + t, c);
+                    for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c = _mm_mul_ps(c, c);
+                    const __m128 n = select(both(sky_p + t, sky_q + t), one, c);
+                    _mm_storeu_ps(nw_t + t, _mm_and_ps(both(covered_p + t, covered_q + t), n));
+                }
+#endif
+                for (; t < taps; ++t) {
+                    const float e_depth = std::abs(depth_q[t] - depth_p[t]) * inv_depth_p[t] * inv_distance;
+                    // The mixture term, added only beyond the dead zone (where it is not 0).
+                    const float mix = std::abs(turning_q[t] - turning_p[t]);
+                    const float e = mix > kMixDeadZone ? e_depth + kMixScale * (mix - kMixDeadZone) : e_depth;
+                    e_a_t[t] = e + std::abs(g_lum_q[t] - g_lum_p[t]) * g_inv_sigma_p[t];
+                    if (kCross) e_b_t[t] = e + std::abs(a_lum_q[t] - a_lum_p[t]) * a_inv_sigma_p[t];
+                    // The normal weight cos^128, or cos^4 (the chain's second step) between
+                    // cloth pixels of one albedo in a relaxed pass (below); 0 between sky (zero
+                    // normal) and surface, 1 between two sky pixels.
+                    const float dot = nx_p[t] * nx_q[t] + (ny_p[t] * ny_q[t] + nz_p[t] * nz_q[t]);
+                    float c = std::max(0.0f, dot);
+                    c *= c;
+                    c *= c;
+                    nw4_t[t] = c;
+                    for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c *= c;
+                    // (bitwise & on the 0 / 1 flags: no branches)
+                    const float n = (sky_p[t] & sky_q[t]) ? 1.0f : c;
+                    nw_t[t] = (covered_p[t] & covered_q[t]) ? n : 0.0f;
+                }
+                // The relaxed pass (one in six): cos^4 between cloth pixels of one albedo,
+                // apart so that the loop above stays branch-free.
+                if (relaxed)
+                    for (int x = x0; x < x1; ++x) {
+                        const std::ptrdiff_t i = r + x, j = i + offset;
+                        const bool same_cloth = cloth[i] && cloth[j] && std::abs(ax[i] - ax[j]) < kSameAlbedo &&
+                                                std::abs(ay[i] - ay[j]) < kSameAlbedo &&
+                                                std::abs(az[i] - az[j]) < kSameAlbedo;
+                        if (same_cloth && covered[i] && covered[j] && !(sky[i] && sky[j])) nw[x] = nw4[x];
+                    }
+                const float kernel = kKernel[dx + 1] * kKernel[dy + 1];
+                for (int x = x0; x < x1; ++x) {
+                    if (nw[x] == 0.0f) continue;
+                    const std::ptrdiff_t j = r + x + offset;
+                    const float k = kernel * nw[x];
+                    // Beyond kMaxExponent the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
+                    if (e_a[x] <= kMaxExponent) {
+                        const float wt = k * std::exp(-e_a[x]);
+                        for (int c = 0; c < 3; ++c) sum_a[3 * x + c] += wt * a_light[j][c];
+                        wa[x] += wt;
+                        va[x] += wt * wt * a_variance[j];
+                    }
+                    if (kCross && e_b[x] <= kMaxExponent) {
+                        const float wt = k * std::exp(-e_b[x]);
+                        for (int c = 0; c < 3; ++c) sum_b[3 * x + c] += wt * b_light[j][c];
+                        wb[x] += wt;
+                        vb[x] += wt * wt * b_variance[j];
+                    }
+                }
+            }
+        }
+        for (int x = 0; x < w_; ++x) {
+            const std::ptrdiff_t i = r + x;
+            if (!covered[i]) {
+                a.next[i] = a_light[i];
+                a.next_variance[i] = a_variance[i];
+                if (kCross) b.next[i] = b_light[i], b.next_variance[i] = b_variance[i];
+                continue;
+            }
+            // The centre's own weight is > 0.
+            a.next[i] = V3(sum_a[3 * x] / wa[x], sum_a[3 * x + 1] / wa[x], sum_a[3 * x + 2] / wa[x]);
+            a.next_variance[i] = va[x] / (wa[x] * wa[x]);
+            if (kCross) {
+                b.next[i] = V3(sum_b[3 * x] / wb[x], sum_b[3 * x + 1] / wb[x], sum_b[3 * x + 2] / wb[x]);
+                b.next_variance[i] = vb[x] / (wb[x] * wb[x]);
+            }
+        }
+    }
+
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * w_ + x; }
+    // f(y0, y1) for the rows of each task, which then allocates its row scratch once.
     template <class F>
-    void rows(F&& f) {
+    void row_ranges(F&& f) {
         arena_.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<int>(0, h_), [&](const tbb::blocked_range<int>& r) {
-                for (int y = r.begin(); y != r.end(); ++y) f(y);
-            });
+            tbb::parallel_for(tbb::blocked_range<int>(0, h_),
+                              [&](const tbb::blocked_range<int>& r) { f(r.begin(), r.end()); });
         });
     }
 
     int w_, h_;
-    const std::vector<Pixel>& px_;
+    const Guide& g_;
     tbb::task_arena arena_;
 };
 
@@ -202,19 +355,23 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
     const int w = rgba.width, h = rgba.height;
     const std::size_t count = static_cast<std::size_t>(w) * h;
     const bool halves = features.half_a.size() == count;
-    std::vector<Pixel> px(count);
+    Guide guide(count);
     std::vector<V3> albedo(count);
     Buffer a(count);
     std::optional<Buffer> b;
     if (halves) b.emplace(count);
     for (std::size_t i = 0; i < count; ++i) {
-        Pixel& p = px[i];
-        p.n = features.normal[i];
-        p.depth = features.depth[i];
-        p.covered = rgba.pixels[4 * i + 3] > 0.0f;
-        p.cloth = features.cloth.size() == count && features.cloth[i] > 0.5f;
-        p.turning = features.turning.size() == count ? features.turning[i] : 0.0f;
-        p.albedo = features.albedo[i];
+        guide.nx[i] = features.normal[i].x();
+        guide.ny[i] = features.normal[i].y();
+        guide.nz[i] = features.normal[i].z();
+        guide.sky[i] = features.normal[i].squaredNorm() == 0.0f;
+        guide.depth[i] = features.depth[i];
+        guide.covered[i] = rgba.pixels[4 * i + 3] > 0.0f;
+        guide.cloth[i] = features.cloth.size() == count && features.cloth[i] > 0.5f;
+        guide.turning[i] = features.turning.size() == count ? features.turning[i] : 0.0f;
+        guide.ax[i] = features.albedo[i].x();
+        guide.ay[i] = features.albedo[i].y();
+        guide.az[i] = features.albedo[i].z();
         const float* c = &rgba.pixels[4 * i];
         for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
         const float al = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
@@ -236,19 +393,21 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
     // The depth tolerance: how much depth changes per pixel here, per axis the smaller of the
     // two one-sided differences, so that a silhouette beside the pixel (a thin rod or wire
     // against the backdrop) does not widen it.
+    const std::vector<float>& depth = guide.depth;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            Pixel& p = px[static_cast<std::size_t>(y) * w + x];
+            const std::size_t i = static_cast<std::size_t>(y) * w + x;
             const auto diff = [&](int qx, int qy) {
                 if (qx < 0 || qx >= w || qy < 0 || qy >= h) return -1.0f;
-                return std::abs(px[static_cast<std::size_t>(qy) * w + qx].depth - p.depth);
+                return std::abs(depth[static_cast<std::size_t>(qy) * w + qx] - depth[i]);
             };
             const auto axis = [](float m, float n) { return m < 0.0f ? std::max(0.0f, n) : n < 0.0f ? m : std::min(m, n); };
             const float step = std::max(axis(diff(x - 1, y), diff(x + 1, y)), axis(diff(x, y - 1), diff(x, y + 1)));
-            p.depth_step = std::max(step, 1e-3f * p.depth) + 1e-6f;
+            const float depth_step = std::max(step, 1e-3f * depth[i]) + 1e-6f;
+            guide.inv_depth_tolerance[i] = 1.0f / (kSigmaDepth * depth_step);
         }
 
-    Filter filter(w, h, px, threads);
+    Filter filter(w, h, guide, threads);
     for (int pass = 0; pass < kPasses; ++pass) {
         if (b && pass == kCrossPasses) merge(a, *b, features.half_share), b.reset();
         filter.prepare(a);
@@ -263,7 +422,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         filter.pass(1, a, nullptr, true);
     }
     for (std::size_t i = 0; i < count; ++i) {
-        if (!px[i].covered) continue;
+        if (!guide.covered[i]) continue;
         for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = a.light[i][k] * albedo[i][k];
     }
 }
