@@ -168,6 +168,70 @@ cv::Mat colour_changes(const cv::Mat& label, const cv::Mat& cloth) {
     return change;
 }
 
+// Sheen is not print.  A pile or glossy cloth (velvet, satin) reflects the light's own colour
+// at grazing angles, so its highlights mix the cloth's colour with white: their chromaticity
+// lies on the segment from the cloth's to white, farther from the cloth's than its spread
+// allows, as a white or pale print's does.  What tells them apart is how the colour changes at
+// the region's outline: a print's ink stops within a pixel or two, so the colour jumps across
+// it by about as much as the print differs from the cloth; a highlight fades out over many
+// pixels as the surface turns.  So a connected region of `printed` pixels is sheen, and is
+// dropped, when (1) nine in ten of its pixels lie on that segment (within `limit` of it, t in
+// (0, 1.15], t the fraction of the way from the cloth's chromaticity to white) and (2) across
+// its outline t changes by less than 0.4 of the region's own (the median over its outline
+// pixels of t's range over 5x5 px, against the region's 90th percentile of t).
+void drop_sheen(cv::Mat& printed, const cv::Mat& chroma_r, const cv::Mat& chroma_g, float mr, float mg,
+                float limit) {
+    const float ur = 1.0f / 3.0f - mr, ug = 1.0f / 3.0f - mg, length = std::hypot(ur, ug);
+    if (length < 2.0f * limit) return;  // a near-white cloth: its highlights are not told from it
+    cv::Mat t(printed.size(), CV_32F), on_segment(printed.size(), CV_8U);
+    for (int y = 0; y < printed.rows; ++y)
+        for (int x = 0; x < printed.cols; ++x) {
+            const float dr = chroma_r.at<float>(y, x) - mr, dg = chroma_g.at<float>(y, x) - mg;
+            const float along = (dr * ur + dg * ug) / (length * length);
+            const float across = std::abs(dr * ug - dg * ur) / length;
+            t.at<float>(y, x) = along;
+            on_segment.at<uchar>(y, x) = across < limit && along > 0.0f && along <= 1.15f;
+        }
+    cv::Mat high, low;
+    const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5));
+    cv::dilate(t, high, box);
+    cv::erode(t, low, box);
+    cv::Mat labels;
+    const int count = cv::connectedComponents(printed, labels, 8, CV_32S);
+    struct Region {
+        long pixels = 0, on_segment = 0;
+        std::vector<float> t, outline_range;
+    };
+    std::vector<Region> regions(static_cast<std::size_t>(count));
+    for (int y = 0; y < printed.rows; ++y)
+        for (int x = 0; x < printed.cols; ++x) {
+            const int l = labels.at<int>(y, x);
+            if (l == 0) continue;
+            Region& r = regions[static_cast<std::size_t>(l)];
+            ++r.pixels;
+            r.on_segment += on_segment.at<uchar>(y, x);
+            r.t.push_back(t.at<float>(y, x));
+            const bool outline = x == 0 || y == 0 || x + 1 == printed.cols || y + 1 == printed.rows ||
+                                 labels.at<int>(y, x - 1) != l || labels.at<int>(y, x + 1) != l ||
+                                 labels.at<int>(y - 1, x) != l || labels.at<int>(y + 1, x) != l;
+            if (outline) r.outline_range.push_back(high.at<float>(y, x) - low.at<float>(y, x));
+        }
+    const auto quantile = [](std::vector<float>& v, double q) {
+        const auto k = v.begin() + static_cast<std::ptrdiff_t>(q * double(v.size() - 1));
+        std::nth_element(v.begin(), k, v.end());
+        return *k;
+    };
+    std::vector<bool> sheen(static_cast<std::size_t>(count), false);
+    for (std::size_t l = 1; l < regions.size(); ++l) {
+        Region& r = regions[l];
+        if (r.pixels == 0 || r.outline_range.empty() || 10 * r.on_segment < 9 * r.pixels) continue;
+        sheen[l] = quantile(r.outline_range, 0.5) < 0.4f * quantile(r.t, 0.9);
+    }
+    for (int y = 0; y < printed.rows; ++y)
+        for (int x = 0; x < printed.cols; ++x)
+            if (sheen[static_cast<std::size_t>(labels.at<int>(y, x))]) printed.at<uchar>(y, x) = 0;
+}
+
 // Printed motifs (letters, logos, dots): pixels whose linear-light chromaticity
 // (R, G) / (R + G + B) lies far from the cloth's median.  Shading (a fold turning away from
 // the light) scales R, G and B alike and leaves the chromaticity where it is; a print of
@@ -273,6 +337,7 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
         for (int x = 0; x < rgb.cols; ++x)
             printed.at<uchar>(y, x) = cloth.at<uchar>(y, x) && distance.at<float>(y, x) > limit ? 255 : 0;
     cv::morphologyEx(printed, printed, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+    drop_sheen(printed, chroma_r, chroma_g, mr, mg, limit);
     const cv::Mat grow =
         cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow_px + 1, 2 * grow_px + 1));  // 1x1: none
     cv::dilate(printed, out.prints, grow);

@@ -239,6 +239,41 @@ TEST(FoldDetection, PrintsAreNotFoldsButTheFoldIsFound) {
     EXPECT_GT(on_edges, 50);
 }
 
+// Sheen against a pale print of the same colour.  Navy cloth with one crest whose top carries
+// a highlight: the light's white added to the cloth's colour, fading over ~6 px either side as
+// velvet's or satin's sheen does; or, with `print`, a band of the highlight's peak colour with
+// sharp edges where the highlight would be.  Both lie on the segment from the cloth's
+// chromaticity to white; only the print's colour jumps at its outline.
+compare::Image sheen_or_print(double crest_y, bool print) {
+    const int w = 200, h = 120;
+    compare::Image img(w, h, 3);
+    const float navy[3] = {0.03f, 0.04f, 0.25f};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double d = y - crest_y;
+            const double shade = 0.7 + 0.5 * std::exp(-d * d / (2 * 3.0 * 3.0));
+            const double white = print ? (std::abs(d) < 8.0 ? 0.3 : 0.0) : 0.3 * std::exp(-d * d / (2 * 6.0 * 6.0));
+            for (int c = 0; c < 3; ++c)
+                img.at(x, y, c) = linear_to_srgb(std::min(1.0f, float(navy[c] * shade + white)));
+        }
+    return img;
+}
+
+TEST(FoldDetection, SheenIsShadingNotPrintButAPaleBandWithSharpEdgesIsPrint) {
+    const double crest_y = 60.3;
+    const auto mask = constant_image(200, 120, 1, 1.0f);
+    const auto sheen = compare::detect_folds(sheen_or_print(crest_y, false), mask);
+    EXPECT_EQ(sheen.print_mask.at(100, 60, 0), 0.0f);
+    double crest_length = 0.0;
+    for (const auto& f : sheen.folds)
+        for (size_t i = 1; i < f.points_px.size(); ++i)
+            if (f.sign > 0 && std::abs(f.points_px[i].y() - crest_y) < 2.0)
+                crest_length += (f.points_px[i] - f.points_px[i - 1]).norm();
+    EXPECT_GT(crest_length, 100.0);  // the highlit crest is read as the fold it is
+    const auto band = compare::detect_folds(sheen_or_print(crest_y, true), mask);
+    EXPECT_EQ(band.print_mask.at(100, 60, 0), 1.0f);
+}
+
 // A fold that crosses a print shades the print too: the crest through the yellow disc (and
 // past the letter's stem) is found inside the disc, where the print of one colour is
 // scaled to the cloth's brightness, and the disc's outline is still no line.  (Before, the
