@@ -155,20 +155,19 @@ cv::Mat same_hue(const cv::Mat& bgr, const cv::Rect& seed) {
     return same;
 }
 
-// How far left and right of the supports (a, b, D apart) the cloth may reach: 0.4 D, or as far
-// as the cloth's own colour runs on from the seed.  Grippers holding a shirt some way in from
-// its sides leave the sides hanging beside them, and a GrabCut rectangle that cuts through the
-// cloth there makes it learn the cloth's colour as background (a panel reaching 0.6 D beside
-// its supports came out as its darker inner face alone).  The pixels of the cloth's colour
-// connected to the seed (`same`: 255 there) give its sides, unless they also spread above
-// the supports or to the picture's left or right edge: then they are background of the
-// cloth's colour and say nothing.
-std::pair<int, int> side_limits(const cv::Mat& same, const cv::Rect& seed, const Eigen::Vector2d& a,
-                                const Eigen::Vector2d& b) {
-    const double d = (b - a).norm();
-    std::pair<int, int> limits{static_cast<int>(std::min(a.x(), b.x()) - 0.4 * d),
-                               static_cast<int>(std::max(a.x(), b.x()) + 0.4 * d)};
-    if (seed.area() == 0) return limits;
+// The cloth as its own colour shows it: the pixels of the seed's hue (`same`: 255 there)
+// connected to the seed, or nothing (an empty Mat) when they also spread above the supports
+// (a, b, D apart) or to the picture's left or right edge: then they are background of the
+// cloth's colour (or the cloth fills the picture) and say nothing.
+struct ColourRegion {
+    cv::Mat pixels;  // CV_8U 255, or empty
+    int left = 0, right = 0;
+};
+
+ColourRegion cloth_colour_region(const cv::Mat& same, const cv::Rect& seed, const Eigen::Vector2d& a,
+                                 const Eigen::Vector2d& b) {
+    ColourRegion out;
+    if (seed.area() == 0) return out;
     cv::Mat open;  // thin bridges to the background cut
     cv::morphologyEx(same, open, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(3, 3)));
     cv::Mat labels, stats, centroids;
@@ -178,12 +177,14 @@ std::pair<int, int> side_limits(const cv::Mat& same, const cv::Rect& seed, const
         for (int x = seed.x; x < seed.x + seed.width; ++x) ++votes[static_cast<std::size_t>(labels.at<int>(y, x))];
     votes[0] = 0;  // not the cloth's colour
     const int cloth = static_cast<int>(std::max_element(votes.begin(), votes.end()) - votes.begin());
-    if (votes[static_cast<std::size_t>(cloth)] == 0) return limits;
+    if (votes[static_cast<std::size_t>(cloth)] == 0) return out;
     const int left = stats.at<int>(cloth, cv::CC_STAT_LEFT), top = stats.at<int>(cloth, cv::CC_STAT_TOP);
     const int right = left + stats.at<int>(cloth, cv::CC_STAT_WIDTH) - 1;
-    if (left == 0 || right == same.cols - 1 || top < std::min(a.y(), b.y()) - 0.15 * d) return limits;
-    const int margin = static_cast<int>(0.05 * d) + 1;
-    return {std::min(limits.first, left - margin), std::max(limits.second, right + margin)};
+    const double d = (b - a).norm();
+    if (left == 0 || right == same.cols - 1 || top < std::min(a.y(), b.y()) - 0.15 * d) return out;
+    out.pixels = labels == cloth;
+    out.left = left, out.right = right;
+    return out;
 }
 
 }  // namespace
@@ -205,10 +206,9 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
     const cv::Rect bounds(0, 0, small.cols, small.rows);
     const cv::Mat lab = lab_of(small);
     const cv::Rect seed = cloth_seed(lab, a, b);
-    // The cloth's colour decides the first guess: chroma (CIELAB a, b) near the seed's median,
-    // or the seed's hue in any shade (same_hue: a seed on a fold's saturated shadowed inside
-    // then does not leave its lit front to the background), is probably cloth, the rest
-    // probably not.  This keeps a table or wall touching the hem out of the mask.
+    // The cloth's colour decides the first guess: chroma (CIELAB a, b) near the seed's median
+    // (or in the cloth's colour region, below) is probably cloth, the rest probably not.  This
+    // keeps a table or wall touching the hem out of the mask.
     std::vector<int> seed_a, seed_b;
     for (int y = seed.y; y < seed.y + seed.height; ++y)
         for (int x = seed.x; x < seed.x + seed.width; ++x) {
@@ -224,12 +224,22 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
     cv::Mat same(small.size(), CV_8U);
     for (int y = 0; y < small.rows; ++y)
         for (int x = 0; x < small.cols; ++x) same.at<uchar>(y, x) = same_cloth(lab.at<cv::Vec3b>(y, x)) ? 255 : 0;
-    // Where cloth can be: beside the supports (side_limits) and anywhere below them.  A cloth
-    // may hang several times D (a tall panel on close supports); below the supports the colour
-    // prior, not the rectangle, keeps a table or a floor out.
-    const cv::Mat hue = same_hue(small, seed);
-    const auto [rect_left, rect_right] = side_limits(hue, seed, a, b);
-    same |= hue;
+    // Where cloth can be: beside the supports by 0.4 D, or as far as the cloth's own colour
+    // region reaches, and anywhere below them.  Grippers holding a shirt some way in from its
+    // sides leave the sides hanging beside them, and a rectangle that cuts through the cloth
+    // there makes GrabCut learn the cloth's colour as background (a panel reaching 0.6 D beside
+    // its supports came out as its darker inner face alone).  A cloth may hang several times D
+    // (a tall panel on close supports); below the supports the colour prior, not the
+    // rectangle, keeps a table or a floor out.  The colour region joins the prior: a seed on
+    // a fold's saturated shadowed inside then does not leave the lit front to the background.
+    int rect_left = static_cast<int>(std::min(a.x(), b.x()) - 0.4 * d);
+    int rect_right = static_cast<int>(std::max(a.x(), b.x()) + 0.4 * d);
+    if (const ColourRegion region = cloth_colour_region(same_hue(small, seed), seed, a, b); !region.pixels.empty()) {
+        const int margin = static_cast<int>(0.05 * d) + 1;
+        rect_left = std::min(rect_left, region.left - margin);
+        rect_right = std::max(rect_right, region.right + margin);
+        same |= region.pixels;
+    }
     const cv::Rect rect =
         cv::Rect(cv::Point(rect_left, static_cast<int>(std::min(a.y(), b.y()) - 0.08 * d)),
                  cv::Point(rect_right, small.rows)) &
