@@ -66,8 +66,9 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         const Vec3f wo = -d;
         Frame frame;  // every material sets it (after orienting the normals towards wo)
         const float cos_view = std::max(0.2f, std::abs(wo.dot(hit.ng)));
-        const BsdfParams params = materials_.at(hit, wo, cone / cos_view, &frame);
-        const ClothBsdf bsdf(params, frame.to_local(wo));
+        const BsdfLobes* lobes = nullptr;  // set with the frame
+        const BsdfParams params = materials_.at(hit, wo, cone / cos_view, &frame, &lobes);
+        const ClothBsdf bsdf(params, *lobes, frame.to_local(wo));
         if (depth == 0) {
             out.albedo = bsdf.albedo();
             out.normal = hit.ns;
