@@ -1,5 +1,9 @@
 #include "light_sampler.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 
@@ -28,12 +32,49 @@ LightSampler::LightSampler(const std::vector<AreaLight>& lights, const V3& envir
         l.power = luminance(l.radiance) * l.area;
         lights_.push_back(l);
     }
+    for (std::size_t i = 0; i < lights_.size() && i < static_cast<std::size_t>(kMaxLights); ++i) {
+        const Light& l = lights_[i];
+        ChoiceData& c = choice_data_;
+        c.cx[i] = l.centre.x(), c.cy[i] = l.centre.y(), c.cz[i] = l.centre.z();
+        c.nx[i] = l.normal.x(), c.ny[i] = l.normal.y(), c.nz[i] = l.normal.z();
+        c.power[i] = l.power;
+    }
 }
 
 LightChoice LightSampler::choose(const Vec3f& p, const Vec3f& n) const {
     LightChoice c;
     const int count = static_cast<int>(lights_.size());
     float sum = 0.0f;
+#if defined(__SSE2__)
+    // Four lights a pass, each lane the scalar loop's operations below in its order (Eigen
+    // sums a 3-vector's dot product or squared norm as x + (y + z)), so the same floats.
+    const ChoiceData& data = choice_data_;
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 px = _mm_set1_ps(p.x()), py = _mm_set1_ps(p.y()), pz = _mm_set1_ps(p.z());
+    const __m128 qx = _mm_set1_ps(n.x()), qy = _mm_set1_ps(n.y()), qz = _mm_set1_ps(n.z());
+    const auto dot = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz) {
+        return _mm_add_ps(_mm_mul_ps(ax, bx), _mm_add_ps(_mm_mul_ps(ay, by), _mm_mul_ps(az, bz)));
+    };
+    alignas(16) std::array<float, kMaxLights> prob;
+    for (int i = 0; i < count; i += 4) {
+        const __m128 dx = _mm_sub_ps(_mm_load_ps(&data.cx[i]), px), dy = _mm_sub_ps(_mm_load_ps(&data.cy[i]), py),
+                     dz = _mm_sub_ps(_mm_load_ps(&data.cz[i]), pz);
+        const __m128 dist2 = _mm_max_ps(dot(dx, dy, dz, dx, dy, dz), _mm_set1_ps(1e-4f));
+        const __m128 inv_dist = _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(dist2));
+        const __m128 to_light =
+            dot(dx, dy, dz, _mm_load_ps(&data.nx[i]), _mm_load_ps(&data.ny[i]), _mm_load_ps(&data.nz[i]));
+        const __m128 facing = _mm_max_ps(_mm_mul_ps(_mm_xor_ps(to_light, _mm_set1_ps(-0.0f)), inv_dist), zero);
+        const __m128 receive =
+            _mm_add_ps(_mm_max_ps(_mm_mul_ps(dot(dx, dy, dz, qx, qy, qz), inv_dist), zero), _mm_set1_ps(0.05f));
+        const __m128 w = _mm_mul_ps(_mm_mul_ps(_mm_mul_ps(_mm_load_ps(&data.power[i]), facing), receive),
+                                    _mm_mul_ps(inv_dist, inv_dist));
+        _mm_store_ps(&prob[i], _mm_and_ps(_mm_cmpgt_ps(facing, zero), w));
+    }
+    for (int i = 0; i < count; ++i) {
+        c.prob[i] = prob[i];
+        sum += c.prob[i];
+    }
+#else
     for (int i = 0; i < count; ++i) {
         const Light& l = lights_[i];
         const Vec3f d = l.centre - p;
@@ -44,6 +85,7 @@ LightChoice LightSampler::choose(const Vec3f& p, const Vec3f& n) const {
         c.prob[i] = facing > 0.0f ? l.power * facing * receive * (inv_dist * inv_dist) : 0.0f;
         sum += c.prob[i];
     }
+#endif
     c.prob[count] = environment_power_;
     // An environment that brings less than this share of the expected light is left to BSDF
     // sampling (MIS then gives its hits full weight): the light samples it would take are

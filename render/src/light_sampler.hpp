@@ -68,6 +68,11 @@ public:
 
 private:
     std::vector<Light> lights_;
+    // What choose() reads of each light, one array per coordinate (lights beyond count()
+    // zero), so that it weighs four lights at once.
+    struct ChoiceData {
+        alignas(16) std::array<float, kMaxLights> cx{}, cy{}, cz{}, nx{}, ny{}, nz{}, power{};
+    } choice_data_;
     V3 environment_;
     float environment_power_;  // luminance * pi, the environment's weight in a choice
 };
