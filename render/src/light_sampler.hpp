@@ -68,11 +68,12 @@ public:
 
 private:
     std::vector<Light> lights_;
-    // What choose() reads of each light, one array per coordinate (lights beyond count()
-    // zero), so that it weighs four lights at once.
-    struct ChoiceData {
+    // What choose() and hit() read of each light, one array per coordinate (lights beyond
+    // count() zero), so that they take four lights at once.
+    struct Lanes {
         alignas(16) std::array<float, kMaxLights> cx{}, cy{}, cz{}, nx{}, ny{}, nz{}, power{};
-    } choice_data_;
+        alignas(16) std::array<float, kMaxLights> exx{}, exy{}, exz{}, eyx{}, eyy{}, eyz{}, half_w{}, half_h{};
+    } lanes_;
     V3 environment_;
     float environment_power_;  // luminance * pi, the environment's weight in a choice
 };
