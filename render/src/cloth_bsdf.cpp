@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "random_stream.hpp"
+#include "vec3_div.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/math.hpp"
 #include "foldcast/core/sampling.hpp"
@@ -32,7 +33,7 @@ float schlick(float f0, float c) {
 }
 // Heitz 2018, "Sampling the GGX distribution of visible normals".
 V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
-    const V3 vh = V3(ax * wo.x(), ay * wo.y(), wo.z()).normalized();
+    const V3 vh = normalized3(V3(ax * wo.x(), ay * wo.y(), wo.z()));
     const float lensq = sqr(vh.x()) + sqr(vh.y());
     const V3 t1 = lensq > 0.0f ? V3(-vh.y(), vh.x(), 0.0f) / std::sqrt(lensq) : V3(1.0f, 0.0f, 0.0f);
     const V3 t2 = vh.cross(t1);
@@ -43,7 +44,7 @@ V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
     const float s = 0.5f * (1.0f + vh.z());
     p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * p2;
     const V3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
-    return V3(ax * nh.x(), ay * nh.y(), std::max(1e-6f, nh.z())).normalized();
+    return normalized3(V3(ax * nh.x(), ay * nh.y(), std::max(1e-6f, nh.z())));
 }
 V3 reflect(const V3& w, const V3& h) { return 2.0f * w.dot(h) * h - w; }
 
@@ -211,7 +212,7 @@ ClothBsdf::SpecTerms ClothBsdf::spec_terms(const V3& wi) const {
 }
 
 float ClothBsdf::sheen_d_v(const V3& wi) const {
-    const V3 h = (wo_ + wi).normalized();
+    const V3 h = normalized3(wo_ + wi);
     return charlie_d(h.z(), sheen_alpha_) * neubelt_v(wo_.z(), wi.z());
 }
 

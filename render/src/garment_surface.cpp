@@ -1,5 +1,6 @@
 #include <Eigen/Geometry>
 #include "garment_surface.hpp"
+#include "vec3_div.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -97,7 +98,7 @@ GarmentSurface GarmentShader::shade(const Eigen::Vector2f& uv_m, float footprint
         if (w.yarn == 1) along_weft = false;
         if (w.yarn == 2) along_weft = true;
     }
-    s.normal_ts = n.normalized();
+    s.normal_ts = normalized3(n);
     s.anisotropy_along_weft = along_weft;
     s.bsdf = lobe_params();
     s.bsdf.diffuse = base.cwiseMax(0.0f).cwiseMin(1.0f);

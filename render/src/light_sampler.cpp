@@ -12,6 +12,7 @@
 #include "foldcast/core/sampling.hpp"
 #include "shading.hpp"
 #include "spherical_rectangle.hpp"
+#include "vec3_div.hpp"
 
 namespace foldcast::render {
 #if defined(__SSE2__)
@@ -126,7 +127,7 @@ std::optional<LightSample> LightSampler::sample(const LightChoice& choice, const
         const Vec3f to = q - p;
         s.distance = to.norm();
         if (!(s.distance > 0.0f)) return std::nullopt;
-        s.wi = to / s.distance;
+        s.wi = div3(to, s.distance);
         const float cos_l = -s.wi.dot(l.normal);
         if (!(cos_l > 0.0f)) return std::nullopt;
         s.pdf =

@@ -29,7 +29,7 @@ BsdfParams Materials::at(Hit& hit, const Vec3f& wo, float footprint_m, Frame* fr
         case MaterialId::garment: {
             const GarmentSurface s = garment_->shade(hit.uv, footprint_m);
             const Frame base(hit.ns, hit.tangent);
-            Vec3f n = base.to_world(s.normal_ts).normalized();
+            Vec3f n = normalized3(base.to_world(s.normal_ts));
             if (n.dot(wo) <= 1e-4f) n = hit.ns;
             *frame = Frame(n, s.anisotropy_along_weft ? base.b : base.t);
             *lobes = &garment_lobes_;

@@ -9,6 +9,7 @@
 #include "cloth_bsdf.hpp"
 #include "embree_scene.hpp"
 #include "garment_surface.hpp"
+#include "vec3_div.hpp"
 
 namespace foldcast::render {
 
@@ -22,7 +23,7 @@ struct Frame {
             const Vec3f h = std::abs(n.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY();
             tt = h - n * n.dot(h);
         }
-        t = tt.normalized();
+        t = normalized3(tt);
         b = n.cross(t);
     }
     V3 to_local(const Vec3f& w) const { return V3(w.dot(t), w.dot(b), w.dot(n)); }
