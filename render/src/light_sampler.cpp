@@ -133,6 +133,8 @@ std::optional<LightSample> LightSampler::sample(const LightChoice& choice, const
         s.pdf =
             choice.prob[pick] * (cone ? 1.0f / cone->solid_angle() : s.distance * s.distance / (l.area * cos_l));
         s.radiance = l.radiance;
+        s.light = pick;
+        s.solid_angle = cone ? cone->solid_angle() : 0.0f;
     } else {
         const V3 local = sample_cosine_hemisphere(u_a, u_b);
         s.wi = Frame(n, tangent).to_world(local);
@@ -198,9 +200,11 @@ LightHit LightSampler::hit(const Vec3f& o, const Vec3f& d, float tmax) const {
     return best;
 }
 
-float LightSampler::pdf(const LightChoice& choice, int index, const Vec3f& p, const Vec3f& q) const {
+float LightSampler::pdf(const LightChoice& choice, int index, const Vec3f& p, const Vec3f& q,
+                        const LightSample* drawn) const {
     const Light& l = lights_[index];
     if (!(choice.prob[index] > 0.0f)) return 0.0f;
+    if (drawn && drawn->light == index && drawn->solid_angle > 0.0f) return choice.prob[index] / drawn->solid_angle;
     if (const auto cone = SphericalRectangle::make(p, l.corner, l.ex, l.ey, 2.0f * l.half_w, 2.0f * l.half_h))
         return choice.prob[index] / cone->solid_angle();
     const Vec3f to = q - p;
