@@ -111,7 +111,16 @@ Vec3f SphericalRectangle::sample(float u, float v) const {
     const float xu = std::clamp((fu > 0.0f ? -z0_ : z0_) / std::sqrt(std::max(1e-14f, f2 - 1.0f)), x0_, x1_);
     // Its y: uniform in the projected height of that column.
     const float dist2 = xu * xu + z0_ * z0_;
+#if defined(__SSE2__)
+    // h0 and h1 in two lanes: one square root and one division for both (same floats).
+    const __m128 ys = _mm_setr_ps(y0_, y1_, 0.0f, 0.0f);
+    std::array<float, 4> hs;
+    _mm_storeu_ps(hs.data(),
+                  _mm_div_ps(ys, _mm_sqrt_ps(_mm_add_ps(_mm_set1_ps(dist2), _mm_mul_ps(ys, ys)))));
+    const float h0 = hs[0], h1 = hs[1];
+#else
     const float h0 = y0_ / std::sqrt(dist2 + y0_ * y0_), h1 = y1_ / std::sqrt(dist2 + y1_ * y1_);
+#endif
     const float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
     const float yv = hv2 < 1.0f - 1e-6f ? std::clamp(hv * std::sqrt(dist2 / (1.0f - hv2)), y0_, y1_) : y1_;
     return origin_ + xu * x_ + yv * y_ + z0_ * z_;
