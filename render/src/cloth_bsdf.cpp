@@ -1,6 +1,10 @@
 #include <Eigen/Geometry>
 #include "cloth_bsdf.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -174,10 +178,22 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3&
     // Anisotropic lobes: Smith's Lambda depends on the roughness projected on the view's
     // azimuth, so look the isotropic table up at that roughness.
     const float sxy = sqr(wo_.x()) + sqr(wo_.y());
+#if defined(__SSE2__)
+    // That roughness and Smith's Lambda(wo) (ggx_lambda) share their numerator: both
+    // quotients in one SSE2 division and both roots in one square root (the same floats).
+    const float z2 = sqr(wo_.z());
+    std::array<float, 4> q, root;
+    _mm_storeu_ps(q.data(),
+                  _mm_div_ps(_mm_set1_ps(sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())), _mm_setr_ps(sxy, z2, 1.0f, 1.0f)));
+    _mm_storeu_ps(root.data(), _mm_sqrt_ps(_mm_setr_ps(q[0], 1.0f + q[1], 0.0f, 0.0f)));
+    const float alpha_view = sxy > 1e-12f ? root[0] : std::sqrt(ax_ * ay_);
+    lambda_o_ = z2 <= 0.0f ? 1e30f : 0.5f * (-1.0f + root[1]);
+#else
     const float alpha_view =
         sxy > 1e-12f ? std::sqrt((sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())) / sxy) : std::sqrt(ax_ * ay_);
-    e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
     lambda_o_ = ggx_lambda(wo_, ax_, ay_);
+#endif
+    e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
     pdf_scale_ = wo_.z() > 0.0f ? 1.0f / (4.0f * wo_.z() * (1.0f + lambda_o_)) : 0.0f;
     e_sheen_ = sheen_scale_ > 0.0f ? sheen_albedo(mu, p_.sheen_roughness) : 0.0f;
     base_weight_ = 1.0f - e_spec_;
@@ -188,9 +204,15 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3&
     const float wd = diffuse_weight_ * luminance(p_.diffuse);
     const float sum = ws + wsh + wd;
     if (sum > 0.0f) {
+#if defined(__SSE2__)
+        std::array<float, 4> shares;  // the three quotients in one division
+        _mm_storeu_ps(shares.data(), _mm_div_ps(_mm_setr_ps(ws, wsh, wd, 0.0f), _mm_set1_ps(sum)));
+        p_spec_ = shares[0], p_sheen_ = shares[1], p_diffuse_ = shares[2];
+#else
         p_spec_ = ws / sum;
         p_sheen_ = wsh / sum;
         p_diffuse_ = wd / sum;
+#endif
     } else {
         p_spec_ = 1.0f;
     }
