@@ -1,11 +1,16 @@
 #include <Eigen/Geometry>
 #include "cloth_bsdf.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 
 #include "random_stream.hpp"
+#include "vec3_div.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/math.hpp"
 #include "foldcast/core/sampling.hpp"
@@ -32,7 +37,7 @@ float schlick(float f0, float c) {
 }
 // Heitz 2018, "Sampling the GGX distribution of visible normals".
 V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
-    const V3 vh = V3(ax * wo.x(), ay * wo.y(), wo.z()).normalized();
+    const V3 vh = normalized3(V3(ax * wo.x(), ay * wo.y(), wo.z()));
     const float lensq = sqr(vh.x()) + sqr(vh.y());
     const V3 t1 = lensq > 0.0f ? V3(-vh.y(), vh.x(), 0.0f) / std::sqrt(lensq) : V3(1.0f, 0.0f, 0.0f);
     const V3 t2 = vh.cross(t1);
@@ -43,7 +48,7 @@ V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
     const float s = 0.5f * (1.0f + vh.z());
     p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * p2;
     const V3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
-    return V3(ax * nh.x(), ay * nh.y(), std::max(1e-6f, nh.z())).normalized();
+    return normalized3(V3(ax * nh.x(), ay * nh.y(), std::max(1e-6f, nh.z())));
 }
 V3 reflect(const V3& w, const V3& h) { return 2.0f * w.dot(h) * h - w; }
 
@@ -105,15 +110,24 @@ struct Tables {
         }
     }
 
-    static float lookup(const std::array<float, kN * kN>& t, float mu, float rough) {
-        const float fi = std::clamp(mu, 0.0f, 1.0f) * (kN - 1);
-        const float fj = std::clamp(rough, 0.0f, 1.0f) * (kN - 1);
-        const int i0 = std::min(static_cast<int>(fi), kN - 2);
-        const int j0 = std::min(static_cast<int>(fj), kN - 2);
-        const float di = fi - static_cast<float>(i0), dj = fj - static_cast<float>(j0);
-        const float v00 = t[i0 * kN + j0], v01 = t[i0 * kN + j0 + 1];
-        const float v10 = t[(i0 + 1) * kN + j0], v11 = t[(i0 + 1) * kN + j0 + 1];
-        return (1 - di) * ((1 - dj) * v00 + dj * v01) + di * ((1 - dj) * v10 + dj * v11);
+    // A bilinear look-up's cell and weights, shared by the tables looked up at one (mu, rough).
+    struct Cell {
+        int index;  // of the cell's low corner
+        float di, dj;
+        Cell(float mu, float rough) {
+            const float fi = std::clamp(mu, 0.0f, 1.0f) * (kN - 1);
+            const float fj = std::clamp(rough, 0.0f, 1.0f) * (kN - 1);
+            const int i0 = std::min(static_cast<int>(fi), kN - 2);
+            const int j0 = std::min(static_cast<int>(fj), kN - 2);
+            index = i0 * kN + j0;
+            di = fi - static_cast<float>(i0);
+            dj = fj - static_cast<float>(j0);
+        }
+    };
+    static float lookup(const std::array<float, kN * kN>& t, const Cell& c) {
+        const float v00 = t[c.index], v01 = t[c.index + 1];
+        const float v10 = t[c.index + kN], v11 = t[c.index + kN + 1];
+        return (1 - c.di) * ((1 - c.dj) * v00 + c.dj * v01) + c.di * ((1 - c.dj) * v10 + c.dj * v11);
     }
 };
 
@@ -126,46 +140,79 @@ const Tables& tables() {
 
 float ggx_albedo(float mu, float roughness, float f0) {
     const Tables& t = tables();
-    return std::clamp(f0 * Tables::lookup(t.spec_a, mu, roughness) + Tables::lookup(t.spec_b, mu, roughness), 0.0f,
-                      1.0f);
+    const Tables::Cell cell(mu, roughness);
+    return std::clamp(f0 * Tables::lookup(t.spec_a, cell) + Tables::lookup(t.spec_b, cell), 0.0f, 1.0f);
 }
 float sheen_albedo(float mu, float sheen_roughness) {
-    return std::clamp(Tables::lookup(tables().sheen, mu, sheen_roughness), 0.0f, 1.0f);
+    return std::clamp(Tables::lookup(tables().sheen, Tables::Cell(mu, sheen_roughness)), 0.0f, 1.0f);
 }
 
-ClothBsdf::ClothBsdf(const BsdfParams& params, const V3& wo) : p_(params), wo_(wo) {
-    p_.roughness = std::clamp(p_.roughness, 0.0f, 1.0f);
-    p_.sheen_roughness = std::clamp(p_.sheen_roughness, kMinSheenRough, 1.0f);
+BsdfLobes::BsdfLobes(const BsdfParams& params) {
+    roughness = std::clamp(params.roughness, 0.0f, 1.0f);
+    sheen_roughness = std::clamp(params.sheen_roughness, kMinSheenRough, 1.0f);
     // Disney's anisotropy mapping: the geometric mean of the two alphas stays r^2.
-    const float alpha = std::max(kMinAlpha, sqr(p_.roughness));
-    const float aspect = std::sqrt(1.0f - 0.9f * std::clamp(p_.anisotropy, 0.0f, 0.99f));
-    ax_ = std::max(kMinAlpha, alpha / aspect);
-    ay_ = std::max(kMinAlpha, alpha * aspect);
-    sheen_alpha_ = sqr(p_.sheen_roughness);
+    const float alpha = std::max(kMinAlpha, sqr(roughness));
+    const float aspect = std::sqrt(1.0f - 0.9f * std::clamp(params.anisotropy, 0.0f, 0.99f));
+    ax = std::max(kMinAlpha, alpha / aspect);
+    ay = std::max(kMinAlpha, alpha * aspect);
+    inv_ax2 = 1.0f / (ax * ax), inv_ay2 = 1.0f / (ay * ay);
+    d_scale = 1.0f / (kPiF * ax * ay);
+    sheen_alpha = sqr(sheen_roughness);
+    sheen_scale = std::clamp(params.sheen.maxCoeff(), 0.0f, 1.0f);
+    sheen_luminance = luminance(params.sheen);
+}
+
+ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3& wo)
+    : p_(params),
+      wo_(wo),
+      ax_(lobes.ax),
+      ay_(lobes.ay),
+      inv_ax2_(lobes.inv_ax2),
+      inv_ay2_(lobes.inv_ay2),
+      d_scale_(lobes.d_scale),
+      sheen_alpha_(lobes.sheen_alpha),
+      sheen_scale_(lobes.sheen_scale) {
+    p_.roughness = lobes.roughness;
+    p_.sheen_roughness = lobes.sheen_roughness;
     const float mu = std::clamp(wo_.z(), 0.0f, 1.0f);
     // Anisotropic lobes: Smith's Lambda depends on the roughness projected on the view's
     // azimuth, so look the isotropic table up at that roughness.
     const float sxy = sqr(wo_.x()) + sqr(wo_.y());
+#if defined(__SSE2__)
+    // That roughness and Smith's Lambda(wo) (ggx_lambda) share their numerator: both
+    // quotients in one SSE2 division and both roots in one square root (the same floats).
+    const float z2 = sqr(wo_.z());
+    std::array<float, 4> q, root;
+    _mm_storeu_ps(q.data(),
+                  _mm_div_ps(_mm_set1_ps(sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())), _mm_setr_ps(sxy, z2, 1.0f, 1.0f)));
+    _mm_storeu_ps(root.data(), _mm_sqrt_ps(_mm_setr_ps(q[0], 1.0f + q[1], 0.0f, 0.0f)));
+    const float alpha_view = sxy > 1e-12f ? root[0] : std::sqrt(ax_ * ay_);
+    lambda_o_ = z2 <= 0.0f ? 1e30f : 0.5f * (-1.0f + root[1]);
+#else
     const float alpha_view =
         sxy > 1e-12f ? std::sqrt((sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())) / sxy) : std::sqrt(ax_ * ay_);
-    e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
     lambda_o_ = ggx_lambda(wo_, ax_, ay_);
-    inv_ax2_ = 1.0f / (ax_ * ax_), inv_ay2_ = 1.0f / (ay_ * ay_);
-    d_scale_ = 1.0f / (kPiF * ax_ * ay_);
+#endif
+    e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
     pdf_scale_ = wo_.z() > 0.0f ? 1.0f / (4.0f * wo_.z() * (1.0f + lambda_o_)) : 0.0f;
-    sheen_scale_ = std::clamp(p_.sheen.maxCoeff(), 0.0f, 1.0f);
     e_sheen_ = sheen_scale_ > 0.0f ? sheen_albedo(mu, p_.sheen_roughness) : 0.0f;
     base_weight_ = 1.0f - e_spec_;
     diffuse_weight_ = base_weight_ * (1.0f - sheen_scale_ * e_sheen_);
     // Lobe selection in proportion to each lobe's share of the albedo.
     const float ws = e_spec_;
-    const float wsh = base_weight_ * e_sheen_ * luminance(p_.sheen);
+    const float wsh = base_weight_ * e_sheen_ * lobes.sheen_luminance;
     const float wd = diffuse_weight_ * luminance(p_.diffuse);
     const float sum = ws + wsh + wd;
     if (sum > 0.0f) {
+#if defined(__SSE2__)
+        std::array<float, 4> shares;  // the three quotients in one division
+        _mm_storeu_ps(shares.data(), _mm_div_ps(_mm_setr_ps(ws, wsh, wd, 0.0f), _mm_set1_ps(sum)));
+        p_spec_ = shares[0], p_sheen_ = shares[1], p_diffuse_ = shares[2];
+#else
         p_spec_ = ws / sum;
         p_sheen_ = wsh / sum;
         p_diffuse_ = wd / sum;
+#endif
     } else {
         p_spec_ = 1.0f;
     }
@@ -187,7 +234,7 @@ ClothBsdf::SpecTerms ClothBsdf::spec_terms(const V3& wi) const {
 }
 
 float ClothBsdf::sheen_d_v(const V3& wi) const {
-    const V3 h = (wo_ + wi).normalized();
+    const V3 h = normalized3(wo_ + wi);
     return charlie_d(h.z(), sheen_alpha_) * neubelt_v(wo_.z(), wi.z());
 }
 

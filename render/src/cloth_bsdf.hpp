@@ -24,6 +24,21 @@ struct BsdfParams {
     float anisotropy = 0.0f;       // [0,1): stretches the highlight along the local x axis
 };
 
+// What the lobes take from the parameters alone, whatever the view: set up once per material
+// (Materials) rather than at every path vertex, where it was a third of the constructor's
+// square roots and divisions.
+struct BsdfLobes {
+    BsdfLobes() = default;
+    explicit BsdfLobes(const BsdfParams& params);
+    float roughness = 0.5f, sheen_roughness = 0.5f;  // clamped to their ranges
+    float ax = 0.0f, ay = 0.0f;                      // GGX alphas along x and y
+    float inv_ax2 = 0.0f, inv_ay2 = 0.0f;            // 1 / alpha^2 along x and y, for D
+    float d_scale = 0.0f;                            // 1 / (pi ax ay): GGX D = d_scale / e^2
+    float sheen_alpha = 0.0f;
+    float sheen_scale = 0.0f;  // s = max(sheen colour)
+    float sheen_luminance = 0.0f;
+};
+
 struct BsdfSample {
     V3 wi;
     V3 weight;  // f * cos / pdf
@@ -32,7 +47,9 @@ struct BsdfSample {
 
 class ClothBsdf {
 public:
-    ClothBsdf(const BsdfParams& params, const V3& wo);
+    ClothBsdf(const BsdfParams& params, const V3& wo) : ClothBsdf(params, BsdfLobes(params), wo) {}
+    // The same with the lobes' set-up done beforehand (`lobes` must be BsdfLobes(params)).
+    ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3& wo);
 
     // f(wo, wi) * cos(wi) and the sampling pdf of wi (solid angle).  Zero below the horizon.
     V3 eval(const V3& wi, float* pdf) const;

@@ -6,8 +6,10 @@ namespace foldcast::render {
 
 std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const LightSampler& lights,
                                            const LightChoice& choice, const Hit& hit, const Frame& frame,
-                                           const ClothBsdf& bsdf, float u_pick, float u_b, std::uint64_t& rays) {
+                                           const ClothBsdf& bsdf, float u_pick, float u_b, std::uint64_t& rays,
+                                           LightSample* drawn) {
     const std::optional<LightSample> ls = lights.sample(choice, hit.p, hit.ns, hit.tangent, u_pick, u_b);
+    if (ls) *drawn = *ls;
     if (!ls || ls->wi.dot(hit.ng) <= 0.0f) return std::nullopt;
     float pdf_bsdf = 0.0f;
     const V3 fc = bsdf.eval(frame.to_local(ls->wi), &pdf_bsdf);

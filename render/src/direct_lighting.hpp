@@ -20,8 +20,11 @@ struct DirectLight {
     float weight_over_pdf = 0.0f;
 };
 
+// `drawn` is set to the light sample drawn (left as it is when none was), for the MIS pdf
+// of a BSDF-sampled ray that reaches the same light.
 std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const LightSampler& lights,
                                            const LightChoice& choice, const Hit& hit, const Frame& frame,
-                                           const ClothBsdf& bsdf, float u_pick, float u_b, std::uint64_t& rays);
+                                           const ClothBsdf& bsdf, float u_pick, float u_b, std::uint64_t& rays,
+                                           LightSample* drawn);
 
 }  // namespace foldcast::render

@@ -1,5 +1,6 @@
 #include <Eigen/Geometry>
 #include "garment_surface.hpp"
+#include "vec3_div.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -86,7 +87,6 @@ GarmentSurface GarmentShader::shade(const Eigen::Vector2f& uv_m, float footprint
         n = V3(m.x() * static_cast<float>(a.bump_strength), m.y() * static_cast<float>(a.bump_strength),
                std::max(0.05f, m.z()));
     }
-    float anisotropy = static_cast<float>(a.anisotropy);
     bool along_weft = a.anisotropy_axis == looks::AnisotropyAxis::weft;
     if (a.weave != looks::Weave::none) {
         const looks::WeaveSample w = looks::sample_weave(a, uv_m.cast<double>(), footprint_m);
@@ -98,15 +98,22 @@ GarmentSurface GarmentShader::shade(const Eigen::Vector2f& uv_m, float footprint
         if (w.yarn == 1) along_weft = false;
         if (w.yarn == 2) along_weft = true;
     }
-    s.normal_ts = n.normalized();
+    s.normal_ts = normalized3(n);
     s.anisotropy_along_weft = along_weft;
+    s.bsdf = lobe_params();
     s.bsdf.diffuse = base.cwiseMax(0.0f).cwiseMin(1.0f);
-    s.bsdf.sheen = a.sheen_colour.cwiseMax(0.0f).cwiseMin(1.0f);
-    s.bsdf.sheen_roughness = static_cast<float>(a.sheen_roughness);
-    s.bsdf.f0 = static_cast<float>(0.08 * a.specular);
-    s.bsdf.roughness = static_cast<float>(a.roughness);
-    s.bsdf.anisotropy = anisotropy;
     return s;
+}
+
+BsdfParams GarmentShader::lobe_params() const {
+    const looks::Appearance& a = appearance_;
+    BsdfParams p;
+    p.sheen = a.sheen_colour.cwiseMax(0.0f).cwiseMin(1.0f);
+    p.sheen_roughness = static_cast<float>(a.sheen_roughness);
+    p.f0 = static_cast<float>(0.08 * a.specular);
+    p.roughness = static_cast<float>(a.roughness);
+    p.anisotropy = static_cast<float>(a.anisotropy);
+    return p;
 }
 
 }  // namespace foldcast::render

@@ -25,6 +25,9 @@ public:
 
     // uv_m: cloth coordinates in metres; footprint_m: cloth width one pixel covers.
     GarmentSurface shade(const Eigen::Vector2f& uv_m, float footprint_m) const;
+    // The look's BSDF parameters other than the diffuse colour: the same at every point
+    // (shade() starts from them), so the lobes can be set up once.
+    BsdfParams lobe_params() const;
 
 private:
     struct Images;

@@ -33,6 +33,8 @@ struct LightSample {
     float distance = 0;  // infinite for the environment
     float pdf = 0;       // solid angle, including the choice probability
     V3 radiance = V3::Zero();
+    int light = -1;          // the area light's index; -1 for the environment
+    float solid_angle = 0;   // of that light at the sampled point, when sampled in solid angle
 };
 
 struct LightHit {
@@ -59,8 +61,11 @@ public:
                                       float u_pick, float u_b) const;
     // The nearest light's front face along o + t d, t < tmax.
     LightHit hit(const Vec3f& o, const Vec3f& d, float tmax) const;
-    // What sample() at p would have given for the point q on light `index`.
-    float pdf(const LightChoice& choice, int index, const Vec3f& p, const Vec3f& q) const;
+    // What sample() at p would have given for the point q on light `index`.  `drawn`: what
+    // sample() drew at p, if anything; when it was this light its solid angle is reused
+    // rather than the spherical rectangle set up again (the same floats).
+    float pdf(const LightChoice& choice, int index, const Vec3f& p, const Vec3f& q,
+              const LightSample* drawn = nullptr) const;
     const V3& radiance(int index) const { return lights_[index].radiance; }
     // What sample() would have given for the environment in direction d, with n the normal
     // the choice was made for.
@@ -68,6 +73,12 @@ public:
 
 private:
     std::vector<Light> lights_;
+    // What choose() and hit() read of each light, one array per coordinate (lights beyond
+    // count() zero), so that they take four lights at once.
+    struct Lanes {
+        alignas(16) std::array<float, kMaxLights> cx{}, cy{}, cz{}, nx{}, ny{}, nz{}, power{};
+        alignas(16) std::array<float, kMaxLights> exx{}, exy{}, exz{}, eyx{}, eyy{}, eyz{}, half_w{}, half_h{};
+    } lanes_;
     V3 environment_;
     float environment_power_;  // luminance * pi, the environment's weight in a choice
 };

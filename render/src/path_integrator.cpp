@@ -36,6 +36,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
     float prev_bsdf_pdf = 0.0f;
     bool prev_specular_only = true;  // camera ray: lights are not seen directly
     LightChoice prev_choice;
+    LightSample prev_drawn;  // the light sample drawn at the previous vertex (light -1: none)
     Vec3f prev_n = Vec3f::UnitY(), prev_p = Vec3f::Zero();
     float cone = 0.0f, spread = pixel_angle;
     for (int depth = 0;; ++depth) {
@@ -44,7 +45,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         if (depth > 0 && !lights_.empty()) {
             const LightHit lh = lights_.hit(o, d, t_surface);
             if (lh.index >= 0) {
-                const float pdf_light = lights_.pdf(prev_choice, lh.index, prev_p, o + lh.t * d);
+                const float pdf_light = lights_.pdf(prev_choice, lh.index, prev_p, o + lh.t * d, &prev_drawn);
                 const float w = prev_specular_only ? 1.0f : power_heuristic(prev_bsdf_pdf, pdf_light);
                 add(out.radiance, beta.cwiseProduct(lights_.radiance(lh.index)) * w, depth);
                 break;
@@ -66,8 +67,9 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         const Vec3f wo = -d;
         Frame frame;  // every material sets it (after orienting the normals towards wo)
         const float cos_view = std::max(0.2f, std::abs(wo.dot(hit.ng)));
-        const BsdfParams params = materials_.at(hit, wo, cone / cos_view, &frame);
-        const ClothBsdf bsdf(params, frame.to_local(wo));
+        const BsdfLobes* lobes = nullptr;  // set with the frame
+        const BsdfParams params = materials_.at(hit, wo, cone / cos_view, &frame, &lobes);
+        const ClothBsdf bsdf(params, *lobes, frame.to_local(wo));
         if (depth == 0) {
             out.albedo = bsdf.albedo();
             out.normal = hit.ns;
@@ -82,8 +84,9 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
 
         const LightChoice choice = lights_.choose(hit.p, hit.ns);
         const Eigen::Vector2f u_light = sampler.get2d();  // the light's choice and the point on it
+        LightSample drawn;
         if (const auto direct =
-                direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_light.x(), u_light.y(), rays))
+                direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_light.x(), u_light.y(), rays, &drawn))
             add(out.radiance, beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
                 depth + 1);
 
@@ -103,6 +106,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         prev_bsdf_pdf = bs->pdf;
         prev_specular_only = false;
         prev_choice = choice;
+        prev_drawn = drawn;
         prev_n = hit.ns;
         prev_p = hit.p;
         spread += 0.2f;  // a rough bounce widens the footprint cone

@@ -1,0 +1,31 @@
+#pragma once
+// A 3-vector divided by a scalar, and normalised, with the three quotients in one SSE2
+// division: Eigen divides a Vector3f component by component (three divss), and the path
+// tracer's per-vertex normals, half vectors and light directions waited on those.  The same
+// IEEE quotients, so the same floats.
+#include <Eigen/Core>
+#include <cmath>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace foldcast::render {
+
+inline Eigen::Vector3f div3(const Eigen::Vector3f& v, float s) {
+#if defined(__SSE2__)
+    alignas(16) float q[4];
+    _mm_store_ps(q, _mm_div_ps(_mm_setr_ps(v.x(), v.y(), v.z(), 0.0f), _mm_set1_ps(s)));
+    return {q[0], q[1], q[2]};
+#else
+    return v / s;
+#endif
+}
+
+// Eigen's normalized(): v / |v|, or v itself when |v| is 0.
+inline Eigen::Vector3f normalized3(const Eigen::Vector3f& v) {
+    const float n2 = v.squaredNorm();
+    return n2 > 0.0f ? div3(v, std::sqrt(n2)) : v;
+}
+
+}  // namespace foldcast::render
