@@ -6,7 +6,9 @@
 
 #include "foldcast/compare/folds.hpp"
 #include "foldcast/core/colour.hpp"
+#include "hue_line.hpp"
 #include "mat_convert.hpp"
+#include "robust_stats.hpp"
 
 namespace foldcast::compare {
 
@@ -61,8 +63,7 @@ cv::Vec3d median_lab(const cv::Mat& lab, const cv::Rect& r) {
         v.clear();
         for (int y = r.y; y < r.y + r.height; ++y)
             for (int x = r.x; x < r.x + r.width; ++x) v.push_back(lab.at<cv::Vec3b>(y, x)[c]);
-        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-        out[c] = v[v.size() / 2];
+        out[c] = detail::median(v);
     }
     return out;
 }
@@ -135,22 +136,15 @@ cv::Mat same_hue(const cv::Mat& bgr, const cv::Rect& seed) {
             if (const cv::Vec2f c = rg.at<cv::Vec2f>(y, x); c[0] >= 0.0f)
                 for (std::size_t k = 0; k < 2; ++k) seen[k].push_back(c[int(k)]);
     if (seen[0].empty()) return same;
-    cv::Vec2f hue;  // the seed's median chromaticity less white's
-    for (std::size_t k = 0; k < 2; ++k) {
-        std::nth_element(seen[k].begin(), seen[k].begin() + seen[k].size() / 2, seen[k].end());
-        hue[int(k)] = seen[k][seen[k].size() / 2] - 1.0f / 3.0f;
-    }
+    const detail::HueLine line(detail::median(seen[0]), detail::median(seen[1]));
     constexpr float kNeutral = 0.02f, kAcross = 0.04f;
-    const float length = float(cv::norm(hue));
-    if (length < kNeutral) return same;
-    hue /= length;
+    if (line.length < kNeutral) return same;
     for (int y = 0; y < bgr.rows; ++y)
         for (int x = 0; x < bgr.cols; ++x) {
             const cv::Vec2f c = rg.at<cv::Vec2f>(y, x);
             if (c[0] < 0.0f) continue;
-            const cv::Vec2f v = c - cv::Vec2f(1.0f / 3.0f, 1.0f / 3.0f);
-            const float along = v.dot(hue), across = std::abs(v[0] * hue[1] - v[1] * hue[0]);
-            same.at<uchar>(y, x) = along >= 0.5f * length && across < kAcross ? 255 : 0;
+            same.at<uchar>(y, x) =
+                line.along(c[0], c[1]) >= 0.5f * line.length && line.across(c[0], c[1]) < kAcross ? 255 : 0;
         }
     return same;
 }
@@ -216,9 +210,7 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
             seed_b.push_back(lab.at<cv::Vec3b>(y, x)[2]);
         }
     if (seed_a.empty()) throw InputError("supports: the cloth below the supports lies outside the image");
-    std::nth_element(seed_a.begin(), seed_a.begin() + seed_a.size() / 2, seed_a.end());
-    std::nth_element(seed_b.begin(), seed_b.begin() + seed_b.size() / 2, seed_b.end());
-    const double ma = seed_a[seed_a.size() / 2], mb = seed_b[seed_b.size() / 2];
+    const double ma = detail::median(seed_a), mb = detail::median(seed_b);
     constexpr double kSameCloth = 20.0;  // 8-bit Lab chroma units
     const auto same_cloth = [&](const cv::Vec3b& v) { return std::hypot(v[1] - ma, v[2] - mb) < kSameCloth; };
     cv::Mat same(small.size(), CV_8U);

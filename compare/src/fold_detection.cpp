@@ -12,9 +12,15 @@
 
 #include "foldcast/compare/folds.hpp"
 #include "foldcast/core/colour.hpp"
+#include "hue_line.hpp"
 #include "mat_convert.hpp"
+#include "robust_stats.hpp"
 
 namespace foldcast::compare {
+
+using detail::HueLine;
+using detail::median;
+using detail::quantile;
 
 double DetectedFold::length_px() const {
     double length = 0.0;
@@ -181,16 +187,15 @@ cv::Mat colour_changes(const cv::Mat& label, const cv::Mat& cloth) {
 // pixels of t's range over 5x5 px, against the region's 90th percentile of t).
 void drop_sheen(cv::Mat& printed, const cv::Mat& chroma_r, const cv::Mat& chroma_g, float mr, float mg,
                 float limit) {
-    const float ur = 1.0f / 3.0f - mr, ug = 1.0f / 3.0f - mg, length = std::hypot(ur, ug);
-    if (length < 2.0f * limit) return;  // a near-white cloth: its highlights are not told from it
+    const HueLine line(mr, mg);
+    if (line.length < 2.0f * limit) return;  // a near-white cloth: its highlights are not told from it
     cv::Mat t(printed.size(), CV_32F), on_segment(printed.size(), CV_8U);
     for (int y = 0; y < printed.rows; ++y)
         for (int x = 0; x < printed.cols; ++x) {
-            const float dr = chroma_r.at<float>(y, x) - mr, dg = chroma_g.at<float>(y, x) - mg;
-            const float along = (dr * ur + dg * ug) / (length * length);
-            const float across = std::abs(dr * ug - dg * ur) / length;
-            t.at<float>(y, x) = along;
-            on_segment.at<uchar>(y, x) = across < limit && along > 0.0f && along <= 1.15f;
+            const float r = chroma_r.at<float>(y, x), g = chroma_g.at<float>(y, x);
+            const float towards_white = 1.0f - line.along(r, g) / line.length;
+            t.at<float>(y, x) = towards_white;
+            on_segment.at<uchar>(y, x) = line.across(r, g) < limit && towards_white > 0.0f && towards_white <= 1.15f;
         }
     cv::Mat high, low;
     const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5));
@@ -216,11 +221,6 @@ void drop_sheen(cv::Mat& printed, const cv::Mat& chroma_r, const cv::Mat& chroma
                                  labels.at<int>(y - 1, x) != l || labels.at<int>(y + 1, x) != l;
             if (outline) r.outline_range.push_back(high.at<float>(y, x) - low.at<float>(y, x));
         }
-    const auto quantile = [](std::vector<float>& v, double q) {
-        const auto k = v.begin() + static_cast<std::ptrdiff_t>(q * double(v.size() - 1));
-        std::nth_element(v.begin(), k, v.end());
-        return *k;
-    };
     std::vector<bool> sheen(static_cast<std::size_t>(count), false);
     for (std::size_t l = 1; l < regions.size(); ++l) {
         Region& r = regions[l];
@@ -272,10 +272,6 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
             chroma_r.at<float>(y, x) = sum > 0 ? r / sum : 1.0f / 3.0f;
             chroma_g.at<float>(y, x) = sum > 0 ? g / sum : 1.0f / 3.0f;
         }
-    auto median_of = [](std::vector<float> v) {
-        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-        return v[v.size() / 2];
-    };
     std::vector<float> rs, gs;
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x)
@@ -302,7 +298,7 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
                 chroma_g.at<float>(y, x) = chroma_g.at<float>(q);
             }
     }
-    const float mr = median_of(rs), mg = median_of(gs);
+    const float mr = median(rs), mg = median(gs);
     // Light that bounces between the walls of a fold takes the cloth's colour again at each
     // bounce, so a fold's shaded valley is the cloth's colour, more saturated: its
     // chromaticity lies further out along the line from white through the cloth's.  A print's
@@ -310,14 +306,11 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
     // is to the half-line from the cloth's chromaticity away from white, not to the point
     // (on a saturated red cloth in a studio render the point's distance marked every fold's
     // valley as print).  A near-white cloth has no such direction: the point it is.
-    constexpr float kWhite = 1.0f / 3.0f, kNeutral = 0.02f;
-    const float hue_r = mr - kWhite, hue_g = mg - kWhite, hue_len = std::hypot(hue_r, hue_g);
+    constexpr float kNeutral = 0.02f;
+    const HueLine line(mr, mg);
     const auto print_distance = [&](float r, float g) {
-        const float dr = r - mr, dg = g - mg;
-        if (hue_len < kNeutral) return std::hypot(dr, dg);
-        const float along = (dr * hue_r + dg * hue_g) / hue_len;
-        if (along <= 0.0f) return std::hypot(dr, dg);
-        return std::abs(dr * hue_g - dg * hue_r) / hue_len;  // across the half-line
+        if (line.length < kNeutral || line.along(r, g) <= line.length) return std::hypot(r - mr, g - mg);
+        return line.across(r, g);  // across the half-line
     };
     cv::Mat distance(rgb.size(), CV_32F);
     std::vector<float> ds;
@@ -329,9 +322,9 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
         }
     // The limit: the spread of the cloth's chromaticity about its median (the photo's noise,
     // its white balance across the cloth), from the distance to the point.
-    const float median_d = median_of(ds);
+    const float median_d = median(ds);
     for (float& d : ds) d = std::abs(d - median_d);
-    const float limit = std::max(0.04f, median_d + 6.0f * 1.4826f * median_of(ds));
+    const float limit = std::max(0.04f, median_d + 6.0f * 1.4826f * median(ds));
     cv::Mat printed = cv::Mat::zeros(rgb.size(), CV_8U);
     for (int y = 0; y < rgb.rows; ++y)
         for (int x = 0; x < rgb.cols; ++x)
@@ -357,11 +350,11 @@ PrintLayers print_layers(const Image& photo, const cv::Mat& cloth, int grow_px) 
             if (cloth.at<uchar>(y, x) && l >= 0 && !out.outline.at<uchar>(y, x))
                 core[size_t(l)].push_back(luma.at<float>(y, x));
         }
-    const float cloth_luma = core[0].empty() ? 0.0f : median_of(core[0]);
+    const float cloth_luma = core[0].empty() ? 0.0f : median(core[0]);
     std::vector<float> gain(core.size(), 1.0f);
     std::vector<bool> readable(core.size(), true);
     for (size_t k = 1; k < core.size(); ++k) {
-        const float m = core[k].size() >= kMinCore ? median_of(core[k]) : 0.0f;
+        const float m = core[k].size() >= kMinCore ? median(core[k]) : 0.0f;
         readable[k] = cloth_luma > 0 && m > 1e-3f;
         gain[k] = readable[k] ? cloth_luma / m : 1.0f;
     }
@@ -398,10 +391,9 @@ cv::Mat relative_shading(const cv::Mat& luma, const cv::Mat& cloth) {
     for (int y = 0; y < luma.rows; ++y)
         for (int x = 0; x < luma.cols; ++x)
             if (cloth.at<uchar>(y, x)) values.push_back(luma.at<float>(y, x));
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    const float median = std::max(values[values.size() / 2], 1e-3f);  // a black cloth: no ratio to read
+    const float typical = std::max(median(values), 1e-3f);  // a black cloth: no ratio to read
     cv::Mat shading;
-    cv::log(cv::max(luma, 0.0f) / median + kOffset, shading);
+    cv::log(cv::max(luma, 0.0f) / typical + kOffset, shading);
     return shading;
 }
 
@@ -573,10 +565,8 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             if (region.at<uchar>(y, x)) region_strengths.push_back(field.strength.at<float>(y, x));
-    std::nth_element(region_strengths.begin(), region_strengths.begin() + region_strengths.size() / 2,
-                     region_strengths.end());
-    const double median = region_strengths[region_strengths.size() / 2];
-    out.high_threshold = options.high_threshold > 0 ? options.high_threshold : 4.0 * median;
+    const double typical_strength = median(region_strengths);
+    out.high_threshold = options.high_threshold > 0 ? options.high_threshold : 4.0 * typical_strength;
     out.low_threshold = options.low_ratio * out.high_threshold;
     out.high_floor = 0.006;
     out.low_floor = options.low_ratio * out.high_floor;
