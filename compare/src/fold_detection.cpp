@@ -38,13 +38,21 @@ struct RidgeField {
     std::vector<cv::Mat> smooth;  // luminance smoothed at each scale
 };
 
-RidgeField ridge_field(const cv::Mat& luma, const std::vector<double>& sigmas, double gamma) {
+// Strength only (the luma's, for the noise floor) or also each pixel's sign, normal, scale and
+// the smoothed images (what tracing lines needs).
+enum class RidgeParts { strength, all };
+
+RidgeField ridge_field(const cv::Mat& luma, const std::vector<double>& sigmas, double gamma,
+                       RidgeParts parts = RidgeParts::all) {
     RidgeField f;
+    const bool all = parts == RidgeParts::all;
     f.strength = cv::Mat::zeros(luma.size(), CV_32F);
-    f.sign = cv::Mat::zeros(luma.size(), CV_8S);
-    f.nx = cv::Mat::zeros(luma.size(), CV_32F);
-    f.ny = cv::Mat::zeros(luma.size(), CV_32F);
-    f.scale = cv::Mat::zeros(luma.size(), CV_8U);
+    if (all) {
+        f.sign = cv::Mat::zeros(luma.size(), CV_8S);
+        f.nx = cv::Mat::zeros(luma.size(), CV_32F);
+        f.ny = cv::Mat::zeros(luma.size(), CV_32F);
+        f.scale = cv::Mat::zeros(luma.size(), CV_8U);
+    }
     for (size_t si = 0; si < sigmas.size(); ++si) {
         const double sigma = sigmas[si];
         cv::Mat smooth, lxx, lyy, lxy;
@@ -62,16 +70,17 @@ RidgeField ridge_field(const cv::Mat& luma, const std::vector<double>& sigmas, d
                 const float l1 = plus_dominant ? lp : lm, l2 = plus_dominant ? lm : lp;
                 const float s = norm * (std::abs(l1) - std::abs(l2));
                 if (s <= f.strength.at<float>(y, x)) continue;
+                f.strength.at<float>(y, x) = s;
+                if (!all) continue;
                 // Eigenvector of lp is at angle 0.5 atan2(2b, a - c); that of lm is perpendicular.
                 float theta = 0.5f * std::atan2(2.0f * b, a - c);
                 if (!plus_dominant) theta += 1.5707963f;
-                f.strength.at<float>(y, x) = s;
                 f.sign.at<schar>(y, x) = l1 < 0 ? 1 : -1;
                 f.nx.at<float>(y, x) = std::cos(theta);
                 f.ny.at<float>(y, x) = std::sin(theta);
                 f.scale.at<uchar>(y, x) = static_cast<uchar>(si);
             }
-        f.smooth.push_back(smooth);
+        if (all) f.smooth.push_back(smooth);
     }
     return f;
 }
@@ -511,7 +520,7 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     // stored values by more than that.
     const cv::Mat shading = relative_shading(luma, cloth);
     const RidgeField field = ridge_field(shading, out.sigmas_px, options.gamma);
-    const cv::Mat stored_strength = ridge_field(luma, out.sigmas_px, options.gamma).strength;
+    const cv::Mat stored_strength = ridge_field(luma, out.sigmas_px, options.gamma, RidgeParts::strength).strength;
     cv::Mat region;
     const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
     cv::erode(cloth, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
