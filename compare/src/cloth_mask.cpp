@@ -47,7 +47,6 @@ cv::Mat largest_component_filled(const cv::Mat& fg, cv::Point seed) {
     return out;
 }
 
-
 cv::Mat lab_of(const cv::Mat& bgr) {
     cv::Mat lab;
     cv::cvtColor(bgr, lab, cv::COLOR_BGR2Lab);
@@ -232,10 +231,9 @@ Image estimate_cloth_mask(const Image& photo, const std::optional<SupportPixels>
         rect_right = std::max(rect_right, region.right + margin);
         same |= region.pixels;
     }
-    const cv::Rect rect =
-        cv::Rect(cv::Point(rect_left, static_cast<int>(std::min(a.y(), b.y()) - 0.08 * d)),
-                 cv::Point(rect_right, small.rows)) &
-        bounds;
+    const cv::Rect rect = cv::Rect(cv::Point(rect_left, static_cast<int>(std::min(a.y(), b.y()) - 0.08 * d)),
+                                   cv::Point(rect_right, small.rows)) &
+                          bounds;
     cv::Mat labels(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
     for (int y = rect.y; y < rect.y + rect.height; ++y)
         for (int x = rect.x; x < rect.x + rect.width; ++x)

@@ -194,8 +194,7 @@ cv::Mat colour_changes(const cv::Mat& label, const cv::Mat& cloth) {
 // (0, 1.15], t the fraction of the way from the cloth's chromaticity to white) and (2) across
 // its outline t changes by less than 0.4 of the region's own (the median over its outline
 // pixels of t's range over 5x5 px, against the region's 90th percentile of t).
-void drop_sheen(cv::Mat& printed, const cv::Mat& chroma_r, const cv::Mat& chroma_g, float mr, float mg,
-                float limit) {
+void drop_sheen(cv::Mat& printed, const cv::Mat& chroma_r, const cv::Mat& chroma_g, float mr, float mg, float limit) {
     const HueLine line(mr, mg);
     if (line.length < 2.0f * limit) return;  // a near-white cloth: its highlights are not told from it
     cv::Mat t(printed.size(), CV_32F), on_segment(printed.size(), CV_8U);

@@ -241,7 +241,8 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
     });
     std::vector<Extremum> merged;
     for (const auto& e : found) {
-        if (!merged.empty() && (e.depth - merged.back().depth < 2.0 * std::max(e.sigma, merged.back().sigma) || e.sign == merged.back().sign)) {
+        if (!merged.empty() && (e.depth - merged.back().depth < 2.0 * std::max(e.sigma, merged.back().sigma) ||
+                                e.sign == merged.back().sign)) {
             if (e.strength > merged.back().strength) merged.back() = e;
             continue;
         }

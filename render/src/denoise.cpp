@@ -17,7 +17,7 @@
 namespace foldcast::render {
 namespace {
 
-constexpr int kPasses = 5;  // steps 1-16
+constexpr int kPasses = 5;       // steps 1-16
 constexpr int kCrossPasses = 3;  // of them cross-filtered when there are two halves
 static_assert(kCrossPasses < kPasses, "the halves are merged before the last passes");
 constexpr float kSigmaLuminance = 4.0f;  // in standard deviations of the pixel's noise
@@ -41,18 +41,28 @@ constexpr float kMixDeadZone = 0.2f;
 // The guide the passes compare taps by, one array per quantity, so that the pass loads the
 // same quantity for four neighbouring pixels at once.
 struct Guide {
-    std::vector<float> nx, ny, nz;          // unit normal, or zero for the sky
+    std::vector<float> nx, ny, nz;  // unit normal, or zero for the sky
     // Flags as 0 / 1 of the floats' width, so that the SSE2 loop tests four at a time.
-    std::vector<std::int32_t> sky;          // the normal is zero
+    std::vector<std::int32_t> sky;  // the normal is zero
     std::vector<float> depth;
     std::vector<float> inv_depth_tolerance;  // 1 / (kSigmaDepth * how much depth changes per pixel here)
-    std::vector<std::int32_t> covered;      // alpha > 0
-    std::vector<std::int32_t> cloth;        // most of its samples hit the garment
-    std::vector<float> turning;             // share of its samples that hit the garment or its supports
-    std::vector<float> ax, ay, az;          // first-hit albedo
+    std::vector<std::int32_t> covered;       // alpha > 0
+    std::vector<std::int32_t> cloth;         // most of its samples hit the garment
+    std::vector<float> turning;              // share of its samples that hit the garment or its supports
+    std::vector<float> ax, ay, az;           // first-hit albedo
     explicit Guide(std::size_t count)
-        : nx(count), ny(count), nz(count), sky(count), depth(count), inv_depth_tolerance(count), covered(count),
-          cloth(count), turning(count), ax(count), ay(count), az(count) {}
+        : nx(count),
+          ny(count),
+          nz(count),
+          sky(count),
+          depth(count),
+          inv_depth_tolerance(count),
+          covered(count),
+          cloth(count),
+          turning(count),
+          ax(count),
+          ay(count),
+          az(count) {}
 };
 
 constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
@@ -137,8 +147,7 @@ private:
     // (0: not taken), and the sums so far.
     struct Row {
         std::vector<float> e_a, e_b, nw, nw4, sum_a, wa, va, sum_b, wb, vb;
-        explicit Row(int w)
-            : e_a(w), e_b(w), nw(w), nw4(w), sum_a(3 * w), wa(w), va(w), sum_b(3 * w), wb(w), vb(w) {}
+        explicit Row(int w) : e_a(w), e_b(w), nw(w), nw4(w), sum_a(3 * w), wa(w), va(w), sum_b(3 * w), wb(w), vb(w) {}
     };
 
     // Row y of a pass.  kCross: buffer a is guided by g (== b), b by a; else a by itself (g
@@ -196,8 +205,8 @@ private:
                 const int x0 = std::max(0, -dx * stride), x1 = std::min(w_, w_ - dx * stride);
                 if (x0 >= x1) continue;
                 const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dy) * stride * w_ + dx * stride;
-                const float inv_distance =
-                    1.0f / std::max(1.0f, static_cast<float>(stride) * std::sqrt(static_cast<float>(dx * dx + dy * dy)));
+                const float inv_distance = 1.0f / std::max(1.0f, static_cast<float>(stride) *
+                                                                     std::sqrt(static_cast<float>(dx * dx + dy * dy)));
                 // The row's pixels (p) from x0 on and their taps (q), indexed by t = x - x0.
                 const float *const depth_p = depth + r + x0, *const depth_q = depth_p + offset;
                 const float *const turning_p = turning + r + x0, *const turning_q = turning_p + offset;
@@ -233,20 +242,20 @@ private:
                     return _mm_castsi128_ps(_mm_cmpeq_epi32(flags, _mm_set1_epi32(1)));
                 };
                 for (; t + 4 <= taps; t += 4) {
-                    const __m128 e_depth =
-                        _mm_mul_ps(_mm_mul_ps(abs_diff(depth_q + t, depth_p + t), _mm_loadu_ps(inv_depth_p + t)), inv_distance4);
+                    const __m128 e_depth = _mm_mul_ps(
+                        _mm_mul_ps(abs_diff(depth_q + t, depth_p + t), _mm_loadu_ps(inv_depth_p + t)), inv_distance4);
                     const __m128 mix = abs_diff(turning_q + t, turning_p + t);
                     const __m128 e_mixed = _mm_add_ps(e_depth, _mm_mul_ps(mix_scale, _mm_sub_ps(mix, dead_zone)));
                     const __m128 e = select(_mm_cmpgt_ps(mix, dead_zone), e_mixed, e_depth);
                     _mm_storeu_ps(e_a_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + t, g_lum_p + t),
-                                                                    _mm_loadu_ps(g_inv_sigma_p + t))));
+                                                                      _mm_loadu_ps(g_inv_sigma_p + t))));
                     if (kCross)
                         _mm_storeu_ps(e_b_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t),
-                                                                        _mm_loadu_ps(a_inv_sigma_p + t))));
-                    const __m128 dot = _mm_add_ps(
-                        _mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
-                        _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
-                                   _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
+                                                                          _mm_loadu_ps(a_inv_sigma_p + t))));
+                    const __m128 dot =
+                        _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
+                                   _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
+                                              _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
                     __m128 c = _mm_max_ps(dot, zero);  // dot > 0 ? dot : 0, as std::max(0.0f, dot)
                     c = _mm_mul_ps(c, c);
                     c = _mm_mul_ps(c, c);
@@ -401,7 +410,9 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
                 if (qx < 0 || qx >= w || qy < 0 || qy >= h) return -1.0f;
                 return std::abs(depth[static_cast<std::size_t>(qy) * w + qx] - depth[i]);
             };
-            const auto axis = [](float m, float n) { return m < 0.0f ? std::max(0.0f, n) : n < 0.0f ? m : std::min(m, n); };
+            const auto axis = [](float m, float n) {
+                return m < 0.0f ? std::max(0.0f, n) : n < 0.0f ? m : std::min(m, n);
+            };
             const float step = std::max(axis(diff(x - 1, y), diff(x + 1, y)), axis(diff(x, y - 1), diff(x, y + 1)));
             const float depth_step = std::max(step, 1e-3f * depth[i]) + 1e-6f;
             guide.inv_depth_tolerance[i] = 1.0f / (kSigmaDepth * depth_step);

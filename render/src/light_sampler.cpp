@@ -161,8 +161,7 @@ LightHit LightSampler::hit(const Vec3f& o, const Vec3f& d, float tmax) const {
         const __m128 cx = _mm_load_ps(&data.cx[i]), cy = _mm_load_ps(&data.cy[i]), cz = _mm_load_ps(&data.cz[i]);
         const __m128 nx = _mm_load_ps(&data.nx[i]), ny = _mm_load_ps(&data.ny[i]), nz = _mm_load_ps(&data.nz[i]);
         const __m128 dn = dot4(dx, dy, dz, nx, ny, nz);
-        const __m128 t =
-            _mm_div_ps(dot4(_mm_sub_ps(cx, ox), _mm_sub_ps(cy, oy), _mm_sub_ps(cz, oz), nx, ny, nz), dn);
+        const __m128 t = _mm_div_ps(dot4(_mm_sub_ps(cx, ox), _mm_sub_ps(cy, oy), _mm_sub_ps(cz, oz), nx, ny, nz), dn);
         const __m128 qx = _mm_sub_ps(_mm_add_ps(ox, _mm_mul_ps(t, dx)), cx),
                      qy = _mm_sub_ps(_mm_add_ps(oy, _mm_mul_ps(t, dy)), cy),
                      qz = _mm_sub_ps(_mm_add_ps(oz, _mm_mul_ps(t, dz)), cz);
@@ -171,11 +170,11 @@ LightHit LightSampler::hit(const Vec3f& o, const Vec3f& d, float tmax) const {
         const __m128 along_y = _mm_and_ps(
             no_sign, dot4(qx, qy, qz, _mm_load_ps(&data.eyx[i]), _mm_load_ps(&data.eyy[i]), _mm_load_ps(&data.eyz[i])));
         // Facing the ray and inside the rectangle (the scalar loop's `continue`s negated).
-        const int ok = _mm_movemask_ps(_mm_andnot_ps(
-            _mm_or_ps(_mm_cmpge_ps(dn, _mm_setzero_ps()),
-                      _mm_or_ps(_mm_cmpgt_ps(along_x, _mm_load_ps(&data.half_w[i])),
-                                _mm_cmpgt_ps(along_y, _mm_load_ps(&data.half_h[i])))),
-            _mm_castsi128_ps(_mm_set1_epi32(-1))));
+        const int ok =
+            _mm_movemask_ps(_mm_andnot_ps(_mm_or_ps(_mm_cmpge_ps(dn, _mm_setzero_ps()),
+                                                    _mm_or_ps(_mm_cmpgt_ps(along_x, _mm_load_ps(&data.half_w[i])),
+                                                              _mm_cmpgt_ps(along_y, _mm_load_ps(&data.half_h[i])))),
+                                          _mm_castsi128_ps(_mm_set1_epi32(-1))));
         alignas(16) std::array<float, 4> ts;
         _mm_store_ps(ts.data(), t);
         for (int k = 0; k < 4 && i + k < count; ++k)

@@ -33,8 +33,8 @@ struct LightSample {
     float distance = 0;  // infinite for the environment
     float pdf = 0;       // solid angle, including the choice probability
     V3 radiance = V3::Zero();
-    int light = -1;          // the area light's index; -1 for the environment
-    float solid_angle = 0;   // of that light at the sampled point, when sampled in solid angle
+    int light = -1;         // the area light's index; -1 for the environment
+    float solid_angle = 0;  // of that light at the sampled point, when sampled in solid angle
 };
 
 struct LightHit {

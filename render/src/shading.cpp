@@ -18,8 +18,7 @@ Materials::Materials(const SceneSpec& scene) : garment_(std::make_unique<Garment
     wire_lobes_ = BsdfLobes(wire_);
 }
 
-BsdfParams Materials::at(Hit& hit, const Vec3f& wo, float footprint_m, Frame* frame,
-                         const BsdfLobes** lobes) const {
+BsdfParams Materials::at(Hit& hit, const Vec3f& wo, float footprint_m, Frame* frame, const BsdfLobes** lobes) const {
     if (hit.ng.dot(wo) < 0.0f) {
         hit.ng = -hit.ng;
         hit.ns = -hit.ns;

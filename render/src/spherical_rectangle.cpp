@@ -45,8 +45,7 @@ __m128 interior_angles(__m128 cosine) {
         madd(-0.2145988016f,
              madd(0.0889789874f,
                   madd(-0.0501743046f,
-                       madd(0.0308918810f,
-                            madd(-0.0170881256f, madd(0.0066700901f, _mm_set1_ps(-0.0012624911f))))))));
+                       madd(0.0308918810f, madd(-0.0170881256f, madd(0.0066700901f, _mm_set1_ps(-0.0012624911f))))))));
     const __m128 a = _mm_mul_ps(_mm_sqrt_ps(_mm_sub_ps(_mm_set1_ps(1.0f), x)), p);
     const __m128 negative = _mm_cmplt_ps(cosine, _mm_setzero_ps());
     return _mm_or_ps(_mm_and_ps(negative, _mm_sub_ps(_mm_set1_ps(kPiF), a)), _mm_andnot_ps(negative, a));
@@ -81,7 +80,8 @@ std::optional<SphericalRectangle> SphericalRectangle::make(const Vec3f& from, co
     const __m128 along = _mm_setr_ps(r.y0_, r.x1_, r.y1_, r.x0_);
     const __m128 l = _mm_sqrt_ps(_mm_add_ps(_mm_set1_ps(z0sq), _mm_mul_ps(along, along)));
     const __m128 l_next = _mm_shuffle_ps(l, l, _MM_SHUFFLE(0, 3, 2, 1));  // l1, l2, l3, l0
-    const __m128 numerator = _mm_mul_ps(_mm_setr_ps(r.y0_, -r.x1_, r.x0_, -r.x0_), _mm_setr_ps(r.x1_, r.y1_, r.y1_, r.y0_));
+    const __m128 numerator =
+        _mm_mul_ps(_mm_setr_ps(r.y0_, -r.x1_, r.x0_, -r.x0_), _mm_setr_ps(r.x1_, r.y1_, r.y1_, r.y0_));
     std::array<float, 4> ls, gs;
     _mm_storeu_ps(ls.data(), l);
     _mm_storeu_ps(gs.data(), interior_angles(_mm_div_ps(numerator, _mm_mul_ps(l, l_next))));
@@ -115,8 +115,7 @@ Vec3f SphericalRectangle::sample(float u, float v) const {
     // h0 and h1 in two lanes: one square root and one division for both (same floats).
     const __m128 ys = _mm_setr_ps(y0_, y1_, 0.0f, 0.0f);
     std::array<float, 4> hs;
-    _mm_storeu_ps(hs.data(),
-                  _mm_div_ps(ys, _mm_sqrt_ps(_mm_add_ps(_mm_set1_ps(dist2), _mm_mul_ps(ys, ys)))));
+    _mm_storeu_ps(hs.data(), _mm_div_ps(ys, _mm_sqrt_ps(_mm_add_ps(_mm_set1_ps(dist2), _mm_mul_ps(ys, ys)))));
     const float h0 = hs[0], h1 = hs[1];
 #else
     const float h0 = y0_ / std::sqrt(dist2 + y0_ * y0_), h1 = y1_ / std::sqrt(dist2 + y1_ * y1_);

@@ -129,10 +129,10 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
     std::vector<float> variance = f.variance;  // of the averaged pixels' luminance, for the denoiser
     // The half buffers averaged alike (each frame's first halves together, and its second
     // halves), when the frames kept them: the denoiser cross-filters the two averages.
-    const bool halves = f.half_a.size() == f.variance.size() &&
-                        std::all_of(window.begin(), window.end(), [&](const TemporalFrame* g) {
-                            return g->features.half_a.size() == f.half_a.size();
-                        });
+    const bool halves =
+        f.half_a.size() == f.variance.size() && std::all_of(window.begin(), window.end(), [&](const TemporalFrame* g) {
+            return g->features.half_a.size() == f.half_a.size();
+        });
     std::vector<Vec3f> half_a = halves ? f.half_a : std::vector<Vec3f>{},
                        half_b = halves ? f.half_b : std::vector<Vec3f>{};
     const CameraModel cam(camera, w, h);

@@ -121,8 +121,8 @@ TEST(StudioPhoto, TheSaturatedValleysAreShadingNotPrint) {
     const compare::FoldDetection detection = compare::detect_folds(s.photo, s.cloth);
     // Away from the silhouette, whose pixels mix the cloth's red with the backdrop's grey.
     const double printed = cloth_share(detection.print_mask, interior(s.cloth, 3));
-    std::printf("studio render: %.2f %% of the cloth (less its outline) taken for print, %zu lines\n",
-                100.0 * printed, detection.folds.size());
+    std::printf("studio render: %.2f %% of the cloth (less its outline) taken for print, %zu lines\n", 100.0 * printed,
+                detection.folds.size());
     EXPECT_LT(printed, 0.02);  // there is no print (9.6 % of the whole cloth when the valleys were)
     EXPECT_GE(detection.folds.size(), 2u);
 }
@@ -140,8 +140,8 @@ TEST(StudioPhoto, TheOverlayFitSeesTheFoldsAndDrawsThemOnTheCloth) {
     const StudioPhoto& s = studio_photo();
     const compare::OverlayResult r = overlay_fit(s);
     ASSERT_TRUE(r.centre && r.fit && r.score);
-    std::printf("overlay --fit on the studio render: measured n %d, fitted n %d (model %d), F1 %.2f\n",
-                r.centre->folds, r.solution.folds, s.model.folds, r.score->f1);
+    std::printf("overlay --fit on the studio render: measured n %d, fitted n %d (model %d), F1 %.2f\n", r.centre->folds,
+                r.solution.folds, s.model.folds, r.score->f1);
     EXPECT_GE(r.centre->folds, 1);
     EXPECT_LE(std::abs(r.solution.folds - r.centre->folds), 1);
     EXPECT_GT(r.score->f1, 0.3);
