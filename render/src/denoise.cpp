@@ -133,9 +133,9 @@ public:
             Row row(w_);
             for (int y = y0; y < y1; ++y) {
                 if (b)
-                    pass_row<true>(row, y, stride, a, *b, *b, relaxed);
+                    pass_row<true>(row, y, stride, a, *b, relaxed);
                 else
-                    pass_row<false>(row, y, stride, a, a, a, relaxed);
+                    pass_row<false>(row, y, stride, a, a, relaxed);
             }
         });
         a.swap();
@@ -150,14 +150,14 @@ private:
         explicit Row(int w) : e_a(w), e_b(w), nw(w), nw4(w), sum_a(3 * w), wa(w), va(w), sum_b(3 * w), wb(w), vb(w) {}
     };
 
-    // Row y of a pass.  kCross: buffer a is guided by g (== b), b by a; else a by itself (g
-    // and b are a, b unused).  The row is filtered tap by tap: for each of the 9 taps, in the
+    // Row y of a pass.  kCross: buffer a is guided by b (g_lum, g_inv_sigma: the guide's), b
+    // by a; else a by itself (b is a, its own sums unused).  The row is filtered tap by tap: for each of the 9 taps, in the
     // kernel's order, first every pixel's weight terms in a branch-free loop (with SSE2 four
     // pixels at a time), then the taps taken are weighted (exp) and added to each pixel's
     // sums.  Each pixel's sums thus add the same terms in the same order as a pixel-by-pixel
     // loop, and every term is the same expression, so the floats are the same as that loop's.
     template <bool kCross>
-    void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, const Buffer& g, bool relaxed) {
+    void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, bool relaxed) {
         const float* const nx = g_.nx.data();
         const float* const ny = g_.ny.data();
         const float* const nz = g_.nz.data();
@@ -170,9 +170,9 @@ private:
         const float* const ax = g_.ax.data();
         const float* const ay = g_.ay.data();
         const float* const az = g_.az.data();
-        const float* const g_lum = g.lum.data();
+        const float* const g_lum = b.lum.data();
         const float* const a_lum = a.lum.data();
-        const float* const g_inv_sigma = g.inv_sigma.data();
+        const float* const g_inv_sigma = b.inv_sigma.data();
         const float* const a_inv_sigma = a.inv_sigma.data();
         const V3* const a_light = a.light.data();
         const float* const a_variance = a.variance.data();
