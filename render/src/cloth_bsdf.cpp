@@ -163,17 +163,7 @@ BsdfLobes::BsdfLobes(const BsdfParams& params) {
 }
 
 ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3& wo)
-    : p_(params),
-      wo_(wo),
-      ax_(lobes.ax),
-      ay_(lobes.ay),
-      inv_ax2_(lobes.inv_ax2),
-      inv_ay2_(lobes.inv_ay2),
-      d_scale_(lobes.d_scale),
-      sheen_alpha_(lobes.sheen_alpha),
-      sheen_scale_(lobes.sheen_scale) {
-    p_.roughness = lobes.roughness;
-    p_.sheen_roughness = lobes.sheen_roughness;
+    : p_(params), lobes_(lobes), wo_(wo) {
     const float mu = std::clamp(wo_.z(), 0.0f, 1.0f);
     // Anisotropic lobes: Smith's Lambda depends on the roughness projected on the view's
     // azimuth, so look the isotropic table up at that roughness.
@@ -184,20 +174,20 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3&
     const float z2 = sqr(wo_.z());
     std::array<float, 4> q, root;
     _mm_storeu_ps(q.data(),
-                  _mm_div_ps(_mm_set1_ps(sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())), _mm_setr_ps(sxy, z2, 1.0f, 1.0f)));
+                  _mm_div_ps(_mm_set1_ps(sqr(lobes_.ax * wo_.x()) + sqr(lobes_.ay * wo_.y())), _mm_setr_ps(sxy, z2, 1.0f, 1.0f)));
     _mm_storeu_ps(root.data(), _mm_sqrt_ps(_mm_setr_ps(q[0], 1.0f + q[1], 0.0f, 0.0f)));
-    const float alpha_view = sxy > 1e-12f ? root[0] : std::sqrt(ax_ * ay_);
+    const float alpha_view = sxy > 1e-12f ? root[0] : std::sqrt(lobes_.ax * lobes_.ay);
     lambda_o_ = z2 <= 0.0f ? 1e30f : 0.5f * (-1.0f + root[1]);
 #else
     const float alpha_view =
-        sxy > 1e-12f ? std::sqrt((sqr(ax_ * wo_.x()) + sqr(ay_ * wo_.y())) / sxy) : std::sqrt(ax_ * ay_);
-    lambda_o_ = ggx_lambda(wo_, ax_, ay_);
+        sxy > 1e-12f ? std::sqrt((sqr(lobes_.ax * wo_.x()) + sqr(lobes_.ay * wo_.y())) / sxy) : std::sqrt(lobes_.ax * lobes_.ay);
+    lambda_o_ = ggx_lambda(wo_, lobes_.ax, lobes_.ay);
 #endif
     e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
     pdf_scale_ = wo_.z() > 0.0f ? 1.0f / (4.0f * wo_.z() * (1.0f + lambda_o_)) : 0.0f;
-    e_sheen_ = sheen_scale_ > 0.0f ? sheen_albedo(mu, p_.sheen_roughness) : 0.0f;
+    e_sheen_ = lobes_.sheen_scale > 0.0f ? sheen_albedo(mu, lobes_.sheen_roughness) : 0.0f;
     base_weight_ = 1.0f - e_spec_;
-    diffuse_weight_ = base_weight_ * (1.0f - sheen_scale_ * e_sheen_);
+    diffuse_weight_ = base_weight_ * (1.0f - lobes_.sheen_scale * e_sheen_);
     // Lobe selection in proportion to each lobe's share of the albedo.
     const float ws = e_spec_;
     const float wsh = base_weight_ * e_sheen_ * lobes.sheen_luminance;
@@ -226,16 +216,16 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3&
 ClothBsdf::SpecTerms ClothBsdf::spec_terms(const V3& wi) const {
     const V3 sum = wo_ + wi;
     const V3 h = sum * (1.0f / std::sqrt(sum.squaredNorm()));
-    const float e = sqr(h.x()) * inv_ax2_ + sqr(h.y()) * inv_ay2_ + sqr(h.z());
-    const float d = d_scale_ / (e * e);  // GGX D
+    const float e = sqr(h.x()) * lobes_.inv_ax2 + sqr(h.y()) * lobes_.inv_ay2 + sqr(h.z());
+    const float d = lobes_.d_scale / (e * e);  // GGX D
     const float f = schlick(p_.f0, wo_.dot(h)) * d /
-                    ((1.0f + lambda_o_ + ggx_lambda(wi, ax_, ay_)) * 4.0f * wo_.z() * wi.z());
+                    ((1.0f + lambda_o_ + ggx_lambda(wi, lobes_.ax, lobes_.ay)) * 4.0f * wo_.z() * wi.z());
     return {f, d * pdf_scale_};
 }
 
 float ClothBsdf::sheen_d_v(const V3& wi) const {
     const V3 h = normalized3(wo_ + wi);
-    return charlie_d(h.z(), sheen_alpha_) * neubelt_v(wo_.z(), wi.z());
+    return charlie_d(h.z(), lobes_.sheen_alpha) * neubelt_v(wo_.z(), wi.z());
 }
 
 V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
@@ -248,7 +238,7 @@ V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
         f += V3::Constant(spec.f);
         pd += p_spec_ * spec.pdf;
     }
-    if (sheen_scale_ > 0.0f) {
+    if (lobes_.sheen_scale > 0.0f) {
         f += base_weight_ * sheen_d_v(wi) * p_.sheen;
         pd += p_sheen_ / (2.0f * kPiF);
     }
@@ -262,7 +252,7 @@ std::optional<BsdfSample> ClothBsdf::sample(float u_lobe, float u1, float u2) co
     if (wo_.z() <= 0.0f) return std::nullopt;
     V3 wi;
     if (u_lobe < p_spec_) {
-        wi = reflect(wo_, sample_vndf(wo_, ax_, ay_, u1, u2));
+        wi = reflect(wo_, sample_vndf(wo_, lobes_.ax, lobes_.ay, u1, u2));
     } else if (u_lobe < p_spec_ + p_sheen_) {
         wi = sample_uniform_hemisphere(u1, u2);
     } else {

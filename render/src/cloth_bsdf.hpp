@@ -65,16 +65,12 @@ private:
     SpecTerms spec_terms(const V3& wi) const;
     float sheen_d_v(const V3& wi) const;
 
-    BsdfParams p_;
+    BsdfParams p_;     // its roughness and sheen roughness unclamped: lobes_ has the clamped ones
+    BsdfLobes lobes_;  // what does not depend on wo
     V3 wo_;
-    float ax_ = 0.0f, ay_ = 0.0f;
-    float lambda_o_ = 0.0f;  // Smith Lambda of wo, used by every evaluation
-    float inv_ax2_ = 0.0f, inv_ay2_ = 0.0f;  // 1 / alpha^2 along x and y, for D
-    float d_scale_ = 0.0f;    // 1 / (pi ax ay): GGX D = d_scale / e^2
+    float lambda_o_ = 0.0f;   // Smith Lambda of wo, used by every evaluation
     float pdf_scale_ = 0.0f;  // 1 / (4 cos_o (1 + Lambda_o)): the VNDF pdf of a reflection is D times it
-    float sheen_alpha_ = 0.0f;
-    float e_spec_ = 0.0f;          // E_spec(mu_o) including Fresnel
-    float sheen_scale_ = 0.0f;     // s
+    float e_spec_ = 0.0f;     // E_spec(mu_o) including Fresnel
     float e_sheen_ = 0.0f;         // E_sheen(mu_o) for a white sheen
     float base_weight_ = 1.0f;     // 1 - E_spec
     float diffuse_weight_ = 1.0f;  // (1 - E_spec)(1 - s E_sheen)
