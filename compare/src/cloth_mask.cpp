@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 #include <opencv2/imgproc.hpp>
 
@@ -67,6 +68,36 @@ cv::Vec3d median_lab(const cv::Mat& lab, const cv::Rect& r) {
     return out;
 }
 
+constexpr double kSameChroma = 20.0;  // 8-bit CIELAB (a, b) distance within one cloth's colour
+
+double chroma_distance(const cv::Vec3d& lab, const cv::Vec2d& chroma) {
+    return std::hypot(lab[1] - chroma[0], lab[2] - chroma[1]);
+}
+
+// The chroma (CIELAB a, b) of the cloth held just below the supports (0.08-0.2 D below each,
+// 0.08 D wide), when it differs from the background's: what the seed's run should be made of.
+std::optional<cv::Vec2d> held_chroma(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                     const cv::Vec3d& background) {
+    const double d = (b - a).norm();
+    const cv::Rect bounds(0, 0, lab.cols, lab.rows);
+    std::vector<double> ca, cb;
+    for (const Eigen::Vector2d& p : {a, b}) {
+        const cv::Rect patch =
+            cv::Rect(cv::Point(static_cast<int>(p.x() - 0.04 * d), static_cast<int>(p.y() + 0.08 * d)),
+                     cv::Point(static_cast<int>(p.x() + 0.04 * d) + 1, static_cast<int>(p.y() + 0.2 * d) + 1)) &
+            bounds;
+        for (int y = patch.y; y < patch.y + patch.height; ++y)
+            for (int x = patch.x; x < patch.x + patch.width; ++x) {
+                ca.push_back(lab.at<cv::Vec3b>(y, x)[1]);
+                cb.push_back(lab.at<cv::Vec3b>(y, x)[2]);
+            }
+    }
+    if (ca.size() < 4) return std::nullopt;
+    const cv::Vec2d chroma(detail::median(ca), detail::median(cb));
+    if (chroma_distance(background, chroma) < kSameChroma) return std::nullopt;
+    return chroma;
+}
+
 // Where the cloth surely is, to seed GrabCut: a strip on the centre line between the supports
 // (a, b, in the small image), where the cloth first shows going down from the support line.
 // With slack the top edge sags, by half the support distance D or more, and above it the
@@ -74,8 +105,12 @@ cv::Vec3d median_lab(const cv::Mat& lab, const cv::Rect& r) {
 // the first run of rows (0.05 D) that differ from the background seen 0.15-0.35 D above the
 // support line (which a hanging cloth leaves clear; a collar held at the shoulders may rise a
 // little above the line) and agree with each other, and goes on while
-// they do (to 0.25 D).  Without such a run (no background above the line in the picture,
-// or nothing different below it) the strip is 0.1-0.35 D below the line, where a cloth with
+// they do (to 0.25 D).  The first such run can be a background of its own: a rail or shelf
+// above the line and the wall below it, seen between the supports above a deep swag.  So
+// where the cloth held just below each support differs in chroma from the background above,
+// the first run of that chroma is taken (to 1.2 D down), and the first run of any colour only
+// when none has it.  Without such a run (no background above the line in the picture, or
+// nothing different below it) the strip is 0.1-0.35 D below the line, where a cloth with
 // little slack is.
 cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const double d = (b - a).norm();
@@ -98,6 +133,9 @@ cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::V
     for (int y = first; y < lab.rows; ++y) colour[static_cast<std::size_t>(y - first)] = median_lab(lab, rows(y, y));
     const auto at = [&](int y) { return colour[static_cast<std::size_t>(y - first)]; };
     const int longest = std::max(run, static_cast<int>(0.25 * d));
+    const std::optional<cv::Vec2d> held = held_chroma(lab, a, b, background);
+    const int deepest = std::min(last, static_cast<int>(mid.y() + 1.2 * d));
+    std::optional<cv::Rect> first_run;
     for (int y = first; y < last; ++y) {
         const cv::Vec3d top = at(y);
         if (cv::norm(top - background) < kDiffers) continue;
@@ -106,9 +144,14 @@ cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::V
         while (end < std::min(lab.rows, y + longest) && cv::norm(at(end) - background) >= kDiffers &&
                cv::norm(at(end) - top) < kAgrees)
             ++end;
-        if (end - y >= run) return rows(y + 1, end - 1);
+        if (end - y < run) continue;
+        const cv::Rect found = rows(y + 1, end - 1);
+        if (!held || chroma_distance(median_lab(lab, found), *held) < kSameChroma) return found;
+        if (!first_run) first_run = found;
+        if (end >= deepest) break;
+        y = end - 1;
     }
-    return fallback;
+    return first_run ? *first_run : fallback;
 }
 
 // Pixels of the seed's hue: whose linear-light chromaticity (r, g) = (R, G) / (R + G + B)

@@ -148,6 +148,39 @@ TEST(ClothMask, GrabCutSeparatesTheShirtFromTableAndRobot) {
     EXPECT_LT(covered, 0.30 * photo.width * photo.height);
 }
 
+// A red cloth held at two points with a deep swag between them, hung in front of a light wall
+// under a wooden rail that runs just above the supports (as in a workshop): between the
+// supports, below their line, the wall shows down to the swag.  The seed must be the cloth
+// below the swag, not that wall (which differs from the rail above the line as the cloth
+// does); a seed on the wall made the mask the wall between the supports.
+TEST(ClothMask, ADeepSwagUnderARailSeedsOnTheClothNotTheWallBetweenTheSupports) {
+    const int w = 240, h = 200;
+    const float rail[3] = {0.35f, 0.22f, 0.12f}, wall[3] = {0.70f, 0.70f, 0.68f}, red[3] = {0.50f, 0.05f, 0.04f};
+    const auto cloth = [](double x, double y) {
+        if (y < 40 || y > 190) return false;
+        const double left = 80 - 20 * (y - 40) / 150, right = 160 + 20 * (y - 40) / 150;  // the sides
+        const double swag = 40 + 50 * (1 - std::abs(x - 120) / 40);                       // the top edge's V
+        return x >= left && x <= right && y >= swag;
+    };
+    compare::Image img(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float* c = cloth(x, y) ? red : (y < 30 ? rail : wall);
+            const float shade = cloth(x, y) ? float(0.8 + 0.2 * std::cos((x - 120) / 12.0)) : 1.0f;
+            for (int k = 0; k < 3; ++k) img.at(x, y, k) = linear_to_srgb(c[k] * shade);
+        }
+    const auto mask = compare::estimate_cloth_mask(img, compare::SupportPixels{{80, 40}, {160, 40}});
+    EXPECT_EQ(mask.at(120, 60, 0), 0.0f);   // wall between the supports, above the swag
+    EXPECT_EQ(mask.at(120, 150, 0), 1.0f);  // cloth below the swag
+    double both = 0, either = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool truth = cloth(x, y), got = mask.at(x, y, 0) > 0.5f;
+            both += truth && got, either += truth || got;
+        }
+    EXPECT_GT(both / either, 0.85);
+}
+
 TEST(ClothMask, SupportsOutsideOnTopOfEachOtherOrNotFiniteAreRejected) {
     const auto photo = constant_image(50, 40, 3, 0.5f);
     EXPECT_THROW(compare::estimate_cloth_mask(photo, compare::SupportPixels{{10, 10}, {60, 10}}), InputError);
