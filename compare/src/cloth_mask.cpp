@@ -68,34 +68,35 @@ cv::Vec3d median_lab(const cv::Mat& lab, const cv::Rect& r) {
     return out;
 }
 
-constexpr double kSameChroma = 20.0;  // 8-bit CIELAB (a, b) distance within one cloth's colour
+// How far apart two colours are as one cloth's: 8-bit CIELAB distance with lightness at half
+// weight, since shading moves a fold's lightness more than its chroma.  A grey cloth before a
+// white wall differs by lightness alone.
+constexpr double kSameClothLab = 30.0;
 
-double chroma_distance(const cv::Vec3d& lab, const cv::Vec2d& chroma) {
-    return std::hypot(lab[1] - chroma[0], lab[2] - chroma[1]);
+double cloth_distance(const cv::Vec3d& p, const cv::Vec3d& q) {
+    return std::hypot(0.5 * (p[0] - q[0]), std::hypot(p[1] - q[1], p[2] - q[2]));
 }
 
-// The chroma (CIELAB a, b) of the cloth held just below the supports (0.08-0.2 D below each,
-// 0.08 D wide), when it differs from the background's: what the seed's run should be made of.
-std::optional<cv::Vec2d> held_chroma(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+// The colour of the cloth held just below the supports (0.08-0.2 D below each, 0.08 D wide),
+// when it differs from the background's: what the seed's run should be made of.
+std::optional<cv::Vec3d> held_colour(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                      const cv::Vec3d& background) {
     const double d = (b - a).norm();
     const cv::Rect bounds(0, 0, lab.cols, lab.rows);
-    std::vector<double> ca, cb;
+    std::array<std::vector<double>, 3> channel;
     for (const Eigen::Vector2d& p : {a, b}) {
         const cv::Rect patch =
             cv::Rect(cv::Point(static_cast<int>(p.x() - 0.04 * d), static_cast<int>(p.y() + 0.08 * d)),
                      cv::Point(static_cast<int>(p.x() + 0.04 * d) + 1, static_cast<int>(p.y() + 0.2 * d) + 1)) &
             bounds;
         for (int y = patch.y; y < patch.y + patch.height; ++y)
-            for (int x = patch.x; x < patch.x + patch.width; ++x) {
-                ca.push_back(lab.at<cv::Vec3b>(y, x)[1]);
-                cb.push_back(lab.at<cv::Vec3b>(y, x)[2]);
-            }
+            for (int x = patch.x; x < patch.x + patch.width; ++x)
+                for (int c = 0; c < 3; ++c) channel[c].push_back(lab.at<cv::Vec3b>(y, x)[c]);
     }
-    if (ca.size() < 4) return std::nullopt;
-    const cv::Vec2d chroma(detail::median(ca), detail::median(cb));
-    if (chroma_distance(background, chroma) < kSameChroma) return std::nullopt;
-    return chroma;
+    if (channel[0].size() < 4) return std::nullopt;
+    const cv::Vec3d held(detail::median(channel[0]), detail::median(channel[1]), detail::median(channel[2]));
+    if (cloth_distance(background, held) < kSameClothLab) return std::nullopt;
+    return held;
 }
 
 // Where the cloth surely is, to seed GrabCut: a strip on the centre line between the supports
@@ -107,9 +108,9 @@ std::optional<cv::Vec2d> held_chroma(const cv::Mat& lab, const Eigen::Vector2d& 
 // little above the line) and agree with each other, and goes on while
 // they do (to 0.25 D).  The first such run can be a background of its own: a rail or shelf
 // above the line and the wall below it, seen between the supports above a deep swag.  So
-// where the cloth held just below each support differs in chroma from the background above,
-// the first run of that chroma is taken (to 1.2 D down), and the first run of any colour only
-// when none has it.  Without such a run (no background above the line in the picture, or
+// where the cloth held just below each support differs in colour from the background above,
+// the first run of that cloth's colour is taken (to 1.2 D down), and the first run of any
+// colour only when none has it.  Without such a run (no background above the line in the picture, or
 // nothing different below it) the strip is 0.1-0.35 D below the line, where a cloth with
 // little slack is.
 cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -133,7 +134,7 @@ cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::V
     for (int y = first; y < lab.rows; ++y) colour[static_cast<std::size_t>(y - first)] = median_lab(lab, rows(y, y));
     const auto at = [&](int y) { return colour[static_cast<std::size_t>(y - first)]; };
     const int longest = std::max(run, static_cast<int>(0.25 * d));
-    const std::optional<cv::Vec2d> held = held_chroma(lab, a, b, background);
+    const std::optional<cv::Vec3d> held = held_colour(lab, a, b, background);
     const int deepest = std::min(last, static_cast<int>(mid.y() + 1.2 * d));
     std::optional<cv::Rect> first_run;
     for (int y = first; y < last; ++y) {
@@ -146,7 +147,7 @@ cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::V
             ++end;
         if (end - y < run) continue;
         const cv::Rect found = rows(y + 1, end - 1);
-        if (!held || chroma_distance(median_lab(lab, found), *held) < kSameChroma) return found;
+        if (!held || cloth_distance(median_lab(lab, found), *held) < kSameClothLab) return found;
         if (!first_run) first_run = found;
         if (end >= deepest) break;
         y = end - 1;
