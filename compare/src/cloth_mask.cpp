@@ -105,14 +105,13 @@ std::optional<cv::Vec3d> held_colour(const cv::Mat& lab, const Eigen::Vector2d& 
 // background shows through; so the centre line is read downwards and the strip starts at
 // the first run of rows (0.05 D) that differ from the background seen 0.15-0.35 D above the
 // support line (which a hanging cloth leaves clear; a collar held at the shoulders may rise a
-// little above the line) and agree with each other, and goes on while
-// they do (to 0.25 D).  The first such run can be a background of its own: a rail or shelf
-// above the line and the wall below it, seen between the supports above a deep swag.  So
-// where the cloth held just below each support differs in colour from the background above,
-// the first run of that cloth's colour is taken (to 1.2 D down), and the first run of any
-// colour only when none has it.  Without such a run (no background above the line in the picture, or
-// nothing different below it) the strip is 0.1-0.35 D below the line, where a cloth with
-// little slack is.
+// little above the line) and agree with each other, and goes on while they do (to 0.25 D).
+// The first such run can be a background of its own: a rail or shelf above the line and the
+// wall below it, seen between the supports above a deep swag.  So where the cloth held just
+// below each support differs in colour from the background above, the first run of that
+// cloth's colour is taken (to 1.2 D down), and the first run of any colour only when none has
+// it.  Without any run (no background above the line in the picture, or nothing different
+// below it) the strip is 0.1-0.35 D below the line, where a cloth with little slack is.
 cv::Rect cloth_seed(const cv::Mat& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const double d = (b - a).norm();
     const Eigen::Vector2d mid = 0.5 * (a + b);
