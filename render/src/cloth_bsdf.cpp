@@ -12,6 +12,7 @@
 #include "random_stream.hpp"
 #include "vec3_div.hpp"
 #include "foldcast/core/colour.hpp"
+#include "foldcast/core/fast_math.hpp"
 #include "foldcast/core/math.hpp"
 #include "foldcast/core/sampling.hpp"
 
@@ -42,9 +43,9 @@ V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
     const V3 t1 = lensq > 0.0f ? V3(-vh.y(), vh.x(), 0.0f) / std::sqrt(lensq) : V3(1.0f, 0.0f, 0.0f);
     const V3 t2 = vh.cross(t1);
     const float r = std::sqrt(u1);
-    const float phi = 2.0f * kPiF * u2;
-    const float p1 = r * std::cos(phi);
-    float p2 = r * std::sin(phi);
+    const SinCos phi = sincos_turns(u2);  // the azimuth 2 pi u2
+    const float p1 = r * phi.cos;
+    float p2 = r * phi.sin;
     const float s = 0.5f * (1.0f + vh.z());
     p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * p2;
     const V3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 
+#include "foldcast/core/fast_math.hpp"
 #include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
@@ -104,7 +105,8 @@ std::optional<SphericalRectangle> SphericalRectangle::make(const Vec3f& from, co
 Vec3f SphericalRectangle::sample(float u, float v) const {
     // The x of the sample: the solid angle left of it is u times the whole.
     const float au = u * solid_angle_ + k_;
-    const float fu = (std::cos(au) * b0_ - b1_) / std::sin(au);
+    const SinCos a = fast_sincos(au);  // accurate near au = pi too, where sin(au) divides
+    const float fu = (a.cos * b0_ - b1_) / a.sin;
     // With cu = +/-1 / sqrt(F), F = fu^2 + b0^2 >= 1, the paper's xu = -cu z0 / sqrt(1 - cu^2)
     // is -/+z0 / sqrt(F - 1): one square root and one division fewer.
     const float f2 = fu * fu + b0_ * b0_;
