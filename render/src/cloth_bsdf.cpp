@@ -57,7 +57,7 @@ V3 reflect(const V3& w, const V3& h) { return 2.0f * w.dot(h) * h - w; }
 float charlie_d(float cos_h, float alpha) {
     const float inv = 1.0f / alpha;
     const float sin2 = std::max(0.0f, 1.0f - cos_h * cos_h);
-    return (2.0f + inv) * std::pow(sin2, 0.5f * inv) / (2.0f * kPiF);
+    return (2.0f + inv) * fast_pow_unit(sin2, 0.5f * inv) / (2.0f * kPiF);  // no libm powf call
 }
 float neubelt_v(float no, float ni) { return 1.0f / (4.0f * (ni + no - ni * no)); }
 
@@ -159,6 +159,8 @@ BsdfLobes::BsdfLobes(const BsdfParams& params) {
     inv_ax2 = 1.0f / (ax * ax), inv_ay2 = 1.0f / (ay * ay);
     d_scale = 1.0f / (kPiF * ax * ay);
     sheen_alpha = sqr(sheen_roughness);
+    sheen_exponent = 0.5f / sheen_alpha;
+    sheen_d_scale = (2.0f + 1.0f / sheen_alpha) / (2.0f * kPiF);
     sheen_scale = std::clamp(params.sheen.maxCoeff(), 0.0f, 1.0f);
     sheen_luminance = luminance(params.sheen);
 }
@@ -209,24 +211,48 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3&
     }
 }
 
-// The specular lobe's value (f, without the cosine) and its sampling pdf at wi, from one
-// half vector and one D: eval needs both, and the half vector's normalisation and D's
-// divisions were most of the lobe's cost when each was computed twice.
-// Every factor that depends on wo alone is set up in the constructor (D's 1/ax^2, 1/ay^2 and
-// scale, the pdf's scale), so a call costs two square roots and four divisions (it took ten).
+// The specular lobe's value (f, without the cosine) and its sampling pdf at wi.  The half
+// vector is left unnormalised: with s = wo + wi, D's quadratic form of h = s / |s| is that of
+// s over |s|^2, so D = d_scale |s|^4 / e(s)^2, and wo . h = |s| / 2 for unit wo and wi.  So
+// D's quotient and Smith Lambda(wi)'s go in one SSE2 division, |s| and Lambda's root in
+// square roots beside and after it, and the chain is division, square root, division (it
+// was square root, division, division, division).  Every factor that depends on wo alone is
+// set up in the constructor (D's 1/ax^2, 1/ay^2 and scale, the pdf's scale).
 ClothBsdf::SpecTerms ClothBsdf::spec_terms(const V3& wi) const {
     const V3 sum = wo_ + wi;
-    const V3 h = sum * (1.0f / std::sqrt(sum.squaredNorm()));
-    const float e = sqr(h.x()) * lobes_.inv_ax2 + sqr(h.y()) * lobes_.inv_ay2 + sqr(h.z());
-    const float d = lobes_.d_scale / (e * e);  // GGX D
-    const float f = schlick(p_.f0, wo_.dot(h)) * d /
-                    ((1.0f + lambda_o_ + ggx_lambda(wi, lobes_.ax, lobes_.ay)) * 4.0f * wo_.z() * wi.z());
+    const float s2 = sum.squaredNorm();
+    const float e = sqr(sum.x()) * lobes_.inv_ax2 + sqr(sum.y()) * lobes_.inv_ay2 + sqr(sum.z());
+    const float t_num = sqr(lobes_.ax * wi.x()) + sqr(lobes_.ay * wi.y());
+#if defined(__SSE2__)
+    std::array<float, 4> q;
+    _mm_storeu_ps(q.data(), _mm_div_ps(_mm_setr_ps(lobes_.d_scale * (s2 * s2), t_num, 0.0f, 0.0f),
+                                       _mm_setr_ps(e * e, sqr(wi.z()), 1.0f, 1.0f)));
+    const float d = q[0], t = q[1];  // GGX D, and Lambda(wi)'s tan^2 term
+#else
+    const float d = lobes_.d_scale * (s2 * s2) / (e * e), t = t_num / sqr(wi.z());
+#endif
+    const float lambda_i = 0.5f * (-1.0f + std::sqrt(1.0f + t));
+    const float f =
+        schlick(p_.f0, 0.5f * std::sqrt(s2)) * d / ((1.0f + lambda_o_ + lambda_i) * 4.0f * wo_.z() * wi.z());
     return {f, d * pdf_scale_};
 }
 
+// charlie_d(h.z) * neubelt_v as above, with the half vector's sin^2 from the unnormalised
+// sum s = wo + wi, (s.x^2 + s.y^2) / |s|^2 (no square root), that quotient and V's in one
+// SSE2 division, and D's exponent and scale from the lobes.
 float ClothBsdf::sheen_d_v(const V3& wi) const {
-    const V3 h = normalized3(wo_ + wi);
-    return charlie_d(h.z(), lobes_.sheen_alpha) * neubelt_v(wo_.z(), wi.z());
+    const V3 sum = wo_ + wi;
+    const float across = sqr(sum.x()) + sqr(sum.y());
+    const float no = wo_.z(), ni = wi.z();
+#if defined(__SSE2__)
+    std::array<float, 4> q;
+    _mm_storeu_ps(q.data(), _mm_div_ps(_mm_setr_ps(across, 1.0f, 0.0f, 0.0f),
+                                       _mm_setr_ps(across + sqr(sum.z()), 4.0f * (ni + no - ni * no), 1.0f, 1.0f)));
+    const float sin2 = q[0], v = q[1];
+#else
+    const float sin2 = across / (across + sqr(sum.z())), v = neubelt_v(no, ni);
+#endif
+    return lobes_.sheen_d_scale * fast_pow_unit(sin2, lobes_.sheen_exponent) * v;
 }
 
 V3 ClothBsdf::eval(const V3& wi, float* pdf) const {

@@ -35,6 +35,7 @@ struct BsdfLobes {
     float inv_ax2 = 0.0f, inv_ay2 = 0.0f;            // 1 / alpha^2 along x and y, for D
     float d_scale = 0.0f;                            // 1 / (pi ax ay): GGX D = d_scale / e^2
     float sheen_alpha = 0.0f;
+    float sheen_exponent = 0.0f, sheen_d_scale = 0.0f;  // Charlie D = scale sin(h)^(2 exponent)
     float sheen_scale = 0.0f;  // s = max(sheen colour)
     float sheen_luminance = 0.0f;
 };

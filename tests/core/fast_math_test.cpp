@@ -62,6 +62,35 @@ TEST(FastMath, ExpAgreesWithLibm) {
     EXPECT_LT(fast_exp(-200.0f), 1e-37f);
 }
 
+TEST(FastMath, Log2AndExp2AgreeWithLibm) {
+    double worst_log = 0.0, worst_exp2 = 0.0;
+    for (int i = 1; i <= 1 << 20; ++i) {
+        const float x = static_cast<float>(i) * 0x1.0p-18f;  // (0, 4]
+        const double l = std::log2(static_cast<double>(x));
+        worst_log = std::max(worst_log, std::abs(fast_log2(x) - l) / (1.0 + std::abs(l)));  // ~2 ulp
+        const float y = static_cast<float>(i - (1 << 19)) * 0x1.0p-14f;                     // [-32, 32]
+        worst_exp2 = std::max(worst_exp2, std::abs(fast_exp2(y) / std::exp2(static_cast<double>(y)) - 1.0));
+    }
+    EXPECT_LT(worst_log, 3e-7);  // of 1 + |log2 x|
+    EXPECT_LT(worst_exp2, 3e-7);
+    EXPECT_EQ(fast_log2(1.0f), 0.0f);
+    EXPECT_EQ(fast_log2(0.25f), -2.0f);
+    EXPECT_EQ(fast_exp2(3.0f), 8.0f);
+}
+
+TEST(FastMath, PowOfUnitIntervalAgreesWithLibm) {
+    double worst = 0.0;
+    for (const float y : {0.5f, 3.7f, 20.0f, 100.0f})
+        for (int i = 1; i <= 1 << 16; ++i) {
+            const float x = static_cast<float>(i) * 0x1.0p-16f;  // (0, 1]
+            const double p = std::pow(static_cast<double>(x), static_cast<double>(y));
+            if (p < 1e-30) continue;  // beside the float range's end
+            worst = std::max(worst, std::abs(fast_pow_unit(x, y) / p - 1.0) / (1.0 + std::abs(std::log2(p))));
+        }
+    EXPECT_LT(worst, 4e-7);  // of 1 + |log2 x^y|
+    EXPECT_LT(fast_pow_unit(0.0f, 2.0f), 1e-30f);
+}
+
 #if defined(__SSE2__)
 TEST(FastMath, ExpLanesAreTheScalarFloats) {
     for (int i = -4000; i < 4000; i += 4) {

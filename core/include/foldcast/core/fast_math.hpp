@@ -1,13 +1,13 @@
 #pragma once
-// sin, cos and exp for the path tracer's inner loops, inline and without branches: libm's
-// sincosf and expf were 5 % of a turntable's CPU, mostly the call and its argument checks
+// sin, cos, exp, exp2, log2 and pow for the path tracer's inner loops, inline and without
+// branches: libm's sincosf, expf and powf were 6 % of a turntable's CPU, mostly the call and its argument checks
 // for ranges the tracer never passes.  Each is a range reduction and a short polynomial on
 // the reduced range, the coefficients fitted here (Lawson-iterated least squares for the
 // smallest largest relative error, in long double; the fit is not part of the build).
 // Accuracy, checked by tests/core/fast_math_test.cpp against libm: sin and cos within 2e-7
 // absolute and sin within 1e-6 relative away from its zeros (in turns: also near them), exp
-// within 3e-7 relative.  No FMA under the x86-64 baseline, so the SSE2 lanes of fast_exp4
-// give the scalar function's floats.
+// within 3e-7 relative, log2 within 3e-7 (1 + |log2 x|).  No FMA under the x86-64 baseline, so the SSE2 lanes of
+// fast_exp4 give the scalar function's floats.
 #include <bit>
 #include <cstdint>
 
@@ -81,6 +81,40 @@ inline float fast_exp(float x) {
     const auto scale = std::bit_cast<float>(static_cast<std::uint32_t>(static_cast<std::int32_t>(k) + 127) << 23);
     return p * scale;
 }
+
+// 2^y, y clamped to [-126, 127]: 2^k in the exponent bits times e^((y - k) ln 2), exp's
+// polynomial (the product's rounding adds < 6e-8 relative).
+inline float fast_exp2(float y) {
+    y = y < -126.0f ? -126.0f : (y > 127.0f ? 127.0f : y);
+    const float k = fast_math_detail::round_nearest(y);
+    const float r = (y - k) * 0.693147181f;
+    const float p =
+        1.0f + (r + (r * r) * (4.9999993452e-01f +
+                               r * (1.6666520690e-01f +
+                                    r * (4.1668387365e-02f + r * (8.3687098318e-03f + r * 1.3814613093e-03f)))));
+    return p * std::bit_cast<float>(static_cast<std::uint32_t>(static_cast<std::int32_t>(k) + 127) << 23);
+}
+
+// log2 x for a normal positive x: x = 2^e m with m in [sqrt(1/2), sqrt(2)) taken from the bits
+// (subtracting sqrt(1/2)'s bits puts that range's exponent at 0), then log2 m = (m - 1) L(m - 1)
+// by a degree-7 polynomial, absolute error < 5e-8 |log2 m| plus the float roundings.
+inline float fast_log2(float x) {
+    const auto bits = std::bit_cast<std::int32_t>(x);
+    const std::int32_t e = (bits - 0x3f3504f3) >> 23;  // arithmetic shift: floor
+    const float m = std::bit_cast<float>(bits - static_cast<std::int32_t>(static_cast<std::uint32_t>(e) << 23)) - 1.0f;
+    const float l = 1.4426947724e+00f +
+                    m * (-7.2135714893e-01f +
+                         m * (4.8093944476e-01f +
+                              m * (-3.6008721557e-01f +
+                                   m * (2.8670745711e-01f +
+                                        m * (-2.5006904690e-01f + m * (2.3689036679e-01f + m * -1.4574444206e-01f))))));
+    return static_cast<float>(e) + m * l;
+}
+
+// x^y for x in [0, 1] and y > 0 (the sheen's sin^(1/alpha)): 2^(y log2 x), x below 1e-30
+// taken as 1e-30 (its power is then below 2^-99 y, nothing beside the lobe's other terms).
+// Relative error below 4e-7 (1 + |y log2 x|).
+inline float fast_pow_unit(float x, float y) { return fast_exp2(y * fast_log2(x < 1e-30f ? 1e-30f : x)); }
 
 #if defined(__SSE2__)
 // fast_exp of four lanes: the same operations in the same order, so the same floats.
