@@ -95,6 +95,7 @@ std::optional<SphericalRectangle> SphericalRectangle::make(const Vec3f& from, co
                 g2 = interior_angle(r.x0_ * r.y1_ / (l2 * l3)), g3 = interior_angle(-r.x0_ * r.y0_ / (l3 * l0));
 #endif
     r.b0_ = -r.y0_ / l0;
+    r.one_minus_b0sq_ = z0sq / (l0 * l0);  // 1 - b0^2 without the cancellation
     r.b1_ = r.y1_ / l2;
     r.k_ = 2.0f * kPiF - g2 - g3;
     r.solid_angle_ = g0 + g1 - r.k_;
@@ -105,12 +106,14 @@ std::optional<SphericalRectangle> SphericalRectangle::make(const Vec3f& from, co
 Vec3f SphericalRectangle::sample(float u, float v) const {
     // The x of the sample: the solid angle left of it is u times the whole.
     const float au = u * solid_angle_ + k_;
-    const SinCos a = fast_sincos(au);  // accurate near au = pi too, where sin(au) divides
-    const float fu = (a.cos * b0_ - b1_) / a.sin;
-    // With cu = +/-1 / sqrt(F), F = fu^2 + b0^2 >= 1, the paper's xu = -cu z0 / sqrt(1 - cu^2)
-    // is -/+z0 / sqrt(F - 1): one square root and one division fewer.
-    const float f2 = fu * fu + b0_ * b0_;
-    const float xu = std::clamp((fu > 0.0f ? -z0_ : z0_) / std::sqrt(std::max(1e-14f, f2 - 1.0f)), x0_, x1_);
+    const SinCos a = fast_sincos(au);  // accurate near au = pi too, where sin(au) vanishes
+    // The paper's fu = n / sin(au), n = cos(au) b0 - b1.  With cu = +/-1 / sqrt(F),
+    // F = fu^2 + b0^2 >= 1, its xu = -cu z0 / sqrt(1 - cu^2) is -/+z0 / sqrt(F - 1), and
+    // F - 1 = (n^2 - (1 - b0^2) sin^2) / sin^2, so xu = -/+z0 sin / sqrt(n^2 - (1 - b0^2) sin^2)
+    // (the sign that of -fu taken as n's against sin's): one square root and one division.
+    const float n = a.cos * b0_ - b1_, sin2 = a.sin * a.sin;
+    const float t = z0_ * a.sin / std::sqrt(std::max(1e-14f * sin2, n * n - one_minus_b0sq_ * sin2));
+    const float xu = std::clamp(n > 0.0f ? -t : t, x0_, x1_);
     // Its y: uniform in the projected height of that column.
     const float dist2 = xu * xu + z0_ * z0_;
 #if defined(__SSE2__)
