@@ -5,6 +5,7 @@
 
 #include "foldcast/render.hpp"
 #include "foldcast/core/math.hpp"
+#include "vec3_div.hpp"
 
 namespace foldcast::render {
 
@@ -30,7 +31,7 @@ public:
         Vec3f d = (forward_ + sx * right_ + sy * up_);
         if (aperture_ <= 0.0f) {
             *origin = origin_;
-            *direction = d.normalized();
+            *direction = normalized3(d);  // Eigen's normalized(), its three divisions in one
             return;
         }
         // Thin lens: uniform disc (concentric-free polar mapping is fine for a round bokeh).
