@@ -158,6 +158,8 @@ BsdfLobes::BsdfLobes(const BsdfParams& params) {
     ay = std::max(kMinAlpha, alpha * aspect);
     inv_ax2 = 1.0f / (ax * ax), inv_ay2 = 1.0f / (ay * ay);
     d_scale = 1.0f / (kPiF * ax * ay);
+    isotropic = ax == ay;
+    table_roughness = std::sqrt(std::sqrt(ax * ay));  // the albedo table's (perceptual) roughness
     sheen_alpha = sqr(sheen_roughness);
     sheen_exponent = 0.5f / sheen_alpha;
     sheen_d_scale = (2.0f + 1.0f / sheen_alpha) / (2.0f * kPiF);
@@ -169,25 +171,25 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3&
     : p_(params), lobes_(lobes), wo_(wo) {
     const float mu = std::clamp(wo_.z(), 0.0f, 1.0f);
     // Anisotropic lobes: Smith's Lambda depends on the roughness projected on the view's
-    // azimuth, so look the isotropic table up at that roughness.
+    // azimuth, so look the isotropic table up at that roughness (for an isotropic lobe it is
+    // the lobe's own, set up with the lobes: the look-up then waits on no division).
     const float sxy = sqr(wo_.x()) + sqr(wo_.y());
+    const float z2 = sqr(wo_.z());
+    const float t_num = sqr(lobes_.ax * wo_.x()) + sqr(lobes_.ay * wo_.y());
+    float table_roughness = lobes_.table_roughness;
 #if defined(__SSE2__)
     // That roughness and Smith's Lambda(wo) (ggx_lambda) share their numerator: both
-    // quotients in one SSE2 division and both roots in one square root (the same floats).
-    const float z2 = sqr(wo_.z());
+    // quotients in one SSE2 division and both roots in one square root.
     std::array<float, 4> q, root;
-    _mm_storeu_ps(q.data(),
-                  _mm_div_ps(_mm_set1_ps(sqr(lobes_.ax * wo_.x()) + sqr(lobes_.ay * wo_.y())), _mm_setr_ps(sxy, z2, 1.0f, 1.0f)));
+    _mm_storeu_ps(q.data(), _mm_div_ps(_mm_set1_ps(t_num), _mm_setr_ps(sxy, z2, 1.0f, 1.0f)));
     _mm_storeu_ps(root.data(), _mm_sqrt_ps(_mm_setr_ps(q[0], 1.0f + q[1], 0.0f, 0.0f)));
-    const float alpha_view = sxy > 1e-12f ? root[0] : std::sqrt(lobes_.ax * lobes_.ay);
+    if (!lobes_.isotropic && sxy > 1e-12f) table_roughness = std::sqrt(root[0]);
     lambda_o_ = z2 <= 0.0f ? 1e30f : 0.5f * (-1.0f + root[1]);
 #else
-    const float alpha_view =
-        sxy > 1e-12f ? std::sqrt((sqr(lobes_.ax * wo_.x()) + sqr(lobes_.ay * wo_.y())) / sxy) : std::sqrt(lobes_.ax * lobes_.ay);
+    if (!lobes_.isotropic && sxy > 1e-12f) table_roughness = std::sqrt(std::sqrt(t_num / sxy));
     lambda_o_ = ggx_lambda(wo_, lobes_.ax, lobes_.ay);
 #endif
-    e_spec_ = ggx_albedo(mu, std::sqrt(alpha_view), p_.f0);
-    pdf_scale_ = wo_.z() > 0.0f ? 1.0f / (4.0f * wo_.z() * (1.0f + lambda_o_)) : 0.0f;
+    e_spec_ = ggx_albedo(mu, table_roughness, p_.f0);
     e_sheen_ = lobes_.sheen_scale > 0.0f ? sheen_albedo(mu, lobes_.sheen_roughness) : 0.0f;
     base_weight_ = 1.0f - e_spec_;
     diffuse_weight_ = base_weight_ * (1.0f - lobes_.sheen_scale * e_sheen_);
@@ -196,19 +198,21 @@ ClothBsdf::ClothBsdf(const BsdfParams& params, const BsdfLobes& lobes, const V3&
     const float wsh = base_weight_ * e_sheen_ * lobes.sheen_luminance;
     const float wd = diffuse_weight_ * luminance(p_.diffuse);
     const float sum = ws + wsh + wd;
-    if (sum > 0.0f) {
+    const float pdf_denominator = 4.0f * wo_.z() * (1.0f + lambda_o_);
 #if defined(__SSE2__)
-        std::array<float, 4> shares;  // the three quotients in one division
-        _mm_storeu_ps(shares.data(), _mm_div_ps(_mm_setr_ps(ws, wsh, wd, 0.0f), _mm_set1_ps(sum)));
-        p_spec_ = shares[0], p_sheen_ = shares[1], p_diffuse_ = shares[2];
+    // The three shares and the VNDF pdf's scale in one division.
+    std::array<float, 4> shares;
+    _mm_storeu_ps(shares.data(), _mm_div_ps(_mm_setr_ps(ws, wsh, wd, 1.0f),
+                                            _mm_setr_ps(sum > 0.0f ? sum : 1.0f, sum > 0.0f ? sum : 1.0f,
+                                                        sum > 0.0f ? sum : 1.0f, pdf_denominator)));
+    pdf_scale_ = wo_.z() > 0.0f ? shares[3] : 0.0f;
+    if (sum > 0.0f) p_spec_ = shares[0], p_sheen_ = shares[1], p_diffuse_ = shares[2];
 #else
-        p_spec_ = ws / sum;
-        p_sheen_ = wsh / sum;
-        p_diffuse_ = wd / sum;
+    pdf_scale_ = wo_.z() > 0.0f ? 1.0f / pdf_denominator : 0.0f;
+    if (sum > 0.0f) p_spec_ = ws / sum, p_sheen_ = wsh / sum, p_diffuse_ = wd / sum;
 #endif
-    } else {
+    else
         p_spec_ = 1.0f;
-    }
 }
 
 // The specular lobe's value (f, without the cosine) and its sampling pdf at wi.  The half

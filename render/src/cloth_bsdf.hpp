@@ -34,6 +34,9 @@ struct BsdfLobes {
     float ax = 0.0f, ay = 0.0f;                      // GGX alphas along x and y
     float inv_ax2 = 0.0f, inv_ay2 = 0.0f;            // 1 / alpha^2 along x and y, for D
     float d_scale = 0.0f;                            // 1 / (pi ax ay): GGX D = d_scale / e^2
+    bool isotropic = true;                           // ax == ay: the view's roughness is the lobe's
+    float table_roughness = 0.0f;                    // sqrt(sqrt(ax ay)): the albedo table's at any
+                                                     // view of an isotropic lobe, and looking down
     float sheen_alpha = 0.0f;
     float sheen_exponent = 0.0f, sheen_d_scale = 0.0f;  // Charlie D = scale sin(h)^(2 exponent)
     float sheen_scale = 0.0f;  // s = max(sheen colour)

@@ -103,8 +103,10 @@ LightChoice LightSampler::choose(const Vec3f& p, const Vec3f& n) const {
     constexpr float kMinEnvironmentShare = 0.25f;
     if (count > 0 && c.prob[count] < kMinEnvironmentShare * (sum + c.prob[count])) c.prob[count] = 0.0f;
     sum += c.prob[count];
-    if (sum > 0.0f)
-        for (int i = 0; i <= count; ++i) c.prob[i] /= sum;
+    if (sum > 0.0f) {
+        const float inv_sum = 1.0f / sum;  // one division, not one per option
+        for (int i = 0; i <= count; ++i) c.prob[i] *= inv_sum;
+    }
     c.options = count + 1;
     return c;
 }
