@@ -158,6 +158,30 @@ private:
     // floats) in a branch-free loop (with SSE2 four pixels at a time), then the taps taken are weighted and added to
     // each pixel's sums.  Each pixel's sums thus add the same terms in the same order as a pixel-by-pixel loop, and
     // every term is the same expression, so the floats are the same as that loop's.
+#if defined(__SSE2__)
+    // The weighted sums of four pixels' taps (pass_row's scalar loop for each lane where
+    // `taken` is set and the exponent is within kMaxExponent; the same products in the same
+    // order): the colours are three floats a pixel, so the four weights are spread over
+    // three registers to meet twelve contiguous floats of the sums and of the taps' colours.
+    static void accumulate4(__m128 taken, __m128 k, const float* e, const float* ex, float* sum, float* wsum,
+                            float* vsum, const V3* light, const float* variance) {
+        const __m128 m = _mm_and_ps(taken, _mm_cmple_ps(_mm_loadu_ps(e), _mm_set1_ps(kMaxExponent)));
+        const __m128 wt = _mm_mul_ps(k, _mm_loadu_ps(ex));
+        static_assert(sizeof(V3) == 3 * sizeof(float), "V3: three packed floats");
+        const float* const l = reinterpret_cast<const float*>(light);
+        const auto add = [&](int at, __m128 w, __m128 mask) {
+            _mm_storeu_ps(sum + at,
+                          _mm_add_ps(_mm_loadu_ps(sum + at), _mm_and_ps(mask, _mm_mul_ps(w, _mm_loadu_ps(l + at)))));
+        };
+        add(0, _mm_shuffle_ps(wt, wt, _MM_SHUFFLE(1, 0, 0, 0)), _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 0, 0)));
+        add(4, _mm_shuffle_ps(wt, wt, _MM_SHUFFLE(2, 2, 1, 1)), _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 2, 1, 1)));
+        add(8, _mm_shuffle_ps(wt, wt, _MM_SHUFFLE(3, 3, 3, 2)), _mm_shuffle_ps(m, m, _MM_SHUFFLE(3, 3, 3, 2)));
+        _mm_storeu_ps(wsum, _mm_add_ps(_mm_loadu_ps(wsum), _mm_and_ps(m, wt)));
+        _mm_storeu_ps(vsum, _mm_add_ps(_mm_loadu_ps(vsum),
+                                       _mm_and_ps(m, _mm_mul_ps(_mm_mul_ps(wt, wt), _mm_loadu_ps(variance)))));
+    }
+#endif
+
     template <bool kCross>
     void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, bool relaxed) {
         const float* const nx = g_.nx.data();
@@ -311,7 +335,23 @@ private:
                         if (same_cloth && covered[i] && covered[j] && !(sky[i] && sky[j])) nw[x] = nw4[x];
                     }
                 const float kernel = kKernel[dx + 1] * kKernel[dy + 1];
-                for (int x = x0; x < x1; ++x) {
+                int x = x0;
+#if defined(__SSE2__)
+                // Four pixels at a time, branch-free: a tap not taken adds masked zeros
+                // (+0 leaves every sum as it is), a taken one the loop's products below.
+                const __m128 kernel4 = _mm_set1_ps(kernel);
+                for (; x + 4 <= x1; x += 4) {
+                    const std::ptrdiff_t j = r + x + offset;
+                    const __m128 n = _mm_loadu_ps(nw + x);
+                    const __m128 taken = _mm_cmpneq_ps(n, _mm_setzero_ps());
+                    const __m128 k = _mm_mul_ps(kernel4, n);
+                    accumulate4(taken, k, e_a + x, x_a + x, sum_a + 3 * x, wa + x, va + x, a_light + j, a_variance + j);
+                    if (kCross)
+                        accumulate4(taken, k, e_b + x, x_b + x, sum_b + 3 * x, wb + x, vb + x, b_light + j,
+                                    b_variance + j);
+                }
+#endif
+                for (; x < x1; ++x) {
                     if (nw[x] == 0.0f) continue;
                     const std::ptrdiff_t j = r + x + offset;
                     const float k = kernel * nw[x];
