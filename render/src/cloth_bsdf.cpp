@@ -259,15 +259,43 @@ float ClothBsdf::sheen_d_v(const V3& wi) const {
     return lobes_.sheen_d_scale * fast_pow_unit(sin2, lobes_.sheen_exponent) * v;
 }
 
-V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
-    *pdf = 0.0f;
-    if (wi.z() <= 0.0f || wo_.z() <= 0.0f) return V3::Zero();
+#if defined(__SSE2__)
+// spec_terms of two directions, each lane spec_terms' operations in its order: D's and
+// Lambda's quotients of both in one division, the four roots in one square root, the two
+// values in one division.
+void ClothBsdf::spec_terms2(const V3& wi_a, const V3& wi_b, SpecTerms* a, SpecTerms* b) const {
+    const V3 sa = wo_ + wi_a, sb = wo_ + wi_b;
+    const float s2a = sa.squaredNorm(), s2b = sb.squaredNorm();
+    const float ea = sqr(sa.x()) * lobes_.inv_ax2 + sqr(sa.y()) * lobes_.inv_ay2 + sqr(sa.z());
+    const float eb = sqr(sb.x()) * lobes_.inv_ax2 + sqr(sb.y()) * lobes_.inv_ay2 + sqr(sb.z());
+    const float ta = sqr(lobes_.ax * wi_a.x()) + sqr(lobes_.ay * wi_a.y());
+    const float tb = sqr(lobes_.ax * wi_b.x()) + sqr(lobes_.ay * wi_b.y());
+    std::array<float, 4> q, root, f;
+    _mm_storeu_ps(q.data(), _mm_div_ps(_mm_setr_ps(lobes_.d_scale * (s2a * s2a), lobes_.d_scale * (s2b * s2b), ta, tb),
+                                       _mm_setr_ps(ea * ea, eb * eb, sqr(wi_a.z()), sqr(wi_b.z()))));
+    _mm_storeu_ps(root.data(), _mm_sqrt_ps(_mm_setr_ps(1.0f + q[2], 1.0f + q[3], s2a, s2b)));
+    const float lambda_a = 0.5f * (-1.0f + root[0]), lambda_b = 0.5f * (-1.0f + root[1]);
+    _mm_storeu_ps(f.data(),
+                  _mm_div_ps(_mm_setr_ps(schlick(p_.f0, 0.5f * root[2]) * q[0], schlick(p_.f0, 0.5f * root[3]) * q[1],
+                                         0.0f, 0.0f),
+                             _mm_setr_ps((1.0f + lambda_o_ + lambda_a) * 4.0f * wo_.z() * wi_a.z(),
+                                         (1.0f + lambda_o_ + lambda_b) * 4.0f * wo_.z() * wi_b.z(), 1.0f, 1.0f)));
+    *a = {f[0], q[0] * pdf_scale_};
+    *b = {f[1], q[1] * pdf_scale_};
+}
+#else
+void ClothBsdf::spec_terms2(const V3& wi_a, const V3& wi_b, SpecTerms* a, SpecTerms* b) const {
+    *a = spec_terms(wi_a);
+    *b = spec_terms(wi_b);
+}
+#endif
+
+V3 ClothBsdf::eval_rest(const V3& wi, const SpecTerms* spec, float* pdf) const {
     V3 f = V3::Zero();
     float pd = 0.0f;
-    if (p_spec_ > 0.0f || e_spec_ > 0.0f) {
-        const SpecTerms spec = spec_terms(wi);
-        f += V3::Constant(spec.f);
-        pd += p_spec_ * spec.pdf;
+    if (spec) {
+        f += V3::Constant(spec->f);
+        pd += p_spec_ * spec->pdf;
     }
     if (lobes_.sheen_scale > 0.0f) {
         f += base_weight_ * sheen_d_v(wi) * p_.sheen;
@@ -279,7 +307,30 @@ V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
     return f * wi.z();
 }
 
-std::optional<BsdfSample> ClothBsdf::sample(float u_lobe, float u1, float u2) const {
+V3 ClothBsdf::eval(const V3& wi, float* pdf) const {
+    *pdf = 0.0f;
+    if (wi.z() <= 0.0f || wo_.z() <= 0.0f) return V3::Zero();
+    if (p_spec_ > 0.0f || e_spec_ > 0.0f) {
+        const SpecTerms spec = spec_terms(wi);
+        return eval_rest(wi, &spec, pdf);
+    }
+    return eval_rest(wi, nullptr, pdf);
+}
+
+void ClothBsdf::eval2(const V3& wi_a, const V3& wi_b, V3* f_a, float* pdf_a, V3* f_b, float* pdf_b) const {
+    const bool above_a = wi_a.z() > 0.0f && wo_.z() > 0.0f, above_b = wi_b.z() > 0.0f && wo_.z() > 0.0f;
+    if (!(above_a && above_b) || !(p_spec_ > 0.0f || e_spec_ > 0.0f)) {
+        *f_a = eval(wi_a, pdf_a);
+        *f_b = eval(wi_b, pdf_b);
+        return;
+    }
+    SpecTerms sa, sb;
+    spec_terms2(wi_a, wi_b, &sa, &sb);
+    *f_a = eval_rest(wi_a, &sa, pdf_a);
+    *f_b = eval_rest(wi_b, &sb, pdf_b);
+}
+
+std::optional<V3> ClothBsdf::sample_direction(float u_lobe, float u1, float u2) const {
     if (wo_.z() <= 0.0f) return std::nullopt;
     V3 wi;
     if (u_lobe < p_spec_) {
@@ -290,10 +341,16 @@ std::optional<BsdfSample> ClothBsdf::sample(float u_lobe, float u1, float u2) co
         wi = sample_cosine_hemisphere(u1, u2);
     }
     if (wi.z() <= 1e-6f) return std::nullopt;
+    return wi;
+}
+
+std::optional<BsdfSample> ClothBsdf::sample(float u_lobe, float u1, float u2) const {
+    const std::optional<V3> wi = sample_direction(u_lobe, u1, u2);
+    if (!wi) return std::nullopt;
     float pdf = 0.0f;
-    const V3 fc = eval(wi, &pdf);
+    const V3 fc = eval(*wi, &pdf);
     if (!(pdf > 0.0f)) return std::nullopt;
-    return BsdfSample{wi, fc / pdf, pdf};
+    return BsdfSample{*wi, fc / pdf, pdf};
 }
 
 V3 ClothBsdf::albedo() const {

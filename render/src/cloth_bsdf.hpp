@@ -59,6 +59,12 @@ public:
     V3 eval(const V3& wi, float* pdf) const;
     // Samples wi from the lobe mixture with three uniforms; nothing if no direction.
     std::optional<BsdfSample> sample(float u_lobe, float u1, float u2) const;
+    // The direction sample() draws (before it evaluates there); nothing if none.
+    std::optional<V3> sample_direction(float u_lobe, float u1, float u2) const;
+    // eval at two directions at once (a vertex's light sample and its BSDF sample): both
+    // specular terms in SSE2 lanes, so that their divisions and square roots overlap.  The
+    // same floats as two eval calls.
+    void eval2(const V3& wi_a, const V3& wi_b, V3* f_a, float* pdf_a, V3* f_b, float* pdf_b) const;
     // Directional albedo estimate (for Russian roulette and the albedo AOV).
     V3 albedo() const;
 
@@ -67,6 +73,9 @@ private:
         float f, pdf;
     };
     SpecTerms spec_terms(const V3& wi) const;
+    void spec_terms2(const V3& wi_a, const V3& wi_b, SpecTerms* a, SpecTerms* b) const;
+    // eval's terms other than the specular ones, added to spec's.
+    V3 eval_rest(const V3& wi, const SpecTerms* spec, float* pdf) const;
     float sheen_d_v(const V3& wi) const;
 
     BsdfParams p_;     // its roughness and sheen roughness unclamped: lobes_ has the clamped ones
