@@ -83,20 +83,26 @@ std::optional<SphericalRectangle> SphericalRectangle::make(const Vec3f& from, co
     const __m128 l_next = _mm_shuffle_ps(l, l, _MM_SHUFFLE(0, 3, 2, 1));  // l1, l2, l3, l0
     const __m128 numerator =
         _mm_mul_ps(_mm_setr_ps(r.y0_, -r.x1_, r.x0_, -r.x0_), _mm_setr_ps(r.x1_, r.y1_, r.y1_, r.y0_));
-    std::array<float, 4> ls, gs;
+    std::array<float, 4> ls, gs, bs;
     _mm_storeu_ps(ls.data(), l);
     _mm_storeu_ps(gs.data(), interior_angles(_mm_div_ps(numerator, _mm_mul_ps(l, l_next))));
-    const float l0 = ls[0], l2 = ls[2];
+    // b0, b1 and 1 - b0^2 (as below) in a second division beside the cosines'.
+    const __m128 l0l2 = _mm_shuffle_ps(l, l, _MM_SHUFFLE(0, 0, 2, 0));  // l0, l2, l0, l0
+    _mm_storeu_ps(bs.data(), _mm_div_ps(_mm_setr_ps(-r.y0_, r.y1_, z0sq, 0.0f),
+                                        _mm_mul_ps(l0l2, _mm_setr_ps(1.0f, 1.0f, ls[0], 1.0f))));
     const float g0 = gs[0], g1 = gs[1], g2 = gs[2], g3 = gs[3];
+    r.b0_ = bs[0];
+    r.b1_ = bs[1];
+    r.one_minus_b0sq_ = bs[2];  // 1 - b0^2 without the cancellation
 #else
     const float l0 = std::sqrt(z0sq + r.y0_ * r.y0_), l1 = std::sqrt(z0sq + r.x1_ * r.x1_),
                 l2 = std::sqrt(z0sq + r.y1_ * r.y1_), l3 = std::sqrt(z0sq + r.x0_ * r.x0_);
     const float g0 = interior_angle(r.y0_ * r.x1_ / (l0 * l1)), g1 = interior_angle(-r.x1_ * r.y1_ / (l1 * l2)),
                 g2 = interior_angle(r.x0_ * r.y1_ / (l2 * l3)), g3 = interior_angle(-r.x0_ * r.y0_ / (l3 * l0));
-#endif
     r.b0_ = -r.y0_ / l0;
     r.one_minus_b0sq_ = z0sq / (l0 * l0);  // 1 - b0^2 without the cancellation
     r.b1_ = r.y1_ / l2;
+#endif
     r.k_ = 2.0f * kPiF - g2 - g3;
     r.solid_angle_ = g0 + g1 - r.k_;
     if (!(r.solid_angle_ > kMinSolidAngle)) return std::nullopt;
