@@ -107,19 +107,51 @@ public:
                         const float* const variance = b.variance.data() + q0;
                         const std::int32_t* const covered = g_.covered.data() + q0;
                         const float k = kKernel[dx + 1] * kKernel[dy + 1];
-                        for (int x = x0; x < x1; ++x) {
+                        int x = x0;
+#if defined(__SSE2__)
+                        // Four pixels at a time, each lane the loop's select and sums below.
+                        const __m128 k4 = _mm_set1_ps(k);
+                        for (; x + 4 <= x1; x += 4) {
+                            const __m128 taken = _mm_castsi128_ps(_mm_cmpeq_epi32(
+                                _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(covered + (x - x0))),
+                                                _mm_setzero_si128()),
+                                _mm_setzero_si128()));
+                            _mm_storeu_ps(
+                                &sum[x],
+                                _mm_add_ps(_mm_loadu_ps(&sum[x]),
+                                           _mm_and_ps(taken, _mm_mul_ps(k4, _mm_loadu_ps(variance + (x - x0))))));
+                            _mm_storeu_ps(&sum_w[x], _mm_add_ps(_mm_loadu_ps(&sum_w[x]), _mm_and_ps(taken, k4)));
+                        }
+#endif
+                        for (; x < x1; ++x) {
                             const bool taken = covered[x - x0] != 0;
                             sum[x] += taken ? k * variance[x - x0] : 0.0f;
                             sum_w[x] += taken ? k : 0.0f;
                         }
                     }
                 }
-                for (int x = 0; x < w_; ++x) {
-                    const float v = sum_w[x] > 0.0f ? sum[x] / sum_w[x] : 0.0f;
-                    const std::size_t i = index(x, y);
-                    b.inv_sigma[i] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
-                    b.lum[i] = luminance(b.light[i]);
+                int x = 0;
+#if defined(__SSE2__)
+                // Four pixels' 1 / sigma at a time (each lane the loop's operations below).
+                for (; x + 4 <= w_; x += 4) {
+                    const __m128 sw = _mm_loadu_ps(&sum_w[x]);
+                    const __m128 positive = _mm_cmpgt_ps(sw, _mm_setzero_ps());
+                    // A zero weight's lane divides by 1 and is then masked to the loop's 0.
+                    const __m128 v = _mm_and_ps(
+                        positive,
+                        _mm_div_ps(_mm_loadu_ps(&sum[x]),
+                                   _mm_or_ps(_mm_and_ps(positive, sw), _mm_andnot_ps(positive, _mm_set1_ps(1.0f)))));
+                    const __m128 sigma = _mm_add_ps(
+                        _mm_mul_ps(_mm_set1_ps(kSigmaLuminance), _mm_sqrt_ps(_mm_max_ps(v, _mm_setzero_ps()))),
+                        _mm_set1_ps(1e-4f));
+                    _mm_storeu_ps(&b.inv_sigma[index(x, y)], _mm_div_ps(_mm_set1_ps(1.0f), sigma));
                 }
+#endif
+                for (; x < w_; ++x) {
+                    const float v = sum_w[x] > 0.0f ? sum[x] / sum_w[x] : 0.0f;
+                    b.inv_sigma[index(x, y)] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
+                }
+                for (int xl = 0; xl < w_; ++xl) b.lum[index(xl, y)] = luminance(b.light[index(xl, y)]);
             }
         });
     }
