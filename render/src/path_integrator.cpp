@@ -62,6 +62,9 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
             }
             break;
         }
+        // The last vertex of a path past the camera's shades nothing: its emission was taken
+        // above, and it neither samples a light nor continues (the camera's keeps its AOVs).
+        if (depth > 0 && depth + 1 >= max_depth_) break;
         Hit hit = scene_.surface(cur_ray, cur_hit);
         cone += hit.t * spread;
         const Vec3f wo = -d;
