@@ -5,6 +5,7 @@
 
 #include "foldcast/render.hpp"
 #include "foldcast/core/math.hpp"
+#include "vec3_div.hpp"
 
 namespace foldcast::render {
 
@@ -21,16 +22,19 @@ public:
         up_ = right_.cross(forward_);
         tan_y_ = static_cast<float>(std::tan(camera.fov_deg * 0.5 * kPi / 180.0));
         tan_x_ = tan_y_ * static_cast<float>(width) / static_cast<float>(height);
+        x_scale_ = 2.0f / static_cast<float>(width);
+        y_scale_ = 2.0f / static_cast<float>(height);
     }
 
     // Direction through pixel position (px, py) and the lens sample (lu, lv) in [0,1)^2.
     void ray(float px, float py, float lu, float lv, Vec3f* origin, Vec3f* direction) const {
-        const float sx = (2.0f * px / static_cast<float>(width_) - 1.0f) * tan_x_;
-        const float sy = (1.0f - 2.0f * py / static_cast<float>(height_)) * tan_y_;
+        // 2 / width and 2 / height kept from the constructor: no division per camera ray.
+        const float sx = (px * x_scale_ - 1.0f) * tan_x_;
+        const float sy = (1.0f - py * y_scale_) * tan_y_;
         Vec3f d = (forward_ + sx * right_ + sy * up_);
         if (aperture_ <= 0.0f) {
             *origin = origin_;
-            *direction = d.normalized();
+            *direction = normalized3(d);  // Eigen's normalized(), its three divisions in one
             return;
         }
         // Thin lens: uniform disc (concentric-free polar mapping is fine for a round bokeh).
@@ -62,6 +66,7 @@ private:
     Vec3f origin_, forward_, right_, up_;
     int width_, height_;
     float tan_x_ = 0.0f, tan_y_ = 0.0f;
+    float x_scale_ = 0.0f, y_scale_ = 0.0f;
     float aperture_ = 0.0f, focus_ = 1.0f;
 };
 

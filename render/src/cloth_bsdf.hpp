@@ -34,7 +34,11 @@ struct BsdfLobes {
     float ax = 0.0f, ay = 0.0f;                      // GGX alphas along x and y
     float inv_ax2 = 0.0f, inv_ay2 = 0.0f;            // 1 / alpha^2 along x and y, for D
     float d_scale = 0.0f;                            // 1 / (pi ax ay): GGX D = d_scale / e^2
+    bool isotropic = true;                           // ax == ay: the view's roughness is the lobe's
+    float table_roughness = 0.0f;                    // sqrt(sqrt(ax ay)): the albedo table's at any
+                                                     // view of an isotropic lobe, and looking down
     float sheen_alpha = 0.0f;
+    float sheen_exponent = 0.0f, sheen_d_scale = 0.0f;  // Charlie D = scale sin(h)^(2 exponent)
     float sheen_scale = 0.0f;  // s = max(sheen colour)
     float sheen_luminance = 0.0f;
 };
@@ -55,6 +59,12 @@ public:
     V3 eval(const V3& wi, float* pdf) const;
     // Samples wi from the lobe mixture with three uniforms; nothing if no direction.
     std::optional<BsdfSample> sample(float u_lobe, float u1, float u2) const;
+    // The direction sample() draws (before it evaluates there); nothing if none.
+    std::optional<V3> sample_direction(float u_lobe, float u1, float u2) const;
+    // eval at two directions at once (a vertex's light sample and its BSDF sample): both
+    // specular terms in SSE2 lanes, so that their divisions and square roots overlap.  The
+    // same floats as two eval calls.
+    void eval2(const V3& wi_a, const V3& wi_b, V3* f_a, float* pdf_a, V3* f_b, float* pdf_b) const;
     // Directional albedo estimate (for Russian roulette and the albedo AOV).
     V3 albedo() const;
 
@@ -63,6 +73,9 @@ private:
         float f, pdf;
     };
     SpecTerms spec_terms(const V3& wi) const;
+    void spec_terms2(const V3& wi_a, const V3& wi_b, SpecTerms* a, SpecTerms* b) const;
+    // eval's terms other than the specular ones, added to spec's.
+    V3 eval_rest(const V3& wi, const SpecTerms* spec, float* pdf) const;
     float sheen_d_v(const V3& wi) const;
 
     BsdfParams p_;     // its roughness and sheen roughness unclamped: lobes_ has the clamped ones

@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "foldcast/core/colour.hpp"
+#include "foldcast/core/fast_math.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -106,19 +107,51 @@ public:
                         const float* const variance = b.variance.data() + q0;
                         const std::int32_t* const covered = g_.covered.data() + q0;
                         const float k = kKernel[dx + 1] * kKernel[dy + 1];
-                        for (int x = x0; x < x1; ++x) {
+                        int x = x0;
+#if defined(__SSE2__)
+                        // Four pixels at a time, each lane the loop's select and sums below.
+                        const __m128 k4 = _mm_set1_ps(k);
+                        for (; x + 4 <= x1; x += 4) {
+                            const __m128 taken = _mm_castsi128_ps(_mm_cmpeq_epi32(
+                                _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(covered + (x - x0))),
+                                                _mm_setzero_si128()),
+                                _mm_setzero_si128()));
+                            _mm_storeu_ps(
+                                &sum[x],
+                                _mm_add_ps(_mm_loadu_ps(&sum[x]),
+                                           _mm_and_ps(taken, _mm_mul_ps(k4, _mm_loadu_ps(variance + (x - x0))))));
+                            _mm_storeu_ps(&sum_w[x], _mm_add_ps(_mm_loadu_ps(&sum_w[x]), _mm_and_ps(taken, k4)));
+                        }
+#endif
+                        for (; x < x1; ++x) {
                             const bool taken = covered[x - x0] != 0;
                             sum[x] += taken ? k * variance[x - x0] : 0.0f;
                             sum_w[x] += taken ? k : 0.0f;
                         }
                     }
                 }
-                for (int x = 0; x < w_; ++x) {
-                    const float v = sum_w[x] > 0.0f ? sum[x] / sum_w[x] : 0.0f;
-                    const std::size_t i = index(x, y);
-                    b.inv_sigma[i] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
-                    b.lum[i] = luminance(b.light[i]);
+                int x = 0;
+#if defined(__SSE2__)
+                // Four pixels' 1 / sigma at a time (each lane the loop's operations below).
+                for (; x + 4 <= w_; x += 4) {
+                    const __m128 sw = _mm_loadu_ps(&sum_w[x]);
+                    const __m128 positive = _mm_cmpgt_ps(sw, _mm_setzero_ps());
+                    // A zero weight's lane divides by 1 and is then masked to the loop's 0.
+                    const __m128 v = _mm_and_ps(
+                        positive,
+                        _mm_div_ps(_mm_loadu_ps(&sum[x]),
+                                   _mm_or_ps(_mm_and_ps(positive, sw), _mm_andnot_ps(positive, _mm_set1_ps(1.0f)))));
+                    const __m128 sigma = _mm_add_ps(
+                        _mm_mul_ps(_mm_set1_ps(kSigmaLuminance), _mm_sqrt_ps(_mm_max_ps(v, _mm_setzero_ps()))),
+                        _mm_set1_ps(1e-4f));
+                    _mm_storeu_ps(&b.inv_sigma[index(x, y)], _mm_div_ps(_mm_set1_ps(1.0f), sigma));
                 }
+#endif
+                for (; x < w_; ++x) {
+                    const float v = sum_w[x] > 0.0f ? sum[x] / sum_w[x] : 0.0f;
+                    b.inv_sigma[index(x, y)] = 1.0f / (kSigmaLuminance * std::sqrt(std::max(0.0f, v)) + 1e-4f);
+                }
+                for (int xl = 0; xl < w_; ++xl) b.lum[index(xl, y)] = luminance(b.light[index(xl, y)]);
             }
         });
     }
@@ -143,19 +176,44 @@ public:
     }
 
 private:
-    // One row's scratch: per pixel of the row, the current tap's exponents and normal weight
-    // (0: not taken), and the sums so far.
+    // One row's scratch: per pixel of the row, the current tap's exponents, their exp(-e)
+    // and normal weight (0: not taken), and the sums so far.
     struct Row {
-        std::vector<float> e_a, e_b, nw, nw4, sum_a, wa, va, sum_b, wb, vb;
-        explicit Row(int w) : e_a(w), e_b(w), nw(w), nw4(w), sum_a(3 * w), wa(w), va(w), sum_b(3 * w), wb(w), vb(w) {}
+        std::vector<float> e_a, e_b, x_a, x_b, nw, nw4, sum_a, wa, va, sum_b, wb, vb;
+        explicit Row(int w)
+            : e_a(w), e_b(w), x_a(w), x_b(w), nw(w), nw4(w), sum_a(3 * w), wa(w), va(w), sum_b(3 * w), wb(w), vb(w) {}
     };
 
     // Row y of a pass.  kCross: buffer a is guided by b (g_lum, g_inv_sigma: the guide's), b
-    // by a; else a by itself (b is a, its own sums unused).  The row is filtered tap by tap: for each of the 9 taps, in the
-    // kernel's order, first every pixel's weight terms in a branch-free loop (with SSE2 four
-    // pixels at a time), then the taps taken are weighted (exp) and added to each pixel's
-    // sums.  Each pixel's sums thus add the same terms in the same order as a pixel-by-pixel
-    // loop, and every term is the same expression, so the floats are the same as that loop's.
+    // by a; else a by itself (b is a, its own sums unused).  The row is filtered tap by tap: for each of the 9 taps, in
+    // the kernel's order, first every pixel's weight terms and their exp (fast_exp, the SSE2 lanes giving the scalar
+    // floats) in a branch-free loop (with SSE2 four pixels at a time), then the taps taken are weighted and added to
+    // each pixel's sums.  Each pixel's sums thus add the same terms in the same order as a pixel-by-pixel loop, and
+    // every term is the same expression, so the floats are the same as that loop's.
+#if defined(__SSE2__)
+    // The weighted sums of four pixels' taps (pass_row's scalar loop for each lane where
+    // `taken` is set and the exponent is within kMaxExponent; the same products in the same
+    // order): the colours are three floats a pixel, so the four weights are spread over
+    // three registers to meet twelve contiguous floats of the sums and of the taps' colours.
+    static void accumulate4(__m128 taken, __m128 k, const float* e, const float* ex, float* sum, float* wsum,
+                            float* vsum, const V3* light, const float* variance) {
+        const __m128 m = _mm_and_ps(taken, _mm_cmple_ps(_mm_loadu_ps(e), _mm_set1_ps(kMaxExponent)));
+        const __m128 wt = _mm_mul_ps(k, _mm_loadu_ps(ex));
+        static_assert(sizeof(V3) == 3 * sizeof(float), "V3: three packed floats");
+        const float* const l = reinterpret_cast<const float*>(light);
+        const auto add = [&](int at, __m128 w, __m128 mask) {
+            _mm_storeu_ps(sum + at,
+                          _mm_add_ps(_mm_loadu_ps(sum + at), _mm_and_ps(mask, _mm_mul_ps(w, _mm_loadu_ps(l + at)))));
+        };
+        add(0, _mm_shuffle_ps(wt, wt, _MM_SHUFFLE(1, 0, 0, 0)), _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 0, 0)));
+        add(4, _mm_shuffle_ps(wt, wt, _MM_SHUFFLE(2, 2, 1, 1)), _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 2, 1, 1)));
+        add(8, _mm_shuffle_ps(wt, wt, _MM_SHUFFLE(3, 3, 3, 2)), _mm_shuffle_ps(m, m, _MM_SHUFFLE(3, 3, 3, 2)));
+        _mm_storeu_ps(wsum, _mm_add_ps(_mm_loadu_ps(wsum), _mm_and_ps(m, wt)));
+        _mm_storeu_ps(vsum, _mm_add_ps(_mm_loadu_ps(vsum),
+                                       _mm_and_ps(m, _mm_mul_ps(_mm_mul_ps(wt, wt), _mm_loadu_ps(variance)))));
+    }
+#endif
+
     template <bool kCross>
     void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, bool relaxed) {
         const float* const nx = g_.nx.data();
@@ -180,6 +238,8 @@ private:
         const float* const b_variance = b.variance.data();
         float* const e_a = row.e_a.data();
         float* const e_b = row.e_b.data();
+        float* const x_a = row.x_a.data();
+        float* const x_b = row.x_b.data();
         float* const nw = row.nw.data();
         float* const nw4 = row.nw4.data();
         float* const sum_a = row.sum_a.data();
@@ -222,11 +282,13 @@ private:
                 const float* const a_inv_sigma_p = a_inv_sigma + r + x0;
                 const int taps = x1 - x0;
                 float *const e_a_t = e_a + x0, *const e_b_t = e_b + x0, *const nw_t = nw + x0, *const nw4_t = nw4 + x0;
+                float *const x_a_t = x_a + x0, *const x_b_t = x_b + x0;
                 int t = 0;
 #if defined(__SSE2__)
                 // Four pixels at a time, each lane the same operations in the same order as
                 // the loop below (which does the rest): the same floats.
                 const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+                const __m128 sign_bit = _mm_set1_ps(-0.0f);
                 const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
                 const __m128 dead_zone = _mm_set1_ps(kMixDeadZone), mix_scale = _mm_set1_ps(kMixScale);
                 const __m128 inv_distance4 = _mm_set1_ps(inv_distance);
@@ -247,11 +309,16 @@ private:
                     const __m128 mix = abs_diff(turning_q + t, turning_p + t);
                     const __m128 e_mixed = _mm_add_ps(e_depth, _mm_mul_ps(mix_scale, _mm_sub_ps(mix, dead_zone)));
                     const __m128 e = select(_mm_cmpgt_ps(mix, dead_zone), e_mixed, e_depth);
-                    _mm_storeu_ps(e_a_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + t, g_lum_p + t),
-                                                                      _mm_loadu_ps(g_inv_sigma_p + t))));
-                    if (kCross)
-                        _mm_storeu_ps(e_b_t + t, _mm_add_ps(e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t),
-                                                                          _mm_loadu_ps(a_inv_sigma_p + t))));
+                    const __m128 ea =
+                        _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + t, g_lum_p + t), _mm_loadu_ps(g_inv_sigma_p + t)));
+                    _mm_storeu_ps(e_a_t + t, ea);
+                    _mm_storeu_ps(x_a_t + t, fast_exp4(_mm_xor_ps(ea, sign_bit)));
+                    if (kCross) {
+                        const __m128 eb = _mm_add_ps(
+                            e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t), _mm_loadu_ps(a_inv_sigma_p + t)));
+                        _mm_storeu_ps(e_b_t + t, eb);
+                        _mm_storeu_ps(x_b_t + t, fast_exp4(_mm_xor_ps(eb, sign_bit)));
+                    }
                     const __m128 dot =
                         _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
                                    _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
@@ -271,7 +338,11 @@ private:
                     const float mix = std::abs(turning_q[t] - turning_p[t]);
                     const float e = mix > kMixDeadZone ? e_depth + kMixScale * (mix - kMixDeadZone) : e_depth;
                     e_a_t[t] = e + std::abs(g_lum_q[t] - g_lum_p[t]) * g_inv_sigma_p[t];
-                    if (kCross) e_b_t[t] = e + std::abs(a_lum_q[t] - a_lum_p[t]) * a_inv_sigma_p[t];
+                    x_a_t[t] = fast_exp(-e_a_t[t]);
+                    if (kCross) {
+                        e_b_t[t] = e + std::abs(a_lum_q[t] - a_lum_p[t]) * a_inv_sigma_p[t];
+                        x_b_t[t] = fast_exp(-e_b_t[t]);
+                    }
                     // The normal weight cos^128, or cos^4 (the chain's second step) between
                     // cloth pixels of one albedo in a relaxed pass (below); 0 between sky (zero
                     // normal) and surface, 1 between two sky pixels.
@@ -296,19 +367,35 @@ private:
                         if (same_cloth && covered[i] && covered[j] && !(sky[i] && sky[j])) nw[x] = nw4[x];
                     }
                 const float kernel = kKernel[dx + 1] * kKernel[dy + 1];
-                for (int x = x0; x < x1; ++x) {
+                int x = x0;
+#if defined(__SSE2__)
+                // Four pixels at a time, branch-free: a tap not taken adds masked zeros
+                // (+0 leaves every sum as it is), a taken one the loop's products below.
+                const __m128 kernel4 = _mm_set1_ps(kernel);
+                for (; x + 4 <= x1; x += 4) {
+                    const std::ptrdiff_t j = r + x + offset;
+                    const __m128 n = _mm_loadu_ps(nw + x);
+                    const __m128 taken = _mm_cmpneq_ps(n, _mm_setzero_ps());
+                    const __m128 k = _mm_mul_ps(kernel4, n);
+                    accumulate4(taken, k, e_a + x, x_a + x, sum_a + 3 * x, wa + x, va + x, a_light + j, a_variance + j);
+                    if (kCross)
+                        accumulate4(taken, k, e_b + x, x_b + x, sum_b + 3 * x, wb + x, vb + x, b_light + j,
+                                    b_variance + j);
+                }
+#endif
+                for (; x < x1; ++x) {
                     if (nw[x] == 0.0f) continue;
                     const std::ptrdiff_t j = r + x + offset;
                     const float k = kernel * nw[x];
                     // Beyond kMaxExponent the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
                     if (e_a[x] <= kMaxExponent) {
-                        const float wt = k * std::exp(-e_a[x]);
+                        const float wt = k * x_a[x];
                         for (int c = 0; c < 3; ++c) sum_a[3 * x + c] += wt * a_light[j][c];
                         wa[x] += wt;
                         va[x] += wt * wt * a_variance[j];
                     }
                     if (kCross && e_b[x] <= kMaxExponent) {
-                        const float wt = k * std::exp(-e_b[x]);
+                        const float wt = k * x_b[x];
                         for (int c = 0; c < 3; ++c) sum_b[3 * x + c] += wt * b_light[j][c];
                         wb[x] += wt;
                         vb[x] += wt * wt * b_variance[j];

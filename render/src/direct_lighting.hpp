@@ -20,11 +20,11 @@ struct DirectLight {
     float weight_over_pdf = 0.0f;
 };
 
-// `drawn` is set to the light sample drawn (left as it is when none was), for the MIS pdf
-// of a BSDF-sampled ray that reaches the same light.
-std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const LightSampler& lights,
-                                           const LightChoice& choice, const Hit& hit, const Frame& frame,
-                                           const ClothBsdf& bsdf, float u_pick, float u_b, std::uint64_t& rays,
-                                           LightSample* drawn);
+// The estimate of light sample `ls`, drawn at `hit` towards the light (ls.wi above the
+// surface), whose BSDF value f_cos and pdf were evaluated beforehand (with the vertex's BSDF
+// sample, ClothBsdf::eval2): nothing when the BSDF is black there or the shadow ray is
+// blocked.
+std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const Hit& hit, const LightSample& ls,
+                                           const V3& f_cos, float pdf_bsdf, std::uint64_t& rays);
 
 }  // namespace foldcast::render

@@ -134,9 +134,11 @@ Hit EmbreeScene::surface(const RTCRay& ray, const RTCHit& h) const {
     Hit hit;
     hit.t = ray.tfar;
     hit.p = Vec3f(ray.org_x, ray.org_y, ray.org_z) + ray.tfar * Vec3f(ray.dir_x, ray.dir_y, ray.dir_z);
-    hit.ng = normalized3(Vec3f(h.Ng_x, h.Ng_y, h.Ng_z));
+    hit.ng = Vec3f(h.Ng_x, h.Ng_y, h.Ng_z);
     hit.ns = (w * g.normals[tri[0]] + u * g.normals[tri[1]] + v * g.normals[tri[2]]);
-    hit.ns = hit.ns.squaredNorm() > 0.0f ? normalized3(hit.ns) : hit.ng;
+    const bool has_ns = hit.ns.squaredNorm() > 0.0f;
+    normalize_pair(hit.ng, hit.ns);  // both roots at once
+    if (!has_ns) hit.ns = hit.ng;
     hit.material = g.material;
     if (!g.uvs.empty()) {
         hit.uv = w * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];

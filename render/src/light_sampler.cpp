@@ -103,17 +103,28 @@ LightChoice LightSampler::choose(const Vec3f& p, const Vec3f& n) const {
     constexpr float kMinEnvironmentShare = 0.25f;
     if (count > 0 && c.prob[count] < kMinEnvironmentShare * (sum + c.prob[count])) c.prob[count] = 0.0f;
     sum += c.prob[count];
-    if (sum > 0.0f)
-        for (int i = 0; i <= count; ++i) c.prob[i] /= sum;
+    if (sum > 0.0f) {
+        const float inv_sum = 1.0f / sum;  // one division, not one per option
+        for (int i = 0; i <= count; ++i) c.prob[i] *= inv_sum;
+    }
     c.options = count + 1;
     return c;
 }
 
 std::optional<LightSample> LightSampler::sample(const LightChoice& choice, const Vec3f& p, const Vec3f& n,
                                                 const Vec3f& tangent, float u_pick, float u_b) const {
+    // The first option whose running sum of probabilities exceeds u_pick, found without an
+    // early exit: the running sum only grows, so every option past u_pick's is taken in turn
+    // and the selects replace a branch that a random u_pick mispredicted (the same pick and
+    // the same running sum `acc` as stopping there).
     int pick = 0;
-    float acc = choice.prob[0];
-    while (pick + 1 < choice.options && u_pick >= acc) acc += choice.prob[++pick];
+    float acc = choice.prob[0], running = acc;
+    for (int i = 1; i < choice.options; ++i) {
+        const bool past = u_pick >= running;
+        running += choice.prob[i];
+        pick = past ? i : pick;
+        acc = past ? running : acc;
+    }
     if (!(choice.prob[pick] > 0.0f)) return std::nullopt;
     const float u_a = std::clamp((u_pick - (acc - choice.prob[pick])) / choice.prob[pick], 0.0f, 0x1.fffffep-1f);
     LightSample s;

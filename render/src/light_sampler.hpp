@@ -29,7 +29,7 @@ struct LightChoice {
 };
 
 struct LightSample {
-    Vec3f wi;            // towards the light
+    Vec3f wi = Vec3f::Zero();  // towards the light
     float distance = 0;  // infinite for the environment
     float pdf = 0;       // solid angle, including the choice probability
     V3 radiance = V3::Zero();

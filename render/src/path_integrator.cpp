@@ -62,6 +62,9 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
             }
             break;
         }
+        // The last vertex of a path past the camera's shades nothing: its emission was taken
+        // above, and it neither samples a light nor continues (the camera's keeps its AOVs).
+        if (depth > 0 && depth + 1 >= max_depth_) break;
         Hit hit = scene_.surface(cur_ray, cur_hit);
         cone += hit.t * spread;
         const Vec3f wo = -d;
@@ -82,28 +85,45 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         }
         if (depth + 1 >= max_depth_) break;
 
+        // Next-event estimation's light sample and the BSDF sample that continues the path,
+        // both drawn first (the sampler's dimensions in the same order as before) so that the
+        // BSDF is evaluated at the two directions together (eval2).
         const LightChoice choice = lights_.choose(hit.p, hit.ns);
         const Eigen::Vector2f u_light = sampler.get2d();  // the light's choice and the point on it
         LightSample drawn;
-        if (const auto direct =
-                direct_lighting(scene_, lights_, choice, hit, frame, bsdf, u_light.x(), u_light.y(), rays, &drawn))
-            add(out.radiance, beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
-                depth + 1);
-
-        // Continue the path by sampling the BSDF.
+        const std::optional<LightSample> ls =
+            lights_.sample(choice, hit.p, hit.ns, hit.tangent, u_light.x(), u_light.y());
+        if (ls) drawn = *ls;
+        const bool light_above = ls && ls->wi.dot(hit.ng) > 0.0f;
         const float u_lobe = sampler.get1d();
         const Eigen::Vector2f u_dir = sampler.get2d();
-        const std::optional<BsdfSample> bs = bsdf.sample(u_lobe, u_dir.x(), u_dir.y());
-        if (!bs) break;
-        const Vec3f wi = frame.to_world(bs->wi);
+        const std::optional<V3> wi_local = bsdf.sample_direction(u_lobe, u_dir.x(), u_dir.y());
+        V3 f_light = V3::Zero(), f_bsdf = V3::Zero();
+        float pdf_light = 0.0f, pdf_bsdf = 0.0f;
+        if (light_above && wi_local)
+            bsdf.eval2(frame.to_local(ls->wi), *wi_local, &f_light, &pdf_light, &f_bsdf, &pdf_bsdf);
+        else if (light_above)
+            f_light = bsdf.eval(frame.to_local(ls->wi), &pdf_light);
+        else if (wi_local)
+            f_bsdf = bsdf.eval(*wi_local, &pdf_bsdf);
+        if (light_above)
+            if (const auto direct = direct_lighting(scene_, hit, *ls, f_light, pdf_light, rays))
+                add(out.radiance,
+                    beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
+                    depth + 1);
+
+        // Continue the path along the BSDF sample.
+        if (!wi_local || !(pdf_bsdf > 0.0f)) break;
+        const V3 weight = f_bsdf / pdf_bsdf;  // f cos / pdf
+        const Vec3f wi = frame.to_world(*wi_local);
         if (wi.dot(hit.ng) <= 0.0f) break;
-        beta = beta.cwiseProduct(bs->weight);
+        beta = beta.cwiseProduct(weight);
         if (depth >= 2) {  // Russian roulette
             const float q = std::min(0.95f, beta.maxCoeff());
             if (sampler.get1d() >= q) break;
             beta /= q;
         }
-        prev_bsdf_pdf = bs->pdf;
+        prev_bsdf_pdf = pdf_bsdf;
         prev_specular_only = false;
         prev_choice = choice;
         prev_drawn = drawn;

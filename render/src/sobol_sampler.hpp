@@ -15,7 +15,7 @@
 
 namespace foldcast::render {
 
-inline std::uint32_t reverse_bits(std::uint32_t x) {
+constexpr std::uint32_t reverse_bits(std::uint32_t x) {
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
     x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
     x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
@@ -54,8 +54,11 @@ constexpr std::uint32_t sobol_dim1_bitwise(std::uint32_t index) {
 namespace detail {
 // The same XOR sums a byte of the index at a time: the scrambled indices the sampler feeds in
 // use all 32 bits, and 32 data-dependent branches per value cost more than four look-ups.
+// `reversed`: the same sums with every column's bits reversed, i.e. reverse_bits of the value
+// (reversal distributes over XOR), for the Owen scramble that reverses it anyway.
 struct SobolDim1Tables {
     std::uint32_t byte[4][256] = {};
+    std::uint32_t reversed[4][256] = {};
     constexpr SobolDim1Tables() {
         std::uint32_t column[32] = {};
         std::uint32_t v = 1u << 31;
@@ -66,15 +69,23 @@ struct SobolDim1Tables {
                 for (int b = 0; b < 8; ++b)
                     if (value & (1 << b)) x ^= column[8 * k + b];
                 byte[k][value] = x;
+                reversed[k][value] = reverse_bits(x);
             }
     }
 };
 inline constexpr SobolDim1Tables kSobolDim1Tables{};
+
+inline std::uint32_t sobol_dim1_from(const std::uint32_t (&t)[4][256], std::uint32_t index) {
+    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+}
 }  // namespace detail
 
 inline std::uint32_t sobol_dim1(std::uint32_t index) {
-    const auto& t = detail::kSobolDim1Tables.byte;
-    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+    return detail::sobol_dim1_from(detail::kSobolDim1Tables.byte, index);
+}
+// reverse_bits(sobol_dim1(index)) by the reversed tables.
+inline std::uint32_t sobol_dim1_reversed(std::uint32_t index) {
+    return detail::sobol_dim1_from(detail::kSobolDim1Tables.reversed, index);
 }
 
 inline float to_unit_float(std::uint32_t x) { return static_cast<float>(x >> 8) * 0x1.0p-24f; }
@@ -82,23 +93,26 @@ inline float to_unit_float(std::uint32_t x) { return static_cast<float>(x >> 8) 
 class PixelSampler {
 public:
     PixelSampler(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
-        : key_(mix64(mix64(seed ^ 0x2545f4914f6cdd1dULL) + pixel)), sample_(sample) {}
+        : key_(mix64(mix64(seed ^ 0x2545f4914f6cdd1dULL) + pixel)), reversed_sample_(reverse_bits(sample)) {}
 
     // The next dimension in [0, 1).  owen_scramble(sobol_dim0(i), s) is written out as
     // reverse_bits(laine_karras_permutation(i, s)): sobol_dim0 reverses the bits that the
-    // scramble would reverse back (the same bits, two reversals fewer).
+    // scramble would reverse back (the same bits, two reversals fewer).  The shuffled index
+    // owen_scramble(sample, s) starts from the sample's reversal, kept from the constructor.
     float get1d() {
         const std::uint64_t h = next_hash();
-        const std::uint32_t i = owen_scramble(sample_, static_cast<std::uint32_t>(h));
+        const std::uint32_t i = shuffled_index(static_cast<std::uint32_t>(h));
         return to_unit_float(reverse_bits(laine_karras_permutation(i, static_cast<std::uint32_t>(h >> 32))));
     }
-    // The next two dimensions in [0, 1)^2, stratified together.
+    // The next two dimensions in [0, 1)^2, stratified together.  The second is
+    // owen_scramble(sobol_dim1(i), s), its first reversal by the reversed tables.
     Eigen::Vector2f get2d() {
         const std::uint64_t h = next_hash();
         const std::uint64_t h2 = mix64(h);
-        const std::uint32_t i = owen_scramble(sample_, static_cast<std::uint32_t>(h));
+        const std::uint32_t i = shuffled_index(static_cast<std::uint32_t>(h));
         return {to_unit_float(reverse_bits(laine_karras_permutation(i, static_cast<std::uint32_t>(h >> 32)))),
-                to_unit_float(owen_scramble(sobol_dim1(i), static_cast<std::uint32_t>(h2)))};
+                to_unit_float(
+                    reverse_bits(laine_karras_permutation(sobol_dim1_reversed(i), static_cast<std::uint32_t>(h2))))};
     }
 
     // Passes over the next two dimensions (a pair whose values would go unused), so that
@@ -107,9 +121,13 @@ public:
 
 private:
     std::uint64_t next_hash() { return mix64(key_ + 0x9e3779b97f4a7c15ULL * ++dimension_); }
+    // owen_scramble(sample, seed).
+    std::uint32_t shuffled_index(std::uint32_t seed) const {
+        return reverse_bits(laine_karras_permutation(reversed_sample_, seed));
+    }
 
     std::uint64_t key_;
-    std::uint32_t sample_;
+    std::uint32_t reversed_sample_;
     std::uint32_t dimension_ = 0;
 };
 

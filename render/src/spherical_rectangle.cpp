@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 
+#include "foldcast/core/fast_math.hpp"
 #include "foldcast/core/math.hpp"
 
 namespace foldcast::render {
@@ -82,19 +83,26 @@ std::optional<SphericalRectangle> SphericalRectangle::make(const Vec3f& from, co
     const __m128 l_next = _mm_shuffle_ps(l, l, _MM_SHUFFLE(0, 3, 2, 1));  // l1, l2, l3, l0
     const __m128 numerator =
         _mm_mul_ps(_mm_setr_ps(r.y0_, -r.x1_, r.x0_, -r.x0_), _mm_setr_ps(r.x1_, r.y1_, r.y1_, r.y0_));
-    std::array<float, 4> ls, gs;
+    std::array<float, 4> ls, gs, bs;
     _mm_storeu_ps(ls.data(), l);
     _mm_storeu_ps(gs.data(), interior_angles(_mm_div_ps(numerator, _mm_mul_ps(l, l_next))));
-    const float l0 = ls[0], l2 = ls[2];
+    // b0, b1 and 1 - b0^2 (as below) in a second division beside the cosines'.
+    const __m128 l0l2 = _mm_shuffle_ps(l, l, _MM_SHUFFLE(0, 0, 2, 0));  // l0, l2, l0, l0
+    _mm_storeu_ps(bs.data(), _mm_div_ps(_mm_setr_ps(-r.y0_, r.y1_, z0sq, 0.0f),
+                                        _mm_mul_ps(l0l2, _mm_setr_ps(1.0f, 1.0f, ls[0], 1.0f))));
     const float g0 = gs[0], g1 = gs[1], g2 = gs[2], g3 = gs[3];
+    r.b0_ = bs[0];
+    r.b1_ = bs[1];
+    r.one_minus_b0sq_ = bs[2];  // 1 - b0^2 without the cancellation
 #else
     const float l0 = std::sqrt(z0sq + r.y0_ * r.y0_), l1 = std::sqrt(z0sq + r.x1_ * r.x1_),
                 l2 = std::sqrt(z0sq + r.y1_ * r.y1_), l3 = std::sqrt(z0sq + r.x0_ * r.x0_);
     const float g0 = interior_angle(r.y0_ * r.x1_ / (l0 * l1)), g1 = interior_angle(-r.x1_ * r.y1_ / (l1 * l2)),
                 g2 = interior_angle(r.x0_ * r.y1_ / (l2 * l3)), g3 = interior_angle(-r.x0_ * r.y0_ / (l3 * l0));
-#endif
     r.b0_ = -r.y0_ / l0;
+    r.one_minus_b0sq_ = z0sq / (l0 * l0);  // 1 - b0^2 without the cancellation
     r.b1_ = r.y1_ / l2;
+#endif
     r.k_ = 2.0f * kPiF - g2 - g3;
     r.solid_angle_ = g0 + g1 - r.k_;
     if (!(r.solid_angle_ > kMinSolidAngle)) return std::nullopt;
@@ -104,11 +112,14 @@ std::optional<SphericalRectangle> SphericalRectangle::make(const Vec3f& from, co
 Vec3f SphericalRectangle::sample(float u, float v) const {
     // The x of the sample: the solid angle left of it is u times the whole.
     const float au = u * solid_angle_ + k_;
-    const float fu = (std::cos(au) * b0_ - b1_) / std::sin(au);
-    // With cu = +/-1 / sqrt(F), F = fu^2 + b0^2 >= 1, the paper's xu = -cu z0 / sqrt(1 - cu^2)
-    // is -/+z0 / sqrt(F - 1): one square root and one division fewer.
-    const float f2 = fu * fu + b0_ * b0_;
-    const float xu = std::clamp((fu > 0.0f ? -z0_ : z0_) / std::sqrt(std::max(1e-14f, f2 - 1.0f)), x0_, x1_);
+    const SinCos a = fast_sincos(au);  // accurate near au = pi too, where sin(au) vanishes
+    // The paper's fu = n / sin(au), n = cos(au) b0 - b1.  With cu = +/-1 / sqrt(F),
+    // F = fu^2 + b0^2 >= 1, its xu = -cu z0 / sqrt(1 - cu^2) is -/+z0 / sqrt(F - 1), and
+    // F - 1 = (n^2 - (1 - b0^2) sin^2) / sin^2, so xu = -/+z0 sin / sqrt(n^2 - (1 - b0^2) sin^2)
+    // (the sign that of -fu taken as n's against sin's): one square root and one division.
+    const float n = a.cos * b0_ - b1_, sin2 = a.sin * a.sin;
+    const float t = z0_ * a.sin / std::sqrt(std::max(1e-14f * sin2, n * n - one_minus_b0sq_ * sin2));
+    const float xu = std::clamp(n > 0.0f ? -t : t, x0_, x1_);
     // Its y: uniform in the projected height of that column.
     const float dist2 = xu * xu + z0_ * z0_;
 #if defined(__SSE2__)

@@ -32,6 +32,7 @@ private:
     Vec3f origin_, x_, y_, z_;
     float x0_ = 0, x1_ = 0, y0_ = 0, y1_ = 0, z0_ = 0;
     float b0_ = 0, b1_ = 0, k_ = 0, solid_angle_ = 0;
+    float one_minus_b0sq_ = 0;
 };
 
 }  // namespace foldcast::render

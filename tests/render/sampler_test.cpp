@@ -97,5 +97,13 @@ TEST(PixelSampler, SecondDimensionByBytesIsTheBitwiseSum) {
     EXPECT_EQ(sobol_dim1(0xffffffffu), sobol_dim1_bitwise(0xffffffffu));
 }
 
+TEST(PixelSampler, ReversedSecondDimensionIsTheReversalOfIt) {
+    std::uint32_t i = 11;
+    for (int k = 0; k < 100000; ++k) {
+        i = i * 1664525u + 1013904223u;
+        ASSERT_EQ(sobol_dim1_reversed(i), reverse_bits(sobol_dim1_bitwise(i))) << i;
+    }
+}
+
 }  // namespace
 }  // namespace foldcast::render
