@@ -59,6 +59,17 @@ cv::Mat load_image(const std::filesystem::path& path, bool srgb) {
     return f;
 }
 
+// The look's BSDF parameters other than the diffuse colour (GarmentShader::lobe_params).
+BsdfParams look_lobe_params(const looks::Appearance& a) {
+    BsdfParams p;
+    p.sheen = a.sheen_colour.cwiseMax(0.0f).cwiseMin(1.0f);
+    p.sheen_roughness = static_cast<float>(a.sheen_roughness);
+    p.f0 = static_cast<float>(0.08 * a.specular);
+    p.roughness = static_cast<float>(a.roughness);
+    p.anisotropy = static_cast<float>(a.anisotropy);
+    return p;
+}
+
 }  // namespace
 
 struct GarmentShader::Images {
@@ -67,7 +78,7 @@ struct GarmentShader::Images {
 };
 
 GarmentShader::GarmentShader(const looks::Appearance& appearance)
-    : appearance_(appearance), images_(std::make_unique<Images>()) {
+    : appearance_(appearance), lobe_params_(look_lobe_params(appearance)), images_(std::make_unique<Images>()) {
     if (!appearance_.texture.empty()) images_->colour = load_image(appearance_.texture, true);
     if (!appearance_.normal_map.empty()) images_->normal = load_image(appearance_.normal_map, false);
 }
@@ -100,20 +111,9 @@ GarmentSurface GarmentShader::shade(const Eigen::Vector2f& uv_m, float footprint
     }
     s.normal_ts = normalized3(n);
     s.anisotropy_along_weft = along_weft;
-    s.bsdf = lobe_params();
+    s.bsdf = lobe_params_;
     s.bsdf.diffuse = base.cwiseMax(0.0f).cwiseMin(1.0f);
     return s;
-}
-
-BsdfParams GarmentShader::lobe_params() const {
-    const looks::Appearance& a = appearance_;
-    BsdfParams p;
-    p.sheen = a.sheen_colour.cwiseMax(0.0f).cwiseMin(1.0f);
-    p.sheen_roughness = static_cast<float>(a.sheen_roughness);
-    p.f0 = static_cast<float>(0.08 * a.specular);
-    p.roughness = static_cast<float>(a.roughness);
-    p.anisotropy = static_cast<float>(a.anisotropy);
-    return p;
 }
 
 }  // namespace foldcast::render

@@ -27,11 +27,12 @@ public:
     GarmentSurface shade(const Eigen::Vector2f& uv_m, float footprint_m) const;
     // The look's BSDF parameters other than the diffuse colour: the same at every point
     // (shade() starts from them), so the lobes can be set up once.
-    BsdfParams lobe_params() const;
+    const BsdfParams& lobe_params() const { return lobe_params_; }
 
 private:
     struct Images;
     looks::Appearance appearance_;
+    BsdfParams lobe_params_;  // made once: shade() copies them at every hit
     std::unique_ptr<Images> images_;
 };
 
