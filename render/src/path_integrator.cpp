@@ -90,10 +90,8 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         // BSDF is evaluated at the two directions together (eval2).
         const LightChoice choice = lights_.choose(hit.p, hit.ns);
         const Eigen::Vector2f u_light = sampler.get2d();  // the light's choice and the point on it
-        LightSample drawn;
         const std::optional<LightSample> ls =
             lights_.sample(choice, hit.p, hit.ns, hit.tangent, u_light.x(), u_light.y());
-        if (ls) drawn = *ls;
         const bool light_above = ls && ls->wi.dot(hit.ng) > 0.0f;
         const float u_lobe = sampler.get1d();
         const Eigen::Vector2f u_dir = sampler.get2d();
@@ -126,7 +124,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         prev_bsdf_pdf = pdf_bsdf;
         prev_specular_only = false;
         prev_choice = choice;
-        prev_drawn = drawn;
+        prev_drawn = ls.value_or(LightSample{});
         prev_n = hit.ns;
         prev_p = hit.p;
         spread += 0.2f;  // a rough bounce widens the footprint cone
