@@ -15,9 +15,13 @@
 # 41.5 degrees (bending 200 at the defaults); the tip keeps trembling by a few millimetres, so
 # it is averaged over the last 60 frames.  Blender only: never part of the build or the tests.
 import math
+import os
 import sys
 
 import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_cloth_compare as cloth_bench  # noqa: E402  the comparison's springs and reference values
 
 WIDTH_VERTICES, LENGTH_VERTICES, FRAMES, AVERAGED = 4, 8, 300, 60
 
@@ -25,8 +29,8 @@ WIDTH_VERTICES, LENGTH_VERTICES, FRAMES, AVERAGED = 4, 8, 300, 60
 def main():
     args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     bending = float(args[0]) if len(args) > 0 else 200.0
-    vertex_kg = float(args[1]) if len(args) > 1 else 0.3
-    spacing = float(args[2]) if len(args) > 2 else 0.0208
+    vertex_kg = float(args[1]) if len(args) > 1 else cloth_bench.REFERENCE_VERTEX_KG
+    spacing = float(args[2]) if len(args) > 2 else cloth_bench.CALIBRATION_SPACING_M
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     scene.render.fps = 24
@@ -41,11 +45,7 @@ def main():
     clamp = obj.vertex_groups.new(name="clamp")
     clamp.add([j * n + i for j in range(m) for i in range(2)], 1.0, "REPLACE")
     s = obj.modifiers.new("cloth", "CLOTH").settings
-    s.quality = 5
-    s.mass = vertex_kg
-    s.bending_model = "ANGULAR"
-    s.tension_stiffness = s.compression_stiffness = 80.0  # as the comparison's cloth
-    s.shear_stiffness = 5.0
+    cloth_bench.set_cloth_springs(s, vertex_kg)
     s.bending_stiffness = bending
     s.vertex_group_mass = "clamp"
     cloth = obj.modifiers["cloth"]

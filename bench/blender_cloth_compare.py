@@ -37,10 +37,22 @@ import time
 
 import bpy
 
-# Blender's D / w (m^3) per unit of `bending` for 0.3 kg vertices CALIBRATION_SPACING_M apart
-# (bench/blender_bending_calibration.py -- 200: theta 40 degrees).
+# Blender's D / w (m^3) per unit of `bending` for REFERENCE_VERTEX_KG vertices
+# CALIBRATION_SPACING_M apart (bench/blender_bending_calibration.py -- 200: theta 40 degrees).
 BENDING_PER_UNIT = 1.35e-6
+REFERENCE_VERTEX_KG = 0.3
 CALIBRATION_SPACING_M = 0.0208
+
+
+def set_cloth_springs(s, vertex_kg):
+    """The solver settings and the springs other than bending, shared with the bending
+    calibration (its figure holds for cloth set up so)."""
+    s.quality = 5
+    s.mass = vertex_kg
+    s.bending_model = "ANGULAR"
+    s.tension_stiffness = 80.0
+    s.compression_stiffness = float(os.environ.get("COMPRESSION_STIFFNESS", "80.0"))
+    s.shear_stiffness = float(os.environ.get("SHEAR_STIFFNESS", "5.0"))
 
 FIELDS = ["name", "width_m", "height_m", "inset_m", "thickness_mm", "young_mpa", "gsm", "poisson",
           "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s", "centre_fibre", "top_edge_m", "centre_fibre_m"]
@@ -79,14 +91,9 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
     key.keyframe_insert("value", frame=1 + move_frames)
     cloth = obj.modifiers.new("cloth", "CLOTH")
     s = cloth.settings
-    s.quality = 5
-    vertex_kg = float(os.environ.get("VERTEX_KG", "0.3"))
-    s.mass = vertex_kg
+    vertex_kg = float(os.environ.get("VERTEX_KG", str(REFERENCE_VERTEX_KG)))
+    set_cloth_springs(s, vertex_kg)
     s.air_damping = float(os.environ.get("AIR_DAMPING", "1.0"))
-    s.bending_model = "ANGULAR"
-    s.tension_stiffness = 80.0
-    s.compression_stiffness = float(os.environ.get("COMPRESSION_STIFFNESS", "80.0"))
-    s.shear_stiffness = float(os.environ.get("SHEAR_STIFFNESS", "5.0"))
     d = e_mpa * 1e6 * (t_mm * 1e-3) ** 3 / (12.0 * (1.0 - poisson ** 2))
     w = gsm * 1e-3 * 9.81
     spacing = 0.5 * (width / (nu - 1) + height / (nv - 1))
@@ -94,7 +101,7 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
     # the weight per area grows as 1 / spacing^2; measured at 1.04 cm: 7.8e-8 m^3, the rule
     # gives 8.4e-8).
     per_unit = (float(os.environ.get("BENDING_PER_UNIT", str(BENDING_PER_UNIT))) *
-                (spacing / CALIBRATION_SPACING_M) ** 4 * 0.3 / vertex_kg)
+                (spacing / CALIBRATION_SPACING_M) ** 4 * REFERENCE_VERTEX_KG / vertex_kg)
     s.bending_stiffness = d / w / per_unit * float(os.environ.get("BENDING_SCALE", "1.0"))
     s.vertex_group_mass = "pin"
     cloth.collision_settings.use_collision = False
