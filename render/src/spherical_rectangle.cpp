@@ -22,15 +22,15 @@ namespace {
 // (Abramowitz and Stegun 4.4.46, |error| <= 2e-8 rad, below float's rounding at pi), a
 // square root and eight multiply-adds where libm's acosf took a tenth of make()'s callers'
 // time.  make() takes four at once in SSE2 lanes (interior_angles below), else this.
+// The polynomial's coefficients, constant term first; both versions evaluate it by Horner's
+// rule from the last, the same operations in the same order.
+constexpr float kAcosPolynomial[8] = {1.5707963050f, -0.2145988016f, 0.0889789874f, -0.0501743046f,
+                                      0.0308918810f, -0.0170881256f, 0.0066700901f, -0.0012624911f};
 #if !defined(__SSE2__)
 float interior_angle(float cosine) {
     const float x = std::min(1.0f, std::abs(cosine));
-    const float p =
-        1.5707963050f +
-        x * (-0.2145988016f +
-             x * (0.0889789874f +
-                  x * (-0.0501743046f +
-                       x * (0.0308918810f + x * (-0.0170881256f + x * (0.0066700901f + x * -0.0012624911f))))));
+    float p = kAcosPolynomial[7];
+    for (int k = 6; k >= 0; --k) p = kAcosPolynomial[k] + x * p;
     const float a = std::sqrt(1.0f - x) * p;
     return cosine < 0.0f ? kPiF - a : a;
 }
@@ -40,13 +40,8 @@ float interior_angle(float cosine) {
 // square roots and multiply-adds of four calls (make() was about 5 % of a turntable's CPU).
 __m128 interior_angles(__m128 cosine) {
     const __m128 x = _mm_min_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), cosine), _mm_set1_ps(1.0f));
-    const auto madd = [&x](float c, __m128 t) { return _mm_add_ps(_mm_set1_ps(c), _mm_mul_ps(x, t)); };
-    const __m128 p = madd(
-        1.5707963050f,
-        madd(-0.2145988016f,
-             madd(0.0889789874f,
-                  madd(-0.0501743046f,
-                       madd(0.0308918810f, madd(-0.0170881256f, madd(0.0066700901f, _mm_set1_ps(-0.0012624911f))))))));
+    __m128 p = _mm_set1_ps(kAcosPolynomial[7]);
+    for (int k = 6; k >= 0; --k) p = _mm_add_ps(_mm_set1_ps(kAcosPolynomial[k]), _mm_mul_ps(x, p));
     const __m128 a = _mm_mul_ps(_mm_sqrt_ps(_mm_sub_ps(_mm_set1_ps(1.0f), x)), p);
     const __m128 negative = _mm_cmplt_ps(cosine, _mm_setzero_ps());
     return _mm_or_ps(_mm_and_ps(negative, _mm_sub_ps(_mm_set1_ps(kPiF), a)), _mm_andnot_ps(negative, a));
