@@ -210,6 +210,17 @@ LightHit LightSampler::hit(const Vec3f& o, const Vec3f& d, float tmax) const {
     return best;
 }
 
+Vec3f LightSampler::point_towards(int index, const Vec3f& p, const Vec3f& d) const {
+    const Light& l = lights_[index];
+    const float across = d.dot(l.normal);  // < 0: the ray runs towards the light's front
+    if (!(across < 0.0f)) return l.centre;
+    const float t = (l.centre - p).dot(l.normal) / across;
+    if (!(t > 0.0f)) return l.centre;
+    const Vec3f offset = p + t * d - l.centre;
+    return l.centre + std::clamp(offset.dot(l.ex), -l.half_w, l.half_w) * l.ex +
+           std::clamp(offset.dot(l.ey), -l.half_h, l.half_h) * l.ey;
+}
+
 float LightSampler::pdf(const LightChoice& choice, int index, const Vec3f& p, const Vec3f& q,
                         const LightSample* drawn) const {
     const Light& l = lights_[index];

@@ -51,6 +51,13 @@ public:
     const V3& environment() const { return environment_; }
 
     LightChoice choose(const Vec3f& p, const Vec3f& n) const;
+    // The same choice re-weighted for a glossy surface at p, whose lobe peaks about the
+    // mirror direction `mirror`: each light's share in proportion to its choice probability
+    // times `lobe(wi)` (the BSDF's luminance times cosine towards wi), taken towards the
+    // light's point nearest to where the mirror ray meets its plane, mixed with the plain
+    // choice by kGlossyChoiceMix.  Unchanged when the lobe sees none of the lights there.
+    template <class Lobe>
+    void weight_for_glossy(LightChoice& choice, const Vec3f& p, const Vec3f& mirror, Lobe&& lobe) const;
     // Picks by u_pick and samples a point on it, uniformly in the solid angle it subtends at
     // p (uniformly over its area where that is too small to measure), or a cosine direction
     // about `n` for the environment, with (u_a, u_b), u_a being u_pick rescaled within the
@@ -72,6 +79,10 @@ public:
     float environment_pdf(const LightChoice& choice, const Vec3f& d, const Vec3f& n) const;
 
 private:
+    // Light `index`'s point nearest to where the ray p + t d (t > 0) meets its plane; its
+    // centre when the ray does not meet it.
+    Vec3f point_towards(int index, const Vec3f& p, const Vec3f& d) const;
+
     std::vector<Light> lights_;
     // What choose() and hit() read of each light, one array per coordinate (lights beyond
     // count() zero), so that they take four lights at once.
@@ -82,5 +93,27 @@ private:
     V3 environment_;
     float environment_power_;  // luminance * pi, the environment's weight in a choice
 };
+
+// The share of a glossy vertex's light choice that follows its lobe: the rest keeps the plain
+// choice, so that a light the lobe's estimate misses (a softbox whose reflection lies beside
+// the point taken) is still sampled.
+constexpr float kGlossyChoiceMix = 0.9f;
+
+template <class Lobe>
+void LightSampler::weight_for_glossy(LightChoice& choice, const Vec3f& p, const Vec3f& mirror, Lobe&& lobe) const {
+    const int count = this->count();
+    std::array<float, kMaxLights> towards{};
+    float lobe_sum = 0.0f, area_sum = 0.0f;
+    for (int i = 0; i < count; ++i) {
+        if (!(choice.prob[i] > 0.0f)) continue;
+        towards[i] = choice.prob[i] * lobe((point_towards(i, p, mirror) - p).normalized());
+        lobe_sum += towards[i];
+        area_sum += choice.prob[i];
+    }
+    if (!(lobe_sum > 0.0f)) return;
+    // The area lights keep their total share (the environment's is not changed).
+    const float scale = kGlossyChoiceMix * area_sum / lobe_sum;
+    for (int i = 0; i < count; ++i) choice.prob[i] = (1.0f - kGlossyChoiceMix) * choice.prob[i] + scale * towards[i];
+}
 
 }  // namespace foldcast::render
