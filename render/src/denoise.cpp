@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "cloth_regression.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
 
@@ -505,6 +506,10 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
             guide.inv_depth_tolerance[i] = 1.0f / (kSigmaDepth * depth_step);
         }
 
+    // The noisy light, demodulated, for the cloth's regression after the passes.
+    std::vector<V3> noisy(count);
+    for (std::size_t i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) noisy[i][k] = rgba.pixels[4 * i + k] / albedo[i][k];
     Filter filter(w, h, guide, threads);
     for (int pass = 0; pass < kPasses; ++pass) {
         if (b && pass == kCrossPasses) merge(a, *b, features.half_share), b.reset();
@@ -518,6 +523,19 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         // samples, left, with the relaxed normal weight on cloth of one albedo.
         filter.prepare(a);
         filter.pass(1, a, nullptr, true);
+    }
+    {
+        // The cloth's first-order regression (cloth_regression.hpp) on the noisy light, its
+        // colour weight from what the passes made of it.
+        std::vector<float> filtered_lum(count);
+        for (std::size_t i = 0; i < count; ++i) filtered_lum[i] = luminance(a.light[i]);
+        ClothRegressionInput in;
+        in.width = w, in.height = h;
+        in.light = &noisy, in.guide = &filtered_lum, in.variance = &a.variance;
+        in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
+        in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
+        tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+        arena.execute([&] { regress_cloth(in, a.light); });
     }
     for (std::size_t i = 0; i < count; ++i) {
         if (!guide.covered[i]) continue;

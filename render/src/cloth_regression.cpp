@@ -1,0 +1,235 @@
+#include "cloth_regression.hpp"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "foldcast/core/fast_math.hpp"
+
+namespace foldcast::render {
+namespace {
+
+// A 9 x 9 window with Gaussian spatial weights of 3 pixels; regressors 1, the normal's
+// change (3) and the offset (2).  The settings were chosen on the default scene at 640x360
+// and 16 spp (docs/benchmarks.md, "Cloth regression": 11 x 11 was 1 % better and 50 % dearer).
+constexpr int kRadius = 4;
+constexpr int kTaps = 2 * kRadius + 1;
+constexpr float kSpatialSigma = 3.0f;
+constexpr int kRegressors = 6;
+constexpr int kProducts = kRegressors * (kRegressors + 1) / 2;  // the upper triangle of X^T W X
+// A tap's depth may differ from the pixel's by this share of the depth per pixel of distance
+// (exp(-1) there): the same sheet of cloth, not a fold behind it.
+constexpr float kDepthTolerance = 0.002f;
+constexpr float kSameAlbedo = 0.02f;  // taps of another colour (a print, a trim) are left out
+// The colour weight on the a-trous result's luminance, which keeps a shadow's edge from being
+// fitted across: exp(-difference^2 / scale^2), scale^2 the sum of (kColourSigma standard
+// deviations of the two guide pixels' noise)^2 and (kColourRelative of the pixel's light)^2.
+// Looser or tighter, the default scene's garment loses (docs/benchmarks.md).
+constexpr float kColourSigma = 5.0f;
+constexpr float kColourRelative = 0.05f;
+constexpr double kRidge = 1e-3;  // on the slopes, so that a flat patch still has a fit
+
+// What a tap at offset (dx, dy) brings whatever the pixel: its spatial weight, 1 / its
+// distance, and its offset regressors.
+struct Offsets {
+    float spatial[kTaps][kTaps], inv_distance[kTaps][kTaps], regressor[kTaps];
+    Offsets() {
+        float g[kTaps];
+        for (int d = 0; d < kTaps; ++d) {
+            const float o = float(d - kRadius);
+            g[d] = std::exp(-o * o / (2.0f * kSpatialSigma * kSpatialSigma));
+            regressor[d] = o / kRadius;
+        }
+        for (int a = 0; a < kTaps; ++a)
+            for (int b = 0; b < kTaps; ++b) {
+                const float dx = float(b - kRadius), dy = float(a - kRadius);
+                spatial[a][b] = g[a] * g[b];
+                inv_distance[a][b] = 1.0f / std::max(1.0f, std::sqrt(dx * dx + dy * dy));
+            }
+    }
+};
+
+// The image's arrays, the light split by channel so that four pixels' are contiguous.
+struct Planes {
+    int w = 0, h = 0;
+    const float *guide, *variance, *nx, *ny, *nz, *depth, *ax, *ay, *az;
+    const std::int32_t* cloth;
+    std::vector<float> red, green, blue;
+};
+
+// The regression's value from its weighted sums (xx: X^T W X's upper triangle, row by row;
+// xy: X^T W y), written to `out` when the fit is sound.
+void solve(const float (&xx)[kProducts], const float (&xy)[kRegressors][3], V3& out) {
+    Eigen::Matrix<double, kRegressors, kRegressors> m;
+    int k = 0;
+    for (int a = 0; a < kRegressors; ++a)
+        for (int b = a; b < kRegressors; ++b) m(a, b) = m(b, a) = xx[k++];
+    for (int a = 1; a < kRegressors; ++a) m(a, a) += kRidge;
+    Eigen::Matrix<double, kRegressors, 3> rhs;
+    for (int a = 0; a < kRegressors; ++a)
+        for (int c = 0; c < 3; ++c) rhs(a, c) = xy[a][c];
+    const Eigen::LLT<Eigen::Matrix<double, kRegressors, kRegressors>> fit(m);
+    if (fit.info() != Eigen::Success) return;
+    const Eigen::Matrix<double, kRegressors, 3> beta = fit.solve(rhs);
+    const V3 value(float(beta(0, 0)), float(beta(0, 1)), float(beta(0, 2)));
+    if (value.allFinite() && value.minCoeff() >= 0.0f) out = value;
+}
+
+// Pixel i's fit at (x, y), a tap at a time.
+void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
+    const std::size_t i = std::size_t(y) * p.w + x;
+    float xx[kProducts] = {};
+    float xy[kRegressors][3] = {};
+    const float inv_tolerance = 1.0f / (kDepthTolerance * p.depth[i] + 1e-6f);
+    const float relative = kColourRelative * p.guide[i];
+    const float scale_floor = relative * relative + 1e-8f;
+    for (int dy = -kRadius; dy <= kRadius; ++dy) {
+        const int qy = y + dy;
+        if (qy < 0 || qy >= p.h) continue;
+        for (int dx = -kRadius; dx <= kRadius; ++dx) {
+            const int qx = x + dx;
+            if (qx < 0 || qx >= p.w) continue;
+            const std::size_t j = std::size_t(qy) * p.w + qx;
+            if (!p.cloth[j] || !(std::abs(p.ax[j] - p.ax[i]) < kSameAlbedo) ||
+                !(std::abs(p.ay[j] - p.ay[i]) < kSameAlbedo) || !(std::abs(p.az[j] - p.az[i]) < kSameAlbedo))
+                continue;
+            const float difference = p.guide[j] - p.guide[i];
+            const float colour =
+                difference * difference / (kColourSigma * kColourSigma * (p.variance[i] + p.variance[j]) + scale_floor);
+            const float exponent =
+                std::abs(p.depth[j] - p.depth[i]) * inv_tolerance * o.inv_distance[dy + kRadius][dx + kRadius] + colour;
+            const float weight = o.spatial[dy + kRadius][dx + kRadius] * fast_exp(-exponent);
+            const float r[kRegressors] = {1.0f,
+                                          p.nx[j] - p.nx[i],
+                                          p.ny[j] - p.ny[i],
+                                          p.nz[j] - p.nz[i],
+                                          o.regressor[dx + kRadius],
+                                          o.regressor[dy + kRadius]};
+            const float l[3] = {p.red[j], p.green[j], p.blue[j]};
+            int k = 0;
+            for (int a = 0; a < kRegressors; ++a) {
+                const float wa = weight * r[a];
+                for (int b = a; b < kRegressors; ++b) xx[k++] += wa * r[b];
+                for (int c = 0; c < 3; ++c) xy[a][c] += wa * l[c];
+            }
+        }
+    }
+    solve(xx, xy, out);
+}
+
+#if defined(__SSE2__)
+// Pixels i..i+3 of row y at once, every tap inside the image: each lane the same operations
+// as regress_pixel in the same order, so the same floats.
+void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
+    const std::size_t i = std::size_t(y) * p.w + x;
+    const auto load = [](const float* a) { return _mm_loadu_ps(a); };
+    const __m128 depth_i = load(p.depth + i), guide_i = load(p.guide + i), variance_i = load(p.variance + i);
+    const __m128 ax_i = load(p.ax + i), ay_i = load(p.ay + i), az_i = load(p.az + i);
+    const __m128 nx_i = load(p.nx + i), ny_i = load(p.ny + i), nz_i = load(p.nz + i);
+    const __m128 inv_tolerance = _mm_div_ps(
+        _mm_set1_ps(1.0f), _mm_add_ps(_mm_mul_ps(_mm_set1_ps(kDepthTolerance), depth_i), _mm_set1_ps(1e-6f)));
+    const __m128 relative = _mm_mul_ps(_mm_set1_ps(kColourRelative), guide_i);
+    const __m128 scale_floor = _mm_add_ps(_mm_mul_ps(relative, relative), _mm_set1_ps(1e-8f));
+    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 same_albedo = _mm_set1_ps(kSameAlbedo);
+    const __m128 colour_sigma2 = _mm_set1_ps(kColourSigma * kColourSigma);
+    const __m128 sign_bit = _mm_set1_ps(-0.0f);
+    __m128 xx[kProducts], xy[kRegressors][3];
+    for (__m128& s : xx) s = _mm_setzero_ps();
+    for (auto& row : xy)
+        for (__m128& s : row) s = _mm_setzero_ps();
+    for (int dy = -kRadius; dy <= kRadius; ++dy) {
+        const int qy = y + dy;
+        if (qy < 0 || qy >= p.h) continue;
+        for (int dx = -kRadius; dx <= kRadius; ++dx) {
+            const std::size_t j = std::size_t(qy) * p.w + std::size_t(x + dx);
+            const __m128 taken = _mm_and_ps(
+                _mm_castsi128_ps(
+                    _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p.cloth + j)), _mm_set1_epi32(1))),
+                _mm_and_ps(
+                    _mm_cmplt_ps(_mm_and_ps(_mm_sub_ps(load(p.ax + j), ax_i), abs_mask), same_albedo),
+                    _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(_mm_sub_ps(load(p.ay + j), ay_i), abs_mask), same_albedo),
+                               _mm_cmplt_ps(_mm_and_ps(_mm_sub_ps(load(p.az + j), az_i), abs_mask), same_albedo))));
+            if (_mm_movemask_ps(taken) == 0) continue;
+            const __m128 difference = _mm_sub_ps(load(p.guide + j), guide_i);
+            const __m128 colour = _mm_div_ps(
+                _mm_mul_ps(difference, difference),
+                _mm_add_ps(_mm_mul_ps(colour_sigma2, _mm_add_ps(variance_i, load(p.variance + j))), scale_floor));
+            const __m128 exponent = _mm_add_ps(
+                _mm_mul_ps(_mm_mul_ps(_mm_and_ps(_mm_sub_ps(load(p.depth + j), depth_i), abs_mask), inv_tolerance),
+                           _mm_set1_ps(o.inv_distance[dy + kRadius][dx + kRadius])),
+                colour);
+            const __m128 weight = _mm_and_ps(taken, _mm_mul_ps(_mm_set1_ps(o.spatial[dy + kRadius][dx + kRadius]),
+                                                               fast_exp4(_mm_xor_ps(exponent, sign_bit))));
+            const __m128 r[kRegressors] = {_mm_set1_ps(1.0f),
+                                           _mm_sub_ps(load(p.nx + j), nx_i),
+                                           _mm_sub_ps(load(p.ny + j), ny_i),
+                                           _mm_sub_ps(load(p.nz + j), nz_i),
+                                           _mm_set1_ps(o.regressor[dx + kRadius]),
+                                           _mm_set1_ps(o.regressor[dy + kRadius])};
+            const __m128 l[3] = {load(p.red.data() + j), load(p.green.data() + j), load(p.blue.data() + j)};
+            int k = 0;
+            for (int a = 0; a < kRegressors; ++a) {
+                const __m128 wa = _mm_mul_ps(weight, r[a]);
+                for (int b = a; b < kRegressors; ++b) xx[k] = _mm_add_ps(xx[k], _mm_mul_ps(wa, r[b])), ++k;
+                for (int c = 0; c < 3; ++c) xy[a][c] = _mm_add_ps(xy[a][c], _mm_mul_ps(wa, l[c]));
+            }
+        }
+    }
+    alignas(16) float lanes_xx[kProducts][4], lanes_xy[kRegressors][3][4];
+    for (int k = 0; k < kProducts; ++k) _mm_store_ps(lanes_xx[k], xx[k]);
+    for (int a = 0; a < kRegressors; ++a)
+        for (int c = 0; c < 3; ++c) _mm_store_ps(lanes_xy[a][c], xy[a][c]);
+    for (int lane = 0; lane < 4; ++lane) {
+        if (!p.cloth[i + std::size_t(lane)]) continue;
+        float sums_xx[kProducts], sums_xy[kRegressors][3];
+        for (int k = 0; k < kProducts; ++k) sums_xx[k] = lanes_xx[k][lane];
+        for (int a = 0; a < kRegressors; ++a)
+            for (int c = 0; c < 3; ++c) sums_xy[a][c] = lanes_xy[a][c][lane];
+        solve(sums_xx, sums_xy, out[lane]);
+    }
+}
+#endif
+
+}  // namespace
+
+void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
+    Planes p;
+    p.w = in.width, p.h = in.height;
+    p.guide = in.guide->data(), p.variance = in.variance->data();
+    p.nx = in.nx->data(), p.ny = in.ny->data(), p.nz = in.nz->data(), p.depth = in.depth->data();
+    p.ax = in.ax->data(), p.ay = in.ay->data(), p.az = in.az->data(), p.cloth = in.cloth->data();
+    const std::vector<V3>& light = *in.light;
+    p.red.resize(light.size()), p.green.resize(light.size()), p.blue.resize(light.size());
+    for (std::size_t i = 0; i < light.size(); ++i)
+        p.red[i] = light[i].x(), p.green[i] = light[i].y(), p.blue[i] = light[i].z();
+    static const Offsets offsets;
+    tbb::parallel_for(tbb::blocked_range<int>(0, p.h), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            const std::size_t row = std::size_t(y) * p.w;
+            int x = 0;
+            while (x < p.w) {
+#if defined(__SSE2__)
+                // Four pixels at a time where all their taps lie inside the row.
+                if (x >= kRadius && x + 4 + kRadius <= p.w) {
+                    const std::int32_t* c = p.cloth + row + x;
+                    if (c[0] | c[1] | c[2] | c[3]) regress_four(p, offsets, x, y, &out[row + x]);
+                    x += 4;
+                    continue;
+                }
+#endif
+                if (p.cloth[row + x]) regress_pixel(p, offsets, x, y, out[row + x]);
+                ++x;
+            }
+        }
+    });
+}
+
+}  // namespace foldcast::render

@@ -1,0 +1,38 @@
+#pragma once
+// The denoiser's last stage on the cloth: a weighted first-order regression over each cloth
+// pixel's neighbourhood (after Bitterli et al. 2016, "Nonlinearly Weighted First-order
+// Regression for Denoising Monte Carlo Renderings").  The a-trous passes average a pixel only
+// with neighbours whose shading normal agrees within cos^128, so on the folds, where the
+// normal turns from one pixel to the next, they keep most of the noise.  Fitting the
+// demodulated light as a linear function of the normal and the position instead lets every
+// neighbour of the same cloth take part: the change of shading with the normal is in the
+// model, not in the residual.  Measured in docs/benchmarks.md ("Cloth regression").
+#include <cstdint>
+#include <vector>
+
+#include "cloth_bsdf.hpp"
+
+namespace foldcast::render {
+
+// One image's inputs to the regression, one entry per pixel.
+struct ClothRegressionInput {
+    int width = 0, height = 0;
+    const std::vector<V3>* light = nullptr;        // the noisy light, demodulated (colour / albedo)
+    const std::vector<float>* guide = nullptr;     // luminance of the a-trous result: the colour weight's
+    const std::vector<float>* variance = nullptr;  // of the guide's luminance
+    const std::vector<float>* nx = nullptr;        // unit shading normal
+    const std::vector<float>* ny = nullptr;
+    const std::vector<float>* nz = nullptr;
+    const std::vector<float>* depth = nullptr;
+    const std::vector<float>* ax = nullptr;  // first-hit albedo
+    const std::vector<float>* ay = nullptr;
+    const std::vector<float>* az = nullptr;
+    const std::vector<std::int32_t>* cloth = nullptr;  // 1: most of the pixel's samples hit the garment
+};
+
+// For every cloth pixel, the regression's value at the pixel written to `out` (demodulated);
+// other pixels and pixels whose fit fails keep what `out` holds.  Each pixel depends only on
+// the inputs: the same floats for any thread count.
+void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out);
+
+}  // namespace foldcast::render
