@@ -17,7 +17,7 @@ namespace foldcast::render {
 // One image's inputs to the regression, one entry per pixel.
 struct ClothRegressionInput {
     int width = 0, height = 0;
-    const std::vector<V3>* light = nullptr;        // the noisy light, demodulated (colour / albedo)
+    const std::vector<V3>* light = nullptr;        // the light to fit, demodulated (colour / albedo)
     const std::vector<float>* guide = nullptr;     // luminance of the a-trous result: the colour weight's
     const std::vector<float>* variance = nullptr;  // of the guide's luminance
     const std::vector<float>* nx = nullptr;        // unit shading normal

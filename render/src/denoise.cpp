@@ -39,6 +39,7 @@ constexpr float kSameAlbedo = 0.005f;
 // docs/benchmarks.md ("The denoiser's mixture weight").
 constexpr float kMixScale = 16.0f;
 constexpr float kMixDeadZone = 0.2f;
+constexpr float kRegressionNoisyShare = 0.25f;  // of the light the cloth's regression fits (below)
 
 // The guide the passes compare taps by, one array per quantity, so that the pass loads the
 // same quantity for four neighbouring pixels at once.
@@ -507,9 +508,9 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         }
 
     // The noisy light, demodulated, for the cloth's regression after the passes.
-    std::vector<V3> noisy(count);
+    std::vector<V3> data(count);
     for (std::size_t i = 0; i < count; ++i)
-        for (int k = 0; k < 3; ++k) noisy[i][k] = rgba.pixels[4 * i + k] / albedo[i][k];
+        for (int k = 0; k < 3; ++k) data[i][k] = rgba.pixels[4 * i + k] / albedo[i][k];
     Filter filter(w, h, guide, threads);
     for (int pass = 0; pass < kPasses; ++pass) {
         if (b && pass == kCrossPasses) merge(a, *b, features.half_share), b.reset();
@@ -525,13 +526,20 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         filter.pass(1, a, nullptr, true);
     }
     {
-        // The cloth's first-order regression (cloth_regression.hpp) on the noisy light, its
-        // colour weight from what the passes made of it.
+        // The cloth's first-order regression (cloth_regression.hpp), its colour weight from
+        // what the passes made of the light.  It fits kRegressionNoisyShare of the noisy light
+        // and the rest of the passes' result: fitted to the noisy light alone, the fit's own
+        // noise, shared by neighbours whose windows overlap, showed as blotches on the flat
+        // cloth of the default 1280x720 render with adaptive sampling; fitted to the passes'
+        // result alone, it kept less of its gain (docs/benchmarks.md, "Cloth regression").
         std::vector<float> filtered_lum(count);
-        for (std::size_t i = 0; i < count; ++i) filtered_lum[i] = luminance(a.light[i]);
+        for (std::size_t i = 0; i < count; ++i) {
+            filtered_lum[i] = luminance(a.light[i]);
+            data[i] = kRegressionNoisyShare * data[i] + (1.0f - kRegressionNoisyShare) * a.light[i];
+        }
         ClothRegressionInput in;
         in.width = w, in.height = h;
-        in.light = &noisy, in.guide = &filtered_lum, in.variance = &a.variance;
+        in.light = &data, in.guide = &filtered_lum, in.variance = &a.variance;
         in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
         in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
         tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);

@@ -11,11 +11,11 @@
 // passes cross-filter them (Rousselle et al. 2012): each half is averaged with colour
 // weights taken from the other, so a pixel's noise does not decide whether that noise is
 // kept; the halves are then merged and, after the last two passes, one more pass at step 1
-// is guided by the merged light.  Last, every cloth pixel's light is fitted afresh from the
-// noisy light of its neighbourhood as a linear function of the normal and the position
-// (cloth_regression.hpp), with the passes' result deciding which neighbours lie across a
-// shadow's edge.  Each output pixel depends only on the inputs, so the result is the same
-// for any thread count.
+// is guided by the merged light.  Last, every cloth pixel's light is fitted afresh from its
+// neighbourhood's (a quarter the noisy light, the rest the passes' result) as a linear
+// function of the normal and the position (cloth_regression.hpp), with the passes' result
+// deciding which neighbours lie across a shadow's edge.  Each output pixel depends only on the inputs, so the result is
+// the same for any thread count.
 #include <vector>
 
 #include "cloth_bsdf.hpp"
