@@ -6,6 +6,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <type_traits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace foldcast::drape::detail {
 namespace {
@@ -20,68 +23,93 @@ void for_chunks(Eigen::Index size, Body&& body) {
                       [&](Eigen::Index c) { body(c, c * kChunk, std::min(size, (c + 1) * kChunk)); });
 }
 
+// Four floats at a time, and the double sums of their products kept as Eigen's dot() keeps a
+// vector of doubles' (two packet accumulators: entries 0-1 and 2-3 of every four, added at the
+// end, then the two lanes), so a dot product is the bits dot() gives for the vectors converted
+// to double.  SSE2, or the same operations one lane at a time.
+#if defined(__SSE2__)
+using Float4 = __m128;
+Float4 load4(const float* p) { return _mm_loadu_ps(p); }
+void store4(float* p, Float4 v) { _mm_storeu_ps(p, v); }
+Float4 sub4(Float4 a, Float4 b) { return _mm_sub_ps(a, b); }
+struct Double4 {
+    __m128d low, high;
+    Double4() : low(_mm_setzero_pd()), high(_mm_setzero_pd()) {}
+    explicit Double4(Float4 v) : low(_mm_cvtps_pd(v)), high(_mm_cvtps_pd(_mm_movehl_ps(v, v))) {}
+    Double4(__m128d l, __m128d h) : low(l), high(h) {}
+};
+Double4 mul4(const Double4& a, const Double4& b) { return {_mm_mul_pd(a.low, b.low), _mm_mul_pd(a.high, b.high)}; }
+Double4 add4(const Double4& a, const Double4& b) { return {_mm_add_pd(a.low, b.low), _mm_add_pd(a.high, b.high)}; }
+double total(const Double4& s) {
+    const __m128d pair = _mm_add_pd(s.low, s.high);
+    return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
+}
+#else
+struct Float4 {
+    float v[4];
+};
+Float4 load4(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+void store4(float* p, Float4 a) { std::copy(a.v, a.v + 4, p); }
+Float4 sub4(Float4 a, Float4 b) { return {{a.v[0] - b.v[0], a.v[1] - b.v[1], a.v[2] - b.v[2], a.v[3] - b.v[3]}}; }
+struct Double4 {
+    double v[4];
+    Double4() : v{} {}
+    explicit Double4(Float4 a) : v{a.v[0], a.v[1], a.v[2], a.v[3]} {}
+    Double4(double a, double b, double c, double d) : v{a, b, c, d} {}
+};
+Double4 mul4(const Double4& a, const Double4& b) {
+    return {a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]};
+}
+Double4 add4(const Double4& a, const Double4& b) {
+    return {a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2], a.v[3] + b.v[3]};
+}
+double total(const Double4& s) { return (s.v[0] + s.v[2]) + (s.v[1] + s.v[3]); }
+#endif
+
 // One chunk of the step's first pass in one sweep over memory: the residual, the new
-// differences, and the 2h dot products (the new difference with each of the h history slots,
-// each slot with the residual), each summed exactly as Eigen's dot() sums a vector of this
-// length (two packet accumulators over alternate packets, added, then the packet's lanes), so
-// the values are the bits the separate pass and dot() calls gave.  Only for chunks whose
-// length is a multiple of two packets (every chunk but perhaps the last); H: the history
-// length.  Reads each array once instead of once per dot product.
+// differences (in float), and the 2h dot products (the new difference with each of the h
+// history slots, each slot with the residual), in double, each summed as Double4 sums.  Only
+// for chunks whose length is a multiple of four (every chunk but perhaps the last); H: the
+// history length.  Reads each array once instead of once per dot product.
 template <int H>
-void fused_chunk(Eigen::Index begin, Eigen::Index end, const double* g, const double* current, const double* g_prev,
-                 const double* f_prev, double* f, double* new_dg, double* new_df,
-                 const std::array<const double*, Anderson::kHistory>& history, double* with_new, double* right) {
-    using namespace Eigen::internal;
-    using Packet = packet_traits<double>::type;
-    constexpr Eigen::Index P = packet_traits<double>::size;
-    Packet new0[H], new1[H], right0[H], right1[H];  // the two accumulators of each dot product
-    const auto packet = [&](Eigen::Index e, Packet* sum_new, Packet* sum_right, auto first) {
-        const Packet ge = ploadu<Packet>(g + e);
-        const Packet fe = psub(ge, ploadu<Packet>(current + e));
-        const Packet dg = psub(ge, ploadu<Packet>(g_prev + e));
-        const Packet df = psub(fe, ploadu<Packet>(f_prev + e));
-        pstoreu(f + e, fe), pstoreu(new_dg + e, dg), pstoreu(new_df + e, df);
-        for (int a = 0; a < H; ++a) {
-            const Packet d = ploadu<Packet>(history[std::size_t(a)] + e);  // new_df's own slot among them
-            const Packet n = pmul(df, d), r = pmul(d, fe);
-            if constexpr (decltype(first)::value)
-                sum_new[a] = n, sum_right[a] = r;
-            else
-                sum_new[a] = padd(sum_new[a], n), sum_right[a] = padd(sum_right[a], r);
-        }
+void fused_chunk(Eigen::Index begin, Eigen::Index end, const float* g, const float* current, const float* g_prev,
+                 const float* f_prev, float* f, float* new_dg, float* new_df,
+                 const std::array<const float*, Anderson::kHistory>& history, double* with_new, double* right) {
+    const auto products = [&](Eigen::Index e, Double4& df, Double4& fe) {
+        const Float4 ge = load4(g + e);
+        const Float4 residual = sub4(ge, load4(current + e));
+        const Float4 difference = sub4(residual, load4(f_prev + e));
+        store4(f + e, residual), store4(new_dg + e, sub4(ge, load4(g_prev + e))), store4(new_df + e, difference);
+        df = Double4(difference), fe = Double4(residual);
     };
-    packet(begin, new0, right0, std::true_type{});
-    packet(begin + P, new1, right1, std::true_type{});
-    for (Eigen::Index e = begin + 2 * P; e < end; e += 2 * P) {
-        packet(e, new0, right0, std::false_type{});
-        packet(e + P, new1, right1, std::false_type{});
-    }
+    Double4 df, fe;
+    products(begin, df, fe);
+    std::array<Double4, H> sum_new{}, sum_right{};
     for (int a = 0; a < H; ++a) {
-        with_new[a] = predux(padd(new0[a], new1[a]));
-        right[a] = predux(padd(right0[a], right1[a]));
+        const Double4 d(load4(history[std::size_t(a)] + begin));  // new_df's own slot among them
+        sum_new[std::size_t(a)] = mul4(df, d), sum_right[std::size_t(a)] = mul4(d, fe);
     }
+    for (Eigen::Index e = begin + 4; e < end; e += 4) {
+        products(e, df, fe);
+        for (int a = 0; a < H; ++a) {
+            const Double4 d(load4(history[std::size_t(a)] + e));
+            sum_new[std::size_t(a)] = add4(sum_new[std::size_t(a)], mul4(df, d));
+            sum_right[std::size_t(a)] = add4(sum_right[std::size_t(a)], mul4(d, fe));
+        }
+    }
+    for (int a = 0; a < H; ++a)
+        with_new[a] = total(sum_new[std::size_t(a)]), right[a] = total(sum_right[std::size_t(a)]);
 }
 
-// next = g - sum_a theta_a dg_a over [begin, end), the terms subtracted in slot order, a
-// packet at a time (the same operations on each value as one at a time).
+// next = g - sum_a theta_a dg_a over [begin, end), in double from the floats, the terms
+// subtracted in slot order, then rounded to float.
 template <int H>
-void combine_chunk(Eigen::Index begin, Eigen::Index end, const double* g,
-                   const std::array<const double*, Anderson::kHistory>& dg, const double* theta, double* next) {
-    using namespace Eigen::internal;
-    using Packet = packet_traits<double>::type;
-    constexpr Eigen::Index P = packet_traits<double>::size;
-    Packet t[H];
-    for (int a = 0; a < H; ++a) t[a] = pset1<Packet>(theta[a]);
-    Eigen::Index e = begin;
-    for (; e + P <= end; e += P) {
-        Packet v = ploadu<Packet>(g + e);
-        for (int a = 0; a < H; ++a) v = psub(v, pmul(t[a], ploadu<Packet>(dg[std::size_t(a)] + e)));
-        pstoreu(next + e, v);
-    }
-    for (; e < end; ++e) {
-        double v = g[e];
-        for (int a = 0; a < H; ++a) v -= theta[a] * dg[std::size_t(a)][e];
-        next[e] = v;
+void combine_chunk(Eigen::Index begin, Eigen::Index end, const float* g,
+                   const std::array<const float*, Anderson::kHistory>& dg, const double* theta, float* next) {
+    for (Eigen::Index e = begin; e < end; ++e) {
+        double v = double(g[e]);
+        for (int a = 0; a < H; ++a) v -= theta[a] * double(dg[std::size_t(a)][e]);
+        next[e] = float(v);
     }
 }
 
@@ -108,14 +136,14 @@ Anderson::Anderson(Eigen::Index size)
       f_prev_(std::size_t(size)),
       g_(std::size_t(size)),
       partial_(std::size_t((size + kChunk - 1) / kChunk) * 2 * kHistory) {
-    for (std::vector<double>& d : dg_) d.resize(std::size_t(size));
-    for (std::vector<double>& d : df_) d.resize(std::size_t(size));
+    for (std::vector<float>& d : dg_) d.resize(std::size_t(size));
+    for (std::vector<float>& d : df_) d.resize(std::size_t(size));
     slot_dots_.setZero();
 }
 
-bool Anderson::step(const double* current, double* next) {
-    const double* const g = g_.data();
-    double* const f = f_.data();
+bool Anderson::step(const float* current, float* next) {
+    const float* const g = g_.data();
+    float* const f = f_.data();
     if (steps_ == 0) {
         for_chunks(size_, [&](Eigen::Index, Eigen::Index begin, Eigen::Index end) {
             for (Eigen::Index e = begin; e < end; ++e) f[e] = g[e] - current[e];
@@ -132,19 +160,17 @@ bool Anderson::step(const double* current, double* next) {
             slot = slot_of(stored_++);
         }
         const int h = stored_;
-        std::array<const double*, kHistory> history{};
+        std::array<const float*, kHistory> history{};
         for (int a = 0; a < h; ++a) history[std::size_t(a)] = df_[slot_of(a)].data();
-        double* const new_dg = dg_[slot].data();
-        double* const new_df = df_[slot].data();
-        const double* const g_prev = g_prev_.data();
-        const double* const f_prev = f_prev_.data();
+        float* const new_dg = dg_[slot].data();
+        float* const new_df = df_[slot].data();
+        const float* const g_prev = g_prev_.data();
+        const float* const f_prev = f_prev_.data();
         const Eigen::Index chunks = (size_ + kChunk - 1) / kChunk;
         double* const partial = partial_.data();
-        constexpr Eigen::Index kTwoPackets =
-            2 * Eigen::Index(Eigen::internal::packet_traits<double>::size);
         for_chunks(size_, [&](Eigen::Index c, Eigen::Index begin, Eigen::Index end) {
             double* const sums = partial + c * 2 * kHistory;
-            if ((end - begin) % kTwoPackets == 0 && h >= 1) {
+            if ((end - begin) % 4 == 0 && h >= 1) {
                 with_history_length(h, [&](auto history_length) {
                     fused_chunk<decltype(history_length)::value>(begin, end, g, current, g_prev, f_prev, f, new_dg,
                                                                  new_df, history, sums, sums + kHistory);
@@ -152,17 +178,19 @@ bool Anderson::step(const double* current, double* next) {
                 return;
             }
             for (Eigen::Index e = begin; e < end; ++e) {
-                const double fe = g[e] - current[e];
+                const float fe = g[e] - current[e];
                 f[e] = fe;
                 new_dg[e] = g[e] - g_prev[e];
                 new_df[e] = fe - f_prev[e];
             }
-            // Eigen's dot products: vectorised, and in a fixed order for a given length.
-            using Segment = Eigen::Map<const Eigen::VectorXd>;
+            // Eigen's dot products of the values in double (a short last chunk only, so the
+            // copies do not matter): in a fixed order for a given length.
+            using Segment = Eigen::Map<const Eigen::VectorXf>;
             const Eigen::Index length = end - begin;
-            const Segment df_new(new_df + begin, length), residual(f + begin, length);
+            const Eigen::VectorXd df_new = Segment(new_df + begin, length).cast<double>(),
+                                  residual = Segment(f + begin, length).cast<double>();
             for (int a = 0; a < h; ++a) {
-                const Segment d(history[std::size_t(a)] + begin, length);
+                const Eigen::VectorXd d = Segment(history[std::size_t(a)] + begin, length).cast<double>();
                 sums[a] = df_new.dot(d), sums[kHistory + a] = d.dot(residual);
             }
         });
@@ -185,7 +213,7 @@ bool Anderson::step(const double* current, double* next) {
         std::swap(g_prev_, g_), std::swap(f_prev_, f_);  // g and f are overwritten next step
         ++steps_;
         if (!theta.allFinite()) return false;
-        std::array<const double*, kHistory> dg{};
+        std::array<const float*, kHistory> dg{};
         for (int a = 0; a < h; ++a) dg[std::size_t(a)] = dg_[slot_of(a)].data();
         for_chunks(size_, [&](Eigen::Index, Eigen::Index begin, Eigen::Index end) {
             with_history_length(h, [&](auto history_length) {

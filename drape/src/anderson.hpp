@@ -12,6 +12,10 @@
 // two sweeps over memory: the residual, the new differences and their dot products in one (each
 // array read once, the sums in the order Eigen's dot() uses, so the bits are dot()'s), the
 // accelerated point in the other, both a SIMD packet at a time.
+//
+// The vectors are stored in float (the history alone is 10 of them): the step reads and
+// writes about half the memory it did in double.  The dot products (the small least-squares
+// system) and the combination are computed in double from the floats.
 #include <Eigen/Core>
 #include <array>
 #include <vector>
@@ -32,21 +36,21 @@ public:
     void forget() { stored_ = 0; }
 
     // Where the caller writes g = G(current) before step(); size() values.
-    double* g() { return g_.data(); }
+    float* g() { return g_.data(); }
     // One step from current and g.  Writes the accelerated point to next and returns true, or
     // returns false (next untouched) when there is no history yet or the combination is not
     // finite: the caller then takes last_g().  current and next: size() values each.
-    bool step(const double* current, double* next);
+    bool step(const float* current, float* next);
     // The g of the last step (valid until the next g() is written).
-    const double* last_g() const { return g_prev_.data(); }
+    const float* last_g() const { return g_prev_.data(); }
 
 private:
-    using Slots = std::array<std::vector<double>, kHistory>;
+    using Slots = std::array<std::vector<float>, kHistory>;
     std::size_t slot_of(int a) const { return std::size_t((oldest_ + a) % kHistory); }  // a-th oldest
 
     Eigen::Index size_;
     int stored_ = 0, oldest_ = 0, steps_ = 0;
-    std::vector<double> f_, g_prev_, f_prev_, g_;          // residual G(x) - x, G and residual before, G now
+    std::vector<float> f_, g_prev_, f_prev_, g_;           // residual G(x) - x, G and residual before, G now
     Slots dg_, df_;                                        // differences of G and of the residual
     std::vector<double> partial_;                          // per chunk: df_new . df_a, then df_a . f
     Eigen::Matrix<double, kHistory, kHistory> slot_dots_;  // df[s] . df[t] by slot

@@ -115,50 +115,56 @@ struct Lines {
     }
 
     // One contiguous line each (a block of rows): the same operations as the general loops
-    // below, in loops the compiler vectorises.
-    void reorder_line(const double* __restrict x, double* __restrict v) const {
+    // below, in loops the compiler vectorises.  T: the grid's values, double or float (the
+    // FFTs run in double on the block's scratch either way).
+    template <typename T>
+    void reorder_line(const T* __restrict x, double* __restrict v) const {
         for (int m = 0; 2 * m < n; ++m) v[m] = x[2 * m];
         for (int m = 0; 2 * m + 1 < n; ++m) v[n - 1 - m] = x[2 * m + 1];
     }
-    void twiddle_line(const double* __restrict spectrum, double* __restrict x) const {
+    template <typename T>
+    void twiddle_line(const double* __restrict spectrum, T* __restrict x) const {
         const double* __restrict co = cos_k.data();
         const double* __restrict sn = sin_k.data();
-        x[0] = 2.0 * spectrum[0];
+        x[0] = T(2.0 * spectrum[0]);
         for (int k = 1; 2 * k < n; ++k) {
             const double re = spectrum[2 * k], im = spectrum[2 * k + 1];
-            x[k] = 2.0 * (co[k] * re + sn[k] * im);
-            x[n - k] = -2.0 * (co[k] * im - sn[k] * re);
+            x[k] = T(2.0 * (co[k] * re + sn[k] * im));
+            x[n - k] = T(-2.0 * (co[k] * im - sn[k] * re));
         }
         if (n % 2 == 0 && n > 0) {
             const int k = n / 2;
-            x[k] = 2.0 * (co[k] * spectrum[2 * k] + sn[k] * spectrum[2 * k + 1]);
+            x[k] = T(2.0 * (co[k] * spectrum[2 * k] + sn[k] * spectrum[2 * k + 1]));
         }
     }
-    void untwiddle_line(const double* __restrict x, const double* __restrict scale, double* __restrict spectrum) const {
+    template <typename T>
+    void untwiddle_line(const T* __restrict x, const T* __restrict scale, double* __restrict spectrum) const {
         const double* __restrict co = cos_k.data();
         const double* __restrict sn = sin_k.data();
-        spectrum[0] = 0.5 * (scale ? x[0] * scale[0] : x[0]), spectrum[1] = 0.0;
+        spectrum[0] = 0.5 * (scale ? double(x[0]) * double(scale[0]) : double(x[0])), spectrum[1] = 0.0;
         if (scale) {
             for (int k = 1; 2 * k <= n; ++k) {
-                const double a = x[k] * scale[k], b = x[n - k] * scale[n - k];
+                const double a = double(x[k]) * double(scale[k]), b = double(x[n - k]) * double(scale[n - k]);
                 spectrum[2 * k] = 0.5 * (co[k] * a + sn[k] * b);
                 spectrum[2 * k + 1] = 0.5 * (sn[k] * a - co[k] * b);
             }
         } else {
             for (int k = 1; 2 * k <= n; ++k) {
-                const double a = x[k], b = x[n - k];
+                const double a = double(x[k]), b = double(x[n - k]);
                 spectrum[2 * k] = 0.5 * (co[k] * a + sn[k] * b);
                 spectrum[2 * k + 1] = 0.5 * (sn[k] * a - co[k] * b);
             }
         }
     }
-    void unorder_line(const double* __restrict v, double* __restrict x) const {
-        for (int m = 0; 2 * m < n; ++m) x[2 * m] = 2.0 * v[m];
-        for (int m = 0; 2 * m + 1 < n; ++m) x[2 * m + 1] = 2.0 * v[n - 1 - m];
+    template <typename T>
+    void unorder_line(const double* __restrict v, T* __restrict x) const {
+        for (int m = 0; 2 * m < n; ++m) x[2 * m] = T(2.0 * v[m]);
+        for (int m = 0; 2 * m + 1 < n; ++m) x[2 * m + 1] = T(2.0 * v[n - 1 - m]);
     }
 
     // REDFT10 of `count` lines from `in` to `out` (in == out allowed).
-    void forward(int count, const double* in, Layout from, double* out, Layout to) const {
+    template <typename T>
+    void forward(int count, const T* in, Layout from, T* out, Layout to) const {
         BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
         double* const v = s.v->data;
         if (from.sample == 1 && to.sample == 1) {
@@ -175,7 +181,7 @@ struct Lines {
             v[std::ptrdiff_t(c) * n + n - 1 - m] = in[c * from.line + (2 * m + 1) * from.sample];
         });
         fftw_execute_dft_r2c(r2c[count], v, s.spectrum->data);
-        const auto put = [&](int c, int k, double value) { out[c * to.line + k * to.sample] = value; };
+        const auto put = [&](int c, int k, double value) { out[c * to.line + k * to.sample] = T(value); };
         each(count, n / 2 + 1, to, [&](int c, int k) {
             const fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
             if (k == 0) {
@@ -192,7 +198,8 @@ struct Lines {
     // REDFT01 of `count` lines from `in` to `out` (in == out allowed), each input value
     // multiplied by scale's entry at the same place first when scale is given (scale laid out
     // as in).
-    void inverse(int count, const double* in, Layout from, double* out, Layout to, const double* scale) const {
+    template <typename T>
+    void inverse(int count, const T* in, Layout from, T* out, Layout to, const T* scale) const {
         BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
         if (from.sample == 1 && to.sample == 1) {
             for (int c = 0; c < count; ++c)
@@ -204,7 +211,7 @@ struct Lines {
         }
         const auto get = [&](int c, int k) {
             const std::ptrdiff_t at = c * from.line + k * from.sample;
-            return scale ? in[at] * scale[at] : in[at];
+            return scale ? double(in[at]) * double(scale[at]) : double(in[at]);
         };
         each(count, n / 2 + 1, from, [&](int c, int k) {
             fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
@@ -220,11 +227,10 @@ struct Lines {
         });
         fftw_execute_dft_c2r(c2r[count], s.spectrum->data, s.v->data);
         const double* const v = s.v->data;
-        each(count, (n + 1) / 2, to, [&](int c, int m) {
-            out[c * to.line + 2 * m * to.sample] = 2.0 * v[std::ptrdiff_t(c) * n + m];
-        });
+        each(count, (n + 1) / 2, to,
+             [&](int c, int m) { out[c * to.line + 2 * m * to.sample] = T(2.0 * v[std::ptrdiff_t(c) * n + m]); });
         each(count, n / 2, to, [&](int c, int m) {
-            out[c * to.line + (2 * m + 1) * to.sample] = 2.0 * v[std::ptrdiff_t(c) * n + n - 1 - m];
+            out[c * to.line + (2 * m + 1) * to.sample] = T(2.0 * v[std::ptrdiff_t(c) * n + n - 1 - m]);
         });
     }
 };
@@ -238,8 +244,8 @@ struct GridDct::Impl {
     // Every row, then every column, kBlock lines at a time, each block read and written in
     // place (Lines::Layout).  transform(lines, count, in, from, out, to, scale) runs one
     // block; scale is given to the row pass only (the first, which reads rows contiguously).
-    template <typename Transform>
-    void separable(const double* in, double* out, const double* scale, Transform&& transform) const {
+    template <typename T, typename Transform>
+    void separable(const T* in, T* out, const T* scale, Transform&& transform) const {
         const int nu = grid.nu, nv = grid.nv;
         tbb::parallel_for(0, (nv + kBlock - 1) / kBlock, [&](int block) {
             const std::ptrdiff_t start = std::ptrdiff_t(block) * kBlock * nu;
@@ -264,16 +270,23 @@ GridDct::GridDct(GridSize grid) : impl_(std::make_unique<Impl>()) {
 
 GridDct::~GridDct() = default;
 
-void GridDct::forward(const double* in, double* out) const {
-    impl_->separable(in, out, nullptr,
-                     [](const Lines& lines, int count, const double* a, Lines::Layout from, double* b,
-                        Lines::Layout to, const double*) { lines.forward(count, a, from, b, to); });
+template <typename T>
+void GridDct::forward(const T* in, T* out) const {
+    impl_->separable(in, out, static_cast<const T*>(nullptr),
+                     [](const Lines& lines, int count, const T* a, Lines::Layout from, T* b, Lines::Layout to,
+                        const T*) { lines.forward(count, a, from, b, to); });
 }
 
-void GridDct::inverse(const double* in, double* out, const double* scale) const {
+template <typename T>
+void GridDct::inverse(const T* in, T* out, const T* scale) const {
     impl_->separable(in, out, scale,
-                     [](const Lines& lines, int count, const double* a, Lines::Layout from, double* b,
-                        Lines::Layout to, const double* by) { lines.inverse(count, a, from, b, to, by); });
+                     [](const Lines& lines, int count, const T* a, Lines::Layout from, T* b, Lines::Layout to,
+                        const T* by) { lines.inverse(count, a, from, b, to, by); });
 }
+
+template void GridDct::forward(const double*, double*) const;
+template void GridDct::forward(const float*, float*) const;
+template void GridDct::inverse(const double*, double*, const double*) const;
+template void GridDct::inverse(const float*, float*, const float*) const;
 
 }  // namespace foldcast::drape::detail

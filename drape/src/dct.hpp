@@ -23,13 +23,16 @@ public:
     GridDct& operator=(const GridDct&) = delete;
 
     // out = REDFT10 in both directions (X_k = 2 sum_n x_n cos(pi k (2n + 1) / 2N) per
-    // dimension).  in and out: nu * nv values; they may be the same array.
-    void forward(const double* in, double* out) const;
+    // dimension).  in and out: nu * nv values; they may be the same array.  T: double or float
+    // (the arithmetic is double either way; float halves the memory the passes move).
+    template <typename T>
+    void forward(const T* in, T* out) const;
     // out = REDFT01 in both directions (y_n = X_0 + 2 sum_k>0 X_k cos(pi k (2n + 1) / 2N)),
     // the inverse of forward up to the factor 4 nu nv, of in multiplied entry by entry by scale
     // when scale is given (the same bits as multiplying in first).  in, out, scale: nu * nv
     // values; in and out may be the same array.
-    void inverse(const double* in, double* out, const double* scale = nullptr) const;
+    template <typename T>
+    void inverse(const T* in, T* out, const T* scale = nullptr) const;
 
 private:
     struct Impl;

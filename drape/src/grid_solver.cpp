@@ -5,6 +5,7 @@
 // FFTW_ESTIMATE plans: the same algorithm on every run, the same bytes).
 #include "grid_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -20,8 +21,10 @@ struct GridSolver::Impl {
     std::size_t n = 0;
     std::vector<int> pinned;
     Eigen::VectorXd inverse_eigenvalues;  // 1 / (eigenvalue x 4 nu nv), per DCT mode
+    Eigen::VectorXf inverse_eigenvalues_f;
     std::unique_ptr<GridDct> dct;
     Eigen::MatrixXd response;  // (L + anchor I)^-1 at every vertex to a unit load on each pin
+    Eigen::MatrixXf response_f;  // the same in float, for the float solve
     Eigen::LDLT<Eigen::MatrixXd> capacitance;
 
     // y = (L + anchor I)^-1 b, pins ignored; with zero_pins, b's entries on the pins are taken
@@ -69,6 +72,8 @@ GridSolver::GridSolver(GridSize grid, double anchor, std::vector<int> pinned) : 
         load[m.pinned[std::size_t(j)]] = 1.0;
         m.free_solve(load, m.response.col(j));
     }
+    m.response_f = m.response.cast<float>();
+    m.inverse_eigenvalues_f = m.inverse_eigenvalues.cast<float>();
     Eigen::MatrixXd c(k, k);
     for (Eigen::Index i = 0; i < k; ++i) c.row(i) = m.response.row(m.pinned[std::size_t(i)]);
     m.capacitance.compute(c);
@@ -95,6 +100,30 @@ void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned
     for (std::size_t i = 0; i < m.pinned.size(); ++i)
         gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - x[m.pinned[i]];
     x.noalias() += m.response * m.capacitance.solve(gap);
+}
+
+void GridSolver::solve(const float* rhs, const Eigen::VectorXd& pinned_values, float* x) const {
+    const Impl& m = *impl_;
+    if (std::size_t(pinned_values.size()) != m.pinned.size()) throw InputError("grid solver: one value per pin");
+    // The pins' entries of rhs as 0: copied only when they are not +0 already.
+    bool copy = false;
+    for (int p : m.pinned) copy = copy || rhs[p] != 0.0f || std::signbit(rhs[p]);
+    const float* in = rhs;
+    if (copy) {
+        std::copy(rhs, rhs + m.n, x);
+        for (int p : m.pinned) x[p] = 0.0f;
+        in = x;
+    }
+    m.dct->forward(in, x);
+    m.dct->inverse(x, x, m.inverse_eigenvalues_f.data());
+    if (m.pinned.empty()) return;
+    Eigen::VectorXd gap(pinned_values.size());
+    for (std::size_t i = 0; i < m.pinned.size(); ++i)
+        gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - double(x[m.pinned[i]]);
+    // The correction in float, a pin at a time (vectorised): its rounding is float's, as x's.
+    const Eigen::VectorXd loads = m.capacitance.solve(gap);
+    Eigen::Map<Eigen::VectorXf> solved(x, Eigen::Index(m.n));
+    for (Eigen::Index j = 0; j < loads.size(); ++j) solved += float(loads[j]) * m.response_f.col(j);
 }
 
 }  // namespace foldcast::drape::detail

@@ -43,24 +43,28 @@ struct GridRelaxer::Impl {
     mutable std::unique_ptr<Workspace> spare;
 };
 
+// The per-vertex arrays are float: an iteration is a few sweeps over them, too large for the
+// caches at 256x256, so halving them halves the memory moved.  Float's rounding of a position
+// (~3e-8 m) is a thousandth of the stretch bounds' scale on a 4 mm edge; sums over the grid
+// (stretch, energy, the Anderson step's dot products) and the DCTs are in double.
 struct GridRelaxer::Impl::Workspace {
     detail::ThreadDirections directions;  // the smoothing phase's edge directions
-    std::vector<double> right_len, down_len;  // each edge's length (to the right, below)
-    std::vector<double> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
-    std::vector<double> target_y, target_z;         // the targets' height and depth, as doubles
-    std::vector<double> pull;                       // per vertex: its fold-line pull (0: none)
+    std::vector<float> right_len, down_len;        // each edge's length (to the right, below)
+    std::vector<float> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
+    std::vector<float> target_y, target_z;         // the targets' height and depth
+    std::vector<float> pull;                       // per vertex: its fold-line pull (0: none)
     std::vector<double> row_sum, row_max, row_energy;
-    std::array<Eigen::VectorXd, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
+    std::array<std::vector<float>, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
     // Positions, every vertex's x, then every y, then every z: what the global step returns
     // per coordinate and what the Anderson step combines, so neither needs a copy.
-    std::vector<double> current, next;
+    std::vector<float> current, next;
     detail::Anderson anderson;
 
     Workspace(std::size_t n, int rows)
-        : right_len(n, 0.0),
-          down_len(n, 0.0),
-          right_factor(n, 0.0),
-          down_factor(n, 0.0),
+        : right_len(n, 0.0f),
+          down_len(n, 0.0f),
+          right_factor(n, 0.0f),
+          down_factor(n, 0.0f),
           target_y(n),
           target_z(n),
           pull(n),
@@ -70,7 +74,7 @@ struct GridRelaxer::Impl::Workspace {
           current(3 * n),
           next(3 * n),
           anderson(Eigen::Index(3 * n)) {
-        for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
+        for (std::vector<float>& b : global_rhs) b.assign(n, 0.0f);
     }
 };
 
@@ -168,7 +172,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     Impl::Workspace& w = *workspace;
     for (std::size_t k = 0; k < n; ++k) {
         const Vec3f& start = m.is_pinned[k] ? targets[k] : positions[k];
-        for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = double(start(Eigen::Index(c)));
+        for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = start(Eigen::Index(c));
     }
     const double anchor = m.anchor;
 
@@ -183,7 +187,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     for (std::size_t c = 0; c < 3; ++c) {
         pinned_positions[c].resize(Eigen::Index(m.pinned_vertices.size()));
         for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
-            pinned_positions[c][Eigen::Index(i)] = w.current[c * n + std::size_t(m.pinned_vertices[i])];
+            pinned_positions[c][Eigen::Index(i)] = double(w.current[c * n + std::size_t(m.pinned_vertices[i])]);
     }
     double anchor_scale = 1.0;
     constexpr int kSoftenEvery = 30;
@@ -193,15 +197,14 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // Each edge's length, computed once per local step (the edge to the right of and the one
     // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
     // and |x_o - x_k| are the same bits, so the result is too.  Likewise rest / length.
-    std::vector<double>&right_len = w.right_len, &down_len = w.down_len;
-    std::vector<double>&right_factor = w.right_factor, &down_factor = w.down_factor;
-    for (std::size_t k = 0; k < n; ++k)
-        w.target_y[k] = double(targets[k].y()), w.target_z[k] = double(targets[k].z());
+    std::vector<float>&right_len = w.right_len, &down_len = w.down_len;
+    std::vector<float>&right_factor = w.right_factor, &down_factor = w.down_factor;
+    for (std::size_t k = 0; k < n; ++k) w.target_y[k] = targets[k].y(), w.target_z[k] = targets[k].z();
     // Each vertex's pull towards its fold-line target (crest weight x anchor_scale), 0 where
     // it has none: set again whenever anchor_scale changes.
     const auto set_pull = [&] {
         for (std::size_t k = 0; k < n; ++k)
-            w.pull[k] = !m.is_pinned[k] && crest[k] > 0.0 ? crest[k] * anchor_scale : 0.0;
+            w.pull[k] = !m.is_pinned[k] && crest[k] > 0.0 ? float(crest[k] * anchor_scale) : 0.0f;
     };
     set_pull();
     const int nu = grid.nu, nv = grid.nv;
@@ -211,17 +214,18 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // (left, right, up, down, the same operations in the same order as a vertex at a time;
     // a zero pull or factor adds an exact zero).  Up and Down: whether the row has rows
     // above and below.  Branch-free inside the row, so it vectorises.
-    const auto rhs_row = [&](auto up, auto down, const double* __restrict x, const double* __restrict target,
-                             std::size_t row, double* __restrict out) {
-        const double* __restrict const pull = w.pull.data();
-        const double* __restrict const rf = right_factor.data();
-        const double* __restrict const df = down_factor.data();
+    const float anchor_f = float(anchor);
+    const auto rhs_row = [&](auto up, auto down, const float* __restrict x, const float* __restrict target,
+                             std::size_t row, float* __restrict out) {
+        const float* __restrict const pull = w.pull.data();
+        const float* __restrict const rf = right_factor.data();
+        const float* __restrict const df = down_factor.data();
         constexpr bool kUp = decltype(up)::value, kDown = decltype(down)::value;
         const std::size_t stride = std::size_t(nu);
         const auto vertex = [&](std::size_t k, bool left, bool right) {
-            double b = x[k];
+            float b = x[k];
             if (target) b += pull[k] * (target[k] - x[k]);
-            b *= anchor;
+            b *= anchor_f;
             if (left) b += (x[k] - x[k - 1]) * rf[k - 1];
             if (right) b += (x[k] - x[k + 1]) * rf[k];
             if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
@@ -234,9 +238,9 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         // (y and z) or without it (x).
         const auto interior = [&](auto with_target) {
             for (std::size_t k = row + 1; k < end; ++k) {
-                double b = x[k];
+                float b = x[k];
                 if constexpr (decltype(with_target)::value) b += pull[k] * (target[k] - x[k]);
-                b *= anchor;
+                b *= anchor_f;
                 b += (x[k] - x[k - 1]) * rf[k - 1];
                 b += (x[k] - x[k + 1]) * rf[k];
                 if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
@@ -251,36 +255,36 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         if (nu > 1) vertex(end, true, false);
     };
     int iteration = 0;  // the local step reads it: in the smoothing phase or not
-    const auto local = [&](const double* positions_now) -> Local {
-        const double* const px = positions_now;
-        const double* const py = positions_now + n;
-        const double* const pz = positions_now + 2 * n;
+    const auto local = [&](const float* positions_now) -> Local {
+        const float* const px = positions_now;
+        const float* const py = positions_now + n;
+        const float* const pz = positions_now + 2 * n;
         const bool smoothing = iteration < m.settings.smoothing_iterations && m.settings.smoothing > 0.0;
         // In the smoothing phase the edge terms come from the blended directions below, so
         // the rows' right-hand sides get the anchor terms only (rest 0 gives factors 0).
-        const double factor_u = smoothing ? 0.0 : rest_u, factor_v = smoothing ? 0.0 : rest_v;
+        const float factor_u = smoothing ? 0.0f : float(rest_u), factor_v = smoothing ? 0.0f : float(rest_v);
         tbb::parallel_for(0, nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(nu);
             // |x_o - x_k| as Eigen's norm() sums it, (dx^2 + dy^2) + dz^2, for the edges from
             // `first` to the vertex `step` further on; rest / |x_o - x_k| beside it (no
             // division by 0, so that the loop vectorises).
-            const auto lengths = [&](std::size_t first, std::size_t count, std::size_t step, double rest,
-                                     double* __restrict len_out, double* __restrict factor_out) {
-                const double* __restrict x = px + first;
-                const double* __restrict y = py + first;
-                const double* __restrict z = pz + first;
+            const auto lengths = [&](std::size_t first, std::size_t count, std::size_t step, float rest,
+                                     float* __restrict len_out, float* __restrict factor_out) {
+                const float* __restrict x = px + first;
+                const float* __restrict y = py + first;
+                const float* __restrict z = pz + first;
                 len_out += first, factor_out += first;
                 for (std::size_t e = 0; e < count; ++e) {
-                    const double dx = x[e + step] - x[e], dy = y[e + step] - y[e], dz = z[e + step] - z[e];
+                    const float dx = x[e + step] - x[e], dy = y[e + step] - y[e], dz = z[e + step] - z[e];
                     len_out[e] = dx * dx + dy * dy + dz * dz;
                 }
                 // Eigen's packet square root (std::sqrt's errno check keeps the loop scalar).
-                Eigen::Map<Eigen::ArrayXd> squared(len_out, Eigen::Index(count));
+                Eigen::Map<Eigen::ArrayXf> squared(len_out, Eigen::Index(count));
                 squared = squared.sqrt();
                 for (std::size_t e = 0; e < count; ++e) {
-                    const double len = len_out[e];
-                    const double factor = rest / (len > 0.0 ? len : 1.0);
-                    factor_out[e] = len > 0.0 ? factor : 0.0;
+                    const float len = len_out[e];
+                    const float factor = rest / (len > 0.0f ? len : 1.0f);
+                    factor_out[e] = len > 0.0f ? factor : 0.0f;
                 }
             };
             lengths(row, std::size_t(nu) - 1, 1, factor_u, right_len.data(), right_factor.data());
@@ -295,19 +299,19 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
             for (int i = 0; i < nu; ++i) {
                 const std::size_t k = row + std::size_t(i);
                 if (i + 1 < nu) {
-                    const double len = right_len[k];
+                    const double len = double(right_len[k]);
                     const double stretch = std::abs(len / rest_u - 1.0);
                     sum += stretch, max = std::max(max, stretch);
                     energy += (len - rest_u) * (len - rest_u);
                 }
                 if (j + 1 < nv) {
-                    const double len = down_len[k];
+                    const double len = double(down_len[k]);
                     const double stretch = std::abs(len / rest_v - 1.0);
                     sum += stretch, max = std::max(max, stretch);
                     energy += (len - rest_v) * (len - rest_v);
                 }
-                if (const double pull = w.pull[k]; pull > 0.0) {
-                    const double dy = py[k] - w.target_y[k], dz = pz[k] - w.target_z[k];
+                if (const double pull = double(w.pull[k]); pull > 0.0) {
+                    const double dy = double(py[k]) - double(w.target_y[k]), dz = double(pz[k]) - double(w.target_z[k]);
                     energy += anchor * pull * dy * dy;
                     energy += anchor * pull * dz * dz;
                 }
@@ -345,7 +349,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                         if (i + 1 < nu) b -= rest_u * d.right[c][k];
                         if (j > 0) b += rest_v * d.down[c][k - std::size_t(nu)];
                         if (j + 1 < nv) b -= rest_v * d.down[c][k];
-                        w.global_rhs[c][Eigen::Index(k)] += b;
+                        w.global_rhs[c][k] = float(double(w.global_rhs[c][k]) + b);
                     }
                 }
             });
@@ -353,7 +357,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         // The pins' right-hand sides, which the solve ignores, as +0: then it need not copy
         // the rest to zero them.
         for (const int p : m.pinned_vertices)
-            for (Eigen::VectorXd& b : w.global_rhs) b[p] = 0.0;
+            for (std::vector<float>& b : w.global_rhs) b[std::size_t(p)] = 0.0f;
         Local out{0.0, 0.0, 0.0};
         for (int j = 0; j < grid.nv; ++j)
             out.energy += w.row_energy[std::size_t(j)], out.mean += w.row_sum[std::size_t(j)],
@@ -384,12 +388,12 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         ++iteration;
         // The global step, g = G(current), a coordinate at a time, the pins exactly where
         // they are held (the solve meets them to rounding).
-        double* const g = anderson.g();
+        float* const g = anderson.g();
         tbb::parallel_for(0, 3, [&](int c) {
-            Eigen::Map<Eigen::VectorXd> solved(g + std::size_t(c) * n, Eigen::Index(n));
-            m.solver->solve(w.global_rhs[std::size_t(c)], pinned_positions[std::size_t(c)], solved);
+            float* const solved = g + std::size_t(c) * n;
+            m.solver->solve(w.global_rhs[std::size_t(c)].data(), pinned_positions[std::size_t(c)], solved);
             for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
-                solved[m.pinned_vertices[i]] = pinned_positions[std::size_t(c)][Eigen::Index(i)];
+                solved[m.pinned_vertices[i]] = float(pinned_positions[std::size_t(c)][Eigen::Index(i)]);
         });
         const bool accelerated = anderson.step(w.current.data(), w.next.data());
         state = local(accelerated ? w.next.data() : anderson.last_g());
@@ -405,8 +409,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         else
             w.current.swap(w.next);
     }
-    for (std::size_t k = 0; k < n; ++k)
-        positions[k] = Vec3f(float(w.current[k]), float(w.current[n + k]), float(w.current[2 * n + k]));
+    for (std::size_t k = 0; k < n; ++k) positions[k] = Vec3f(w.current[k], w.current[n + k], w.current[2 * n + k]);
     report.iterations = iteration;
     report.after = detail::grid_stretch(positions, rest_params, grid);
     const std::lock_guard<std::mutex> hold(m.spare_lock);

@@ -1,6 +1,7 @@
 // The relaxation's Anderson step (drape/src/anderson.hpp) against a plain implementation of the
-// same arithmetic: the residual and differences in separate passes, each dot product by Eigen's
-// dot() over each chunk of 8192 entries, the chunks summed in order.  The step fuses those
+// same arithmetic: the residual and differences in separate passes (in float), each dot product
+// by Eigen's dot() of the values converted to double over each chunk of 8192 entries, the
+// chunks summed in order, the accelerated point in double rounded to float.  The step fuses those
 // passes and sums the dot products itself, in dot()'s order: the bits must be the same, every
 // step, with the history filling, wrapping round the ring and forgotten.
 #include <gtest/gtest.h>
@@ -22,8 +23,8 @@ public:
     void forget() { dg_.clear(), df_.clear(); }
 
     // Returns false (next untouched) where Anderson::step does.
-    bool step(const Eigen::VectorXd& current, const Eigen::VectorXd& g, Eigen::VectorXd& next) {
-        const Eigen::VectorXd f = g - current;
+    bool step(const Eigen::VectorXf& current, const Eigen::VectorXf& g, Eigen::VectorXf& next) {
+        const Eigen::VectorXf f = g - current;
         if (!started_) {
             started_ = true;
             g_prev_ = g, f_prev_ = f;
@@ -33,11 +34,13 @@ public:
         dg_.push_back(g - g_prev_), df_.push_back(f - f_prev_);
         g_prev_ = g, f_prev_ = f;
         const int h = int(df_.size());
-        const auto dot = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+        const auto dot = [&](const Eigen::VectorXf& a, const Eigen::VectorXf& b) {
             double sum = 0.0;
             for (Eigen::Index begin = 0; begin < size_; begin += kChunk) {
                 const Eigen::Index length = std::min(kChunk, size_ - begin);
-                sum += a.segment(begin, length).dot(b.segment(begin, length));
+                const Eigen::VectorXd a64 = a.segment(begin, length).cast<double>(),
+                                      b64 = b.segment(begin, length).cast<double>();
+                sum += a64.dot(b64);
             }
             return sum;
         };
@@ -62,9 +65,9 @@ public:
         if (!theta.allFinite()) return false;
         next = g;
         for (Eigen::Index e = 0; e < size_; ++e) {
-            double v = g[e];
-            for (int a = 0; a < h; ++a) v -= theta(a) * dg_[std::size_t(a)][e];
-            next[e] = v;
+            double v = double(g[e]);
+            for (int a = 0; a < h; ++a) v -= theta(a) * double(dg_[std::size_t(a)][e]);
+            next[e] = float(v);
         }
         return true;
     }
@@ -75,16 +78,16 @@ private:
     static constexpr Eigen::Index kChunk = 8192;
     Eigen::Index size_;
     bool started_ = false;
-    Eigen::VectorXd g_prev_, f_prev_;
-    std::deque<Eigen::VectorXd> dg_, df_;
+    Eigen::VectorXf g_prev_, f_prev_;
+    std::deque<Eigen::VectorXf> dg_, df_;
     std::deque<std::vector<double>> dots_;
 };
 
 // A smooth nonlinear contraction, so that the history is neither degenerate nor trivial.
-Eigen::VectorXd map(const Eigen::VectorXd& x) {
-    Eigen::VectorXd g(x.size());
+Eigen::VectorXf map(const Eigen::VectorXf& x) {
+    Eigen::VectorXf g(x.size());
     for (Eigen::Index e = 0; e < x.size(); ++e)
-        g[e] = 0.8 * x[e] + 0.1 * std::sin(3.0 * x[(e + 7) % x.size()]) + 0.01 * std::cos(0.001 * double(e));
+        g[e] = float(0.8 * x[e] + 0.1 * std::sin(3.0 * x[(e + 7) % x.size()]) + 0.01 * std::cos(0.001 * double(e)));
     return g;
 }
 
@@ -92,10 +95,10 @@ void same_bits_as_plain(Eigen::Index size) {
     Anderson fused(size);
     PlainAnderson plain(size);
     fused.restart();
-    Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(size, -1.0, 1.0), next_fused(size), next_plain(size);
+    Eigen::VectorXf x = Eigen::VectorXf::LinSpaced(size, -1.0f, 1.0f), next_fused(size), next_plain(size);
     for (int step = 0; step < 14; ++step) {
         if (step == 9) fused.forget(), plain.forget(), plain.reset_dots();  // as after a rejected step
-        const Eigen::VectorXd g = map(x);
+        const Eigen::VectorXf g = map(x);
         std::copy(g.data(), g.data() + size, fused.g());
         const bool accelerated = fused.step(x.data(), next_fused.data());
         ASSERT_EQ(accelerated, plain.step(x, g, next_plain)) << "step " << step;
@@ -103,7 +106,7 @@ void same_bits_as_plain(Eigen::Index size) {
             x = g;
             continue;
         }
-        ASSERT_EQ(std::memcmp(next_fused.data(), next_plain.data(), sizeof(double) * std::size_t(size)), 0)
+        ASSERT_EQ(std::memcmp(next_fused.data(), next_plain.data(), sizeof(float) * std::size_t(size)), 0)
             << "step " << step << ", size " << size;
         x = next_fused;
     }
