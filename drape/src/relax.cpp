@@ -55,6 +55,7 @@ struct GridRelaxer::Impl::Workspace {
     std::vector<float> pull;                       // per vertex: its fold-line pull (0: none)
     std::vector<double> row_sum, row_max, row_energy;
     std::array<std::vector<float>, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
+    std::vector<float> spectrum;                   // the global step's DCT work array, per coordinate
     // Positions, every vertex's x, then every y, then every z: what the global step returns
     // per coordinate and what the Anderson step combines, so neither needs a copy.
     std::vector<float> current, next;
@@ -71,6 +72,7 @@ struct GridRelaxer::Impl::Workspace {
           row_sum(std::size_t(rows)),
           row_max(std::size_t(rows)),
           row_energy(std::size_t(rows)),
+          spectrum(3 * n),
           current(3 * n),
           next(3 * n),
           anderson(Eigen::Index(3 * n)) {
@@ -391,7 +393,8 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         float* const g = anderson.g();
         tbb::parallel_for(0, 3, [&](int c) {
             float* const solved = g + std::size_t(c) * n;
-            m.solver->solve(w.global_rhs[std::size_t(c)].data(), pinned_positions[std::size_t(c)], solved);
+            m.solver->solve(w.global_rhs[std::size_t(c)].data(), pinned_positions[std::size_t(c)], solved,
+                            w.spectrum.data() + std::size_t(c) * n);
             for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
                 solved[m.pinned_vertices[i]] = float(pinned_positions[std::size_t(c)][Eigen::Index(i)]);
         });
