@@ -23,93 +23,106 @@ void for_chunks(Eigen::Index size, Body&& body) {
                       [&](Eigen::Index c) { body(c, c * kChunk, std::min(size, (c + 1) * kChunk)); });
 }
 
-// Four floats at a time, and the double sums of their products kept as Eigen's dot() keeps a
-// vector of doubles' (two packet accumulators: entries 0-1 and 2-3 of every four, added at the
-// end, then the two lanes), so a dot product is the bits dot() gives for the vectors converted
-// to double.  SSE2, or the same operations one lane at a time.
+// A dot product's summation order, fixed so that the bits do not depend on the threads: entry
+// e of a chunk goes to lane e % 4; each lane sums its products in float over a block of 16
+// entries, then adds that to its double total; the lanes are added as (0 + 2) + (1 + 3).  The
+// products and the short sums in float keep the pass as cheap as the floats' memory (the
+// conversions to double for every product made it compute-bound); the double totals keep the
+// long sums' rounding from growing with the length.
+constexpr Eigen::Index kDotBlock = 16;
+
+// The order above one entry at a time: a short last chunk's dot products.
+double block_dot(const float* a, const float* b, Eigen::Index length) {
+    double lane[4] = {};
+    for (Eigen::Index start = 0; start < length; start += kDotBlock) {
+        float sum[4] = {};
+        for (Eigen::Index e = start; e < std::min(length, start + kDotBlock); ++e) sum[e % 4] += a[e] * b[e];
+        for (int l = 0; l < 4; ++l) lane[l] += double(sum[l]);
+    }
+    return (lane[0] + lane[2]) + (lane[1] + lane[3]);
+}
+
+// Four floats at a time (SSE2, or the same operations a lane at a time).
 #if defined(__SSE2__)
 using Float4 = __m128;
+Float4 zero4() { return _mm_setzero_ps(); }
 Float4 load4(const float* p) { return _mm_loadu_ps(p); }
 void store4(float* p, Float4 v) { _mm_storeu_ps(p, v); }
 Float4 sub4(Float4 a, Float4 b) { return _mm_sub_ps(a, b); }
-struct Double4 {
-    __m128d low, high;
-    Double4() : low(_mm_setzero_pd()), high(_mm_setzero_pd()) {}
-    explicit Double4(Float4 v) : low(_mm_cvtps_pd(v)), high(_mm_cvtps_pd(_mm_movehl_ps(v, v))) {}
-    Double4(__m128d l, __m128d h) : low(l), high(h) {}
+Float4 mul4(Float4 a, Float4 b) { return _mm_mul_ps(a, b); }
+Float4 add4(Float4 a, Float4 b) { return _mm_add_ps(a, b); }
+// Four double lanes, added to as float lanes.
+struct Lanes {
+    __m128d low = _mm_setzero_pd(), high = _mm_setzero_pd();
+    void add(Float4 v) {
+        low = _mm_add_pd(low, _mm_cvtps_pd(v)), high = _mm_add_pd(high, _mm_cvtps_pd(_mm_movehl_ps(v, v)));
+    }
+    double total() const {
+        const __m128d pair = _mm_add_pd(low, high);
+        return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
+    }
 };
-Double4 mul4(const Double4& a, const Double4& b) { return {_mm_mul_pd(a.low, b.low), _mm_mul_pd(a.high, b.high)}; }
-Double4 add4(const Double4& a, const Double4& b) { return {_mm_add_pd(a.low, b.low), _mm_add_pd(a.high, b.high)}; }
-double total(const Double4& s) {
-    const __m128d pair = _mm_add_pd(s.low, s.high);
-    return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
-}
 #else
 struct Float4 {
     float v[4];
 };
+Float4 zero4() { return {{0.0f, 0.0f, 0.0f, 0.0f}}; }
 Float4 load4(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
 void store4(float* p, Float4 a) { std::copy(a.v, a.v + 4, p); }
 Float4 sub4(Float4 a, Float4 b) { return {{a.v[0] - b.v[0], a.v[1] - b.v[1], a.v[2] - b.v[2], a.v[3] - b.v[3]}}; }
-struct Double4 {
-    double v[4];
-    Double4() : v{} {}
-    explicit Double4(Float4 a) : v{a.v[0], a.v[1], a.v[2], a.v[3]} {}
-    Double4(double a, double b, double c, double d) : v{a, b, c, d} {}
+Float4 mul4(Float4 a, Float4 b) { return {{a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]}}; }
+Float4 add4(Float4 a, Float4 b) { return {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2], a.v[3] + b.v[3]}}; }
+struct Lanes {
+    double v[4] = {};
+    void add(Float4 a) {
+        for (int l = 0; l < 4; ++l) v[l] += double(a.v[l]);
+    }
+    double total() const { return (v[0] + v[2]) + (v[1] + v[3]); }
 };
-Double4 mul4(const Double4& a, const Double4& b) {
-    return {a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]};
-}
-Double4 add4(const Double4& a, const Double4& b) {
-    return {a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2], a.v[3] + b.v[3]};
-}
-double total(const Double4& s) { return (s.v[0] + s.v[2]) + (s.v[1] + s.v[3]); }
 #endif
 
 // One chunk of the step's first pass in one sweep over memory: the residual, the new
-// differences (in float), and the 2h dot products (the new difference with each of the h
-// history slots, each slot with the residual), in double, each summed as Double4 sums.  Only
-// for chunks whose length is a multiple of four (every chunk but perhaps the last); H: the
-// history length.  Reads each array once instead of once per dot product.
+// differences, and the 2h dot products (the new difference with each of the h history slots,
+// each slot with the residual) in block_dot's order.  Only for chunks whose length is a
+// multiple of kDotBlock (every chunk but perhaps the last); H: the history length.  Reads each
+// array once instead of once per dot product.
 template <int H>
 void fused_chunk(Eigen::Index begin, Eigen::Index end, const float* g, const float* current, const float* g_prev,
                  const float* f_prev, float* f, float* new_dg, float* new_df,
                  const std::array<const float*, Anderson::kHistory>& history, double* with_new, double* right) {
-    const auto products = [&](Eigen::Index e, Double4& df, Double4& fe) {
-        const Float4 ge = load4(g + e);
-        const Float4 residual = sub4(ge, load4(current + e));
-        const Float4 difference = sub4(residual, load4(f_prev + e));
-        store4(f + e, residual), store4(new_dg + e, sub4(ge, load4(g_prev + e))), store4(new_df + e, difference);
-        df = Double4(difference), fe = Double4(residual);
-    };
-    Double4 df, fe;
-    products(begin, df, fe);
-    std::array<Double4, H> sum_new{}, sum_right{};
-    for (int a = 0; a < H; ++a) {
-        const Double4 d(load4(history[std::size_t(a)] + begin));  // new_df's own slot among them
-        sum_new[std::size_t(a)] = mul4(df, d), sum_right[std::size_t(a)] = mul4(d, fe);
-    }
-    for (Eigen::Index e = begin + 4; e < end; e += 4) {
-        products(e, df, fe);
-        for (int a = 0; a < H; ++a) {
-            const Double4 d(load4(history[std::size_t(a)] + e));
-            sum_new[std::size_t(a)] = add4(sum_new[std::size_t(a)], mul4(df, d));
-            sum_right[std::size_t(a)] = add4(sum_right[std::size_t(a)], mul4(d, fe));
+    std::array<Lanes, H> total_new{}, total_right{};
+    for (Eigen::Index start = begin; start < end; start += kDotBlock) {
+        Float4 sum_new[H], sum_right[H];
+        for (std::size_t a = 0; a < std::size_t(H); ++a) sum_new[a] = sum_right[a] = zero4();
+        for (Eigen::Index e = start; e < start + kDotBlock; e += 4) {
+            const Float4 ge = load4(g + e);
+            const Float4 residual = sub4(ge, load4(current + e));
+            const Float4 difference = sub4(residual, load4(f_prev + e));
+            store4(f + e, residual), store4(new_dg + e, sub4(ge, load4(g_prev + e))), store4(new_df + e, difference);
+            for (std::size_t a = 0; a < std::size_t(H); ++a) {
+                const Float4 d = load4(history[a] + e);  // new_df's own slot among them
+                sum_new[a] = add4(sum_new[a], mul4(difference, d));
+                sum_right[a] = add4(sum_right[a], mul4(d, residual));
+            }
         }
+        for (std::size_t a = 0; a < std::size_t(H); ++a) total_new[a].add(sum_new[a]), total_right[a].add(sum_right[a]);
     }
-    for (int a = 0; a < H; ++a)
-        with_new[a] = total(sum_new[std::size_t(a)]), right[a] = total(sum_right[std::size_t(a)]);
+    for (std::size_t a = 0; a < std::size_t(H); ++a)
+        with_new[a] = total_new[a].total(), right[a] = total_right[a].total();
 }
 
-// next = g - sum_a theta_a dg_a over [begin, end), in double from the floats, the terms
-// subtracted in slot order, then rounded to float.
+// next = g - sum_a theta_a dg_a over [begin, end), the terms subtracted in slot order, in
+// float (next is stored in float: double arithmetic would only round later), a packet at a
+// time (the same operations on each value as one at a time).
 template <int H>
 void combine_chunk(Eigen::Index begin, Eigen::Index end, const float* g,
                    const std::array<const float*, Anderson::kHistory>& dg, const double* theta, float* next) {
+    float t[H];
+    for (int a = 0; a < H; ++a) t[a] = float(theta[a]);
     for (Eigen::Index e = begin; e < end; ++e) {
-        double v = double(g[e]);
-        for (int a = 0; a < H; ++a) v -= theta[a] * double(dg[std::size_t(a)][e]);
-        next[e] = float(v);
+        float v = g[e];
+        for (int a = 0; a < H; ++a) v -= t[a] * dg[std::size_t(a)][e];
+        next[e] = v;
     }
 }
 
@@ -170,7 +183,7 @@ bool Anderson::step(const float* current, float* next) {
         double* const partial = partial_.data();
         for_chunks(size_, [&](Eigen::Index c, Eigen::Index begin, Eigen::Index end) {
             double* const sums = partial + c * 2 * kHistory;
-            if ((end - begin) % 4 == 0 && h >= 1) {
+            if ((end - begin) % kDotBlock == 0 && h >= 1) {
                 with_history_length(h, [&](auto history_length) {
                     fused_chunk<decltype(history_length)::value>(begin, end, g, current, g_prev, f_prev, f, new_dg,
                                                                  new_df, history, sums, sums + kHistory);
@@ -183,15 +196,10 @@ bool Anderson::step(const float* current, float* next) {
                 new_dg[e] = g[e] - g_prev[e];
                 new_df[e] = fe - f_prev[e];
             }
-            // Eigen's dot products of the values in double (a short last chunk only, so the
-            // copies do not matter): in a fixed order for a given length.
-            using Segment = Eigen::Map<const Eigen::VectorXf>;
-            const Eigen::Index length = end - begin;
-            const Eigen::VectorXd df_new = Segment(new_df + begin, length).cast<double>(),
-                                  residual = Segment(f + begin, length).cast<double>();
             for (int a = 0; a < h; ++a) {
-                const Eigen::VectorXd d = Segment(history[std::size_t(a)] + begin, length).cast<double>();
-                sums[a] = df_new.dot(d), sums[kHistory + a] = d.dot(residual);
+                const float* const d = history[std::size_t(a)] + begin;
+                sums[a] = block_dot(new_df + begin, d, end - begin);
+                sums[kHistory + a] = block_dot(d, f + begin, end - begin);
             }
         });
         Eigen::Matrix<double, kHistory, 1> with_new = Eigen::Matrix<double, kHistory, 1>::Zero(), right = with_new;

@@ -10,12 +10,12 @@
 // history is a ring of preallocated slots with the dot products of its differences kept beside
 // it (one new row per step instead of the whole normal matrix), read oldest first.  A step is
 // two sweeps over memory: the residual, the new differences and their dot products in one (each
-// array read once, the sums in the order Eigen's dot() uses, so the bits are dot()'s), the
-// accelerated point in the other, both a SIMD packet at a time.
+// array read once), the accelerated point in the other, both a SIMD packet at a time.
 //
-// The vectors are stored in float (the history alone is 10 of them): the step reads and
-// writes about half the memory it did in double.  The dot products (the small least-squares
-// system) and the combination are computed in double from the floats.
+// The vectors are stored in float (the history alone is 10 of them): the step moves half the
+// memory it did in double.  The products are float's, summed in float over short blocks and
+// those sums in double (anderson.cpp), so the small least-squares system's entries do not lose
+// precision with the vectors' length; the system and its solve are double.
 #include <Eigen/Core>
 #include <array>
 #include <vector>
