@@ -115,10 +115,9 @@ void GridSolver::solve(const float* rhs, const Eigen::VectorXd& pinned_values, f
     Eigen::VectorXd gap(pinned_values.size());
     for (std::size_t i = 0; i < m.pinned.size(); ++i)
         gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - double(x[m.pinned[i]]);
-    // The correction in float, a pin at a time (vectorised): its rounding is float's, as x's.
-    const Eigen::VectorXd loads = m.capacitance.solve(gap);
-    Eigen::Map<Eigen::VectorXf> solved(x, Eigen::Index(m.n));
-    for (Eigen::Index j = 0; j < loads.size(); ++j) solved += float(loads[j]) * m.response_f.col(j);
+    // The correction in float (its rounding is float's, as x's): one pass over x.
+    const Eigen::VectorXf loads = m.capacitance.solve(gap).cast<float>();
+    Eigen::Map<Eigen::VectorXf>(x, Eigen::Index(m.n)).noalias() += m.response_f * loads;
 }
 
 }  // namespace foldcast::drape::detail
