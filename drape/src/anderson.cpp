@@ -15,6 +15,7 @@ namespace {
 
 // Entries per chunk: fixed, so the dot products' summation order is too.
 constexpr Eigen::Index kChunk = 8192;
+constexpr int kHistory = 5;  // Anderson<T>::kHistory
 
 template <typename Body>
 void for_chunks(Eigen::Index size, Body&& body) {
@@ -23,6 +24,75 @@ void for_chunks(Eigen::Index size, Body&& body) {
                       [&](Eigen::Index c) { body(c, c * kChunk, std::min(size, (c + 1) * kChunk)); });
 }
 
+// In double (Anderson<double>):
+//
+// One chunk of the step's first pass in one sweep over memory: the residual, the new
+// differences, and the 2h dot products (the new difference with each of the h history slots,
+// each slot with the residual), each summed exactly as Eigen's dot() sums a vector of this
+// length (two packet accumulators over alternate packets, added, then the packet's lanes), so
+// the values are the bits the separate pass and dot() calls gave.  Only for chunks whose
+// length is a multiple of two packets (every chunk but perhaps the last); H: the history
+// length.  Reads each array once instead of once per dot product.
+template <int H>
+void fused_chunk(Eigen::Index begin, Eigen::Index end, const double* g, const double* current, const double* g_prev,
+                 const double* f_prev, double* f, double* new_dg, double* new_df,
+                 const std::array<const double*, kHistory>& history, double* with_new, double* right) {
+    using namespace Eigen::internal;
+    using Packet = packet_traits<double>::type;
+    constexpr Eigen::Index P = packet_traits<double>::size;
+    Packet new0[H], new1[H], right0[H], right1[H];  // the two accumulators of each dot product
+    const auto packet = [&](Eigen::Index e, Packet* sum_new, Packet* sum_right, auto first) {
+        const Packet ge = ploadu<Packet>(g + e);
+        const Packet fe = psub(ge, ploadu<Packet>(current + e));
+        const Packet dg = psub(ge, ploadu<Packet>(g_prev + e));
+        const Packet df = psub(fe, ploadu<Packet>(f_prev + e));
+        pstoreu(f + e, fe), pstoreu(new_dg + e, dg), pstoreu(new_df + e, df);
+        for (int a = 0; a < H; ++a) {
+            const Packet d = ploadu<Packet>(history[std::size_t(a)] + e);  // new_df's own slot among them
+            const Packet n = pmul(df, d), r = pmul(d, fe);
+            if constexpr (decltype(first)::value)
+                sum_new[a] = n, sum_right[a] = r;
+            else
+                sum_new[a] = padd(sum_new[a], n), sum_right[a] = padd(sum_right[a], r);
+        }
+    };
+    packet(begin, new0, right0, std::true_type{});
+    packet(begin + P, new1, right1, std::true_type{});
+    for (Eigen::Index e = begin + 2 * P; e < end; e += 2 * P) {
+        packet(e, new0, right0, std::false_type{});
+        packet(e + P, new1, right1, std::false_type{});
+    }
+    for (int a = 0; a < H; ++a) {
+        with_new[a] = predux(padd(new0[a], new1[a]));
+        right[a] = predux(padd(right0[a], right1[a]));
+    }
+}
+
+// next = g - sum_a theta_a dg_a over [begin, end), the terms subtracted in slot order, a
+// packet at a time (the same operations on each value as one at a time).
+template <int H>
+void combine_chunk(Eigen::Index begin, Eigen::Index end, const double* g, const std::array<const double*, kHistory>& dg,
+                   const double* theta, double* next) {
+    using namespace Eigen::internal;
+    using Packet = packet_traits<double>::type;
+    constexpr Eigen::Index P = packet_traits<double>::size;
+    Packet t[H];
+    for (int a = 0; a < H; ++a) t[a] = pset1<Packet>(theta[a]);
+    Eigen::Index e = begin;
+    for (; e + P <= end; e += P) {
+        Packet v = ploadu<Packet>(g + e);
+        for (int a = 0; a < H; ++a) v = psub(v, pmul(t[a], ploadu<Packet>(dg[std::size_t(a)] + e)));
+        pstoreu(next + e, v);
+    }
+    for (; e < end; ++e) {
+        double v = g[e];
+        for (int a = 0; a < H; ++a) v -= theta[a] * dg[std::size_t(a)][e];
+        next[e] = v;
+    }
+}
+
+// In float (Anderson<float>):
+//
 // A dot product's summation order, fixed so that the bits do not depend on the threads: entry
 // e of a chunk goes to lane e % 4; each lane sums its products in float over a block of 16
 // entries, then adds that to its double total; the lanes are added as (0 + 2) + (1 + 3).  The
@@ -89,7 +159,7 @@ struct Lanes {
 template <int H>
 void fused_chunk(Eigen::Index begin, Eigen::Index end, const float* g, const float* current, const float* g_prev,
                  const float* f_prev, float* f, float* new_dg, float* new_df,
-                 const std::array<const float*, Anderson::kHistory>& history, double* with_new, double* right) {
+                 const std::array<const float*, kHistory>& history, double* with_new, double* right) {
     std::array<Lanes, H> total_new{}, total_right{};
     for (Eigen::Index start = begin; start < end; start += kDotBlock) {
         Float4 sum_new[H], sum_right[H];
@@ -115,8 +185,8 @@ void fused_chunk(Eigen::Index begin, Eigen::Index end, const float* g, const flo
 // float (next is stored in float: double arithmetic would only round later), a packet at a
 // time (the same operations on each value as one at a time).
 template <int H>
-void combine_chunk(Eigen::Index begin, Eigen::Index end, const float* g,
-                   const std::array<const float*, Anderson::kHistory>& dg, const double* theta, float* next) {
+void combine_chunk(Eigen::Index begin, Eigen::Index end, const float* g, const std::array<const float*, kHistory>& dg,
+                   const double* theta, float* next) {
     float t[H];
     for (int a = 0; a < H; ++a) t[a] = float(theta[a]);
     for (Eigen::Index e = begin; e < end; ++e) {
@@ -126,11 +196,23 @@ void combine_chunk(Eigen::Index begin, Eigen::Index end, const float* g,
     }
 }
 
+// The chunk lengths the fused pass takes (the others go one value at a time).
+constexpr Eigen::Index fused_multiple(double) { return 2 * Eigen::Index(Eigen::internal::packet_traits<double>::size); }
+constexpr Eigen::Index fused_multiple(float) { return kDotBlock; }
+
+// A dot product over a short last chunk, in the fused pass's order: Eigen's dot() (double), or
+// block_dot (float).
+double chunk_dot(const double* a, const double* b, Eigen::Index length) {
+    using Segment = Eigen::Map<const Eigen::VectorXd>;
+    return Segment(a, length).dot(Segment(b, length));
+}
+double chunk_dot(const float* a, const float* b, Eigen::Index length) { return block_dot(a, b, length); }
+
 // Calls body(std::integral_constant<int, h>{}) for a history length h in 1..kHistory, so that
 // the chunk loops are compiled for each length (their per-slot loops unrolled).
 template <typename Body>
 void with_history_length(int h, Body&& body) {
-    static_assert(Anderson::kHistory == 5, "one case per history length");
+    static_assert(kHistory == 5, "one case per history length");
     switch (h) {
         case 1: return body(std::integral_constant<int, 1>{});
         case 2: return body(std::integral_constant<int, 2>{});
@@ -142,21 +224,24 @@ void with_history_length(int h, Body&& body) {
 
 }  // namespace
 
-Anderson::Anderson(Eigen::Index size)
+template <typename T>
+Anderson<T>::Anderson(Eigen::Index size)
     : size_(size),
       f_(std::size_t(size)),
       g_prev_(std::size_t(size)),
       f_prev_(std::size_t(size)),
       g_(std::size_t(size)),
       partial_(std::size_t((size + kChunk - 1) / kChunk) * 2 * kHistory) {
-    for (std::vector<float>& d : dg_) d.resize(std::size_t(size));
-    for (std::vector<float>& d : df_) d.resize(std::size_t(size));
+    for (std::vector<T>& d : dg_) d.resize(std::size_t(size));
+    for (std::vector<T>& d : df_) d.resize(std::size_t(size));
     slot_dots_.setZero();
 }
 
-bool Anderson::step(const float* current, float* next) {
-    const float* const g = g_.data();
-    float* const f = f_.data();
+template <typename T>
+bool Anderson<T>::step(const T* current, T* next) {
+    static_assert(kHistory == detail::kHistory);
+    const T* const g = g_.data();
+    T* const f = f_.data();
     if (steps_ == 0) {
         for_chunks(size_, [&](Eigen::Index, Eigen::Index begin, Eigen::Index end) {
             for (Eigen::Index e = begin; e < end; ++e) f[e] = g[e] - current[e];
@@ -173,17 +258,17 @@ bool Anderson::step(const float* current, float* next) {
             slot = slot_of(stored_++);
         }
         const int h = stored_;
-        std::array<const float*, kHistory> history{};
+        std::array<const T*, kHistory> history{};
         for (int a = 0; a < h; ++a) history[std::size_t(a)] = df_[slot_of(a)].data();
-        float* const new_dg = dg_[slot].data();
-        float* const new_df = df_[slot].data();
-        const float* const g_prev = g_prev_.data();
-        const float* const f_prev = f_prev_.data();
+        T* const new_dg = dg_[slot].data();
+        T* const new_df = df_[slot].data();
+        const T* const g_prev = g_prev_.data();
+        const T* const f_prev = f_prev_.data();
         const Eigen::Index chunks = (size_ + kChunk - 1) / kChunk;
         double* const partial = partial_.data();
         for_chunks(size_, [&](Eigen::Index c, Eigen::Index begin, Eigen::Index end) {
             double* const sums = partial + c * 2 * kHistory;
-            if ((end - begin) % kDotBlock == 0 && h >= 1) {
+            if ((end - begin) % fused_multiple(T{}) == 0 && h >= 1) {
                 with_history_length(h, [&](auto history_length) {
                     fused_chunk<decltype(history_length)::value>(begin, end, g, current, g_prev, f_prev, f, new_dg,
                                                                  new_df, history, sums, sums + kHistory);
@@ -191,15 +276,15 @@ bool Anderson::step(const float* current, float* next) {
                 return;
             }
             for (Eigen::Index e = begin; e < end; ++e) {
-                const float fe = g[e] - current[e];
+                const T fe = g[e] - current[e];
                 f[e] = fe;
                 new_dg[e] = g[e] - g_prev[e];
                 new_df[e] = fe - f_prev[e];
             }
             for (int a = 0; a < h; ++a) {
-                const float* const d = history[std::size_t(a)] + begin;
-                sums[a] = block_dot(new_df + begin, d, end - begin);
-                sums[kHistory + a] = block_dot(d, f + begin, end - begin);
+                const T* const d = history[std::size_t(a)] + begin;
+                sums[a] = chunk_dot(new_df + begin, d, end - begin);
+                sums[kHistory + a] = chunk_dot(d, f + begin, end - begin);
             }
         });
         Eigen::Matrix<double, kHistory, 1> with_new = Eigen::Matrix<double, kHistory, 1>::Zero(), right = with_new;
@@ -221,7 +306,7 @@ bool Anderson::step(const float* current, float* next) {
         std::swap(g_prev_, g_), std::swap(f_prev_, f_);  // g and f are overwritten next step
         ++steps_;
         if (!theta.allFinite()) return false;
-        std::array<const float*, kHistory> dg{};
+        std::array<const T*, kHistory> dg{};
         for (int a = 0; a < h; ++a) dg[std::size_t(a)] = dg_[slot_of(a)].data();
         for_chunks(size_, [&](Eigen::Index, Eigen::Index begin, Eigen::Index end) {
             with_history_length(h, [&](auto history_length) {
@@ -234,5 +319,8 @@ bool Anderson::step(const float* current, float* next) {
     ++steps_;
     return false;
 }
+
+template class Anderson<double>;
+template class Anderson<float>;
 
 }  // namespace foldcast::drape::detail

@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "dct.hpp"
 #include "foldcast/core/error.hpp"
@@ -107,17 +108,29 @@ void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned
     x.noalias() += m.response * m.capacitance.solve(gap);
 }
 
-void GridSolver::solve(const float* rhs, const Eigen::VectorXd& pinned_values, float* x, float* spectrum) const {
+template <typename T>
+void GridSolver::solve(const T* rhs, const Eigen::VectorXd& pinned_values, T* x, T* spectrum) const {
     const Impl& m = *impl_;
     if (std::size_t(pinned_values.size()) != m.pinned.size()) throw InputError("grid solver: one value per pin");
-    m.free_solve(rhs, x, spectrum, m.inverse_eigenvalues_f.data(), true);
+    constexpr bool kDouble = std::is_same_v<T, double>;
+    if constexpr (kDouble)
+        m.free_solve(rhs, x, spectrum, m.inverse_eigenvalues.data(), true);
+    else
+        m.free_solve(rhs, x, spectrum, m.inverse_eigenvalues_f.data(), true);
     if (m.pinned.empty()) return;
     Eigen::VectorXd gap(pinned_values.size());
     for (std::size_t i = 0; i < m.pinned.size(); ++i)
         gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - double(x[m.pinned[i]]);
-    // The correction in float (its rounding is float's, as x's): one pass over x.
-    const Eigen::VectorXf loads = m.capacitance.solve(gap).cast<float>();
-    Eigen::Map<Eigen::VectorXf>(x, Eigen::Index(m.n)).noalias() += m.response_f * loads;
+    // One pass over x (in float, its rounding is float's, as x's).
+    const Eigen::VectorXd loads = m.capacitance.solve(gap);
+    Eigen::Map<Eigen::Matrix<T, Eigen::Dynamic, 1>> solved(x, Eigen::Index(m.n));
+    if constexpr (kDouble)
+        solved.noalias() += m.response * loads;
+    else
+        solved.noalias() += m.response_f * loads.cast<float>();
 }
+
+template void GridSolver::solve(const double*, const Eigen::VectorXd&, double*, double*) const;
+template void GridSolver::solve(const float*, const Eigen::VectorXd&, float*, float*) const;
 
 }  // namespace foldcast::drape::detail
