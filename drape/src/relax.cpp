@@ -56,10 +56,10 @@ struct GridRelaxer::Impl {
 };
 
 // T: the per-vertex arrays' type (RelaxSettings::single_precision).  An iteration is a few
-// sweeps over them, too large for the caches at 256x256, so float halves the memory moved.  Float's rounding of a
-// position
-// (~3e-8 m) is a thousandth of the stretch bounds' scale on a 4 mm edge; sums over the grid
-// (stretch, energy, the Anderson step's dot products) and the DCTs are in double.
+// sweeps over them, too large for the caches at 256x256, so float halves the memory moved.
+// Float's rounding of a position (~3e-8 m) is a thousandth of the stretch bounds' scale on a
+// 4 mm edge; sums over the grid (stretch, energy, the Anderson step's dot products) and the
+// DCTs are in double.
 template <typename T>
 struct GridRelaxer::Impl::Workspace {
     detail::ThreadDirections directions;  // the smoothing phase's edge directions
@@ -226,9 +226,11 @@ Sums edge_sums(const T* len, std::size_t count, T rest) {
             acc[0][l] += stretch, acc[1][l] = std::max(acc[1][l], stretch), acc[2][l] += d * d;
         });
     Sums out;
-    for (std::size_t l = 0; l < kLanes<T>; ++l)
-        out.sum += double(lanes[0][l]), out.max = std::max(out.max, double(lanes[1][l])),
-                                        out.energy += double(lanes[2][l]);
+    for (std::size_t l = 0; l < kLanes<T>; ++l) {
+        out.sum += double(lanes[0][l]);
+        out.max = std::max(out.max, double(lanes[1][l]));
+        out.energy += double(lanes[2][l]);
+    }
     return out;
 }
 
