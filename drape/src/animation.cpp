@@ -31,11 +31,14 @@ double smoothstep(double t) { return t * t * (3.0 - 2.0 * t); }
 // previous relaxed one, and the phase is paid every frame (256x256 x 120 frames: 1.4x the
 // time of none, the last frame's 90th-percentile turn between quads 0.25 rad against 0.60;
 // 2 or 5 iterations 1.8x / 2.4x for 0.22 / 0.18; docs/benchmarks.md).
+//
+// In single precision: 0.6x the CPU, 1.4 % more iterations (docs/benchmarks.md).
 RelaxSettings frame_settings() {
     RelaxSettings settings;
     settings.target_mean = 0.0049;
     settings.target_max = 0.0295;
     settings.smoothing_iterations = 1;
+    settings.single_precision = true;
     return settings;
 }
 

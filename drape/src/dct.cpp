@@ -92,140 +92,74 @@ struct Lines {
     Lines(const Lines&) = delete;
     Lines& operator=(const Lines&) = delete;
 
-    // Where a block's lines are: sample s of line c at base[c * line + s * sample] (a block of
-    // rows: sample 1, line n; a block of columns: sample nu, line 1).  Each loop goes over the
-    // block's lines innermost when the lines are interleaved, so a block of columns is read
-    // and written a cache line (8 neighbours of a row) at a time instead of being copied into
-    // contiguous lines and back (a column strides by a row's length, often a power of two,
-    // which maps it onto a few cache sets).  The values and the operations on them are the
-    // same either way.
-    struct Layout {
-        std::ptrdiff_t sample, line;
-    };
-
-    template <typename Body>
-    static void each(int count, int samples, Layout layout, Body&& body) {
-        if (layout.sample == 1) {
-            for (int c = 0; c < count; ++c)
-                for (int m = 0; m < samples; ++m) body(c, m);
-        } else {
-            for (int m = 0; m < samples; ++m)
-                for (int c = 0; c < count; ++c) body(c, m);
-        }
-    }
-
-    // One contiguous line each (a block of rows): the same operations as the general loops
-    // below, in loops the compiler vectorises.
-    void reorder_line(const double* __restrict x, double* __restrict v) const {
+    // One contiguous line each: loops the compiler vectorises.  T: the grid's values, double
+    // or float (the FFTs run in double on the block's scratch either way).
+    template <typename T>
+    void reorder_line(const T* __restrict x, double* __restrict v) const {
         for (int m = 0; 2 * m < n; ++m) v[m] = x[2 * m];
         for (int m = 0; 2 * m + 1 < n; ++m) v[n - 1 - m] = x[2 * m + 1];
     }
-    void twiddle_line(const double* __restrict spectrum, double* __restrict x) const {
+    template <typename T>
+    void twiddle_line(const double* __restrict spectrum, T* __restrict x) const {
         const double* __restrict co = cos_k.data();
         const double* __restrict sn = sin_k.data();
-        x[0] = 2.0 * spectrum[0];
+        x[0] = T(2.0 * spectrum[0]);
         for (int k = 1; 2 * k < n; ++k) {
             const double re = spectrum[2 * k], im = spectrum[2 * k + 1];
-            x[k] = 2.0 * (co[k] * re + sn[k] * im);
-            x[n - k] = -2.0 * (co[k] * im - sn[k] * re);
+            x[k] = T(2.0 * (co[k] * re + sn[k] * im));
+            x[n - k] = T(-2.0 * (co[k] * im - sn[k] * re));
         }
         if (n % 2 == 0 && n > 0) {
             const int k = n / 2;
-            x[k] = 2.0 * (co[k] * spectrum[2 * k] + sn[k] * spectrum[2 * k + 1]);
+            x[k] = T(2.0 * (co[k] * spectrum[2 * k] + sn[k] * spectrum[2 * k + 1]));
         }
     }
-    void untwiddle_line(const double* __restrict x, const double* __restrict scale, double* __restrict spectrum) const {
+    template <typename T>
+    void untwiddle_line(const T* __restrict x, const T* __restrict scale, double* __restrict spectrum) const {
         const double* __restrict co = cos_k.data();
         const double* __restrict sn = sin_k.data();
-        spectrum[0] = 0.5 * (scale ? x[0] * scale[0] : x[0]), spectrum[1] = 0.0;
+        spectrum[0] = 0.5 * (scale ? double(x[0]) * double(scale[0]) : double(x[0])), spectrum[1] = 0.0;
         if (scale) {
             for (int k = 1; 2 * k <= n; ++k) {
-                const double a = x[k] * scale[k], b = x[n - k] * scale[n - k];
+                const double a = double(x[k]) * double(scale[k]), b = double(x[n - k]) * double(scale[n - k]);
                 spectrum[2 * k] = 0.5 * (co[k] * a + sn[k] * b);
                 spectrum[2 * k + 1] = 0.5 * (sn[k] * a - co[k] * b);
             }
         } else {
             for (int k = 1; 2 * k <= n; ++k) {
-                const double a = x[k], b = x[n - k];
+                const double a = double(x[k]), b = double(x[n - k]);
                 spectrum[2 * k] = 0.5 * (co[k] * a + sn[k] * b);
                 spectrum[2 * k + 1] = 0.5 * (sn[k] * a - co[k] * b);
             }
         }
     }
-    void unorder_line(const double* __restrict v, double* __restrict x) const {
-        for (int m = 0; 2 * m < n; ++m) x[2 * m] = 2.0 * v[m];
-        for (int m = 0; 2 * m + 1 < n; ++m) x[2 * m + 1] = 2.0 * v[n - 1 - m];
+    template <typename T>
+    void unorder_line(const double* __restrict v, T* __restrict x) const {
+        for (int m = 0; 2 * m < n; ++m) x[2 * m] = T(2.0 * v[m]);
+        for (int m = 0; 2 * m + 1 < n; ++m) x[2 * m + 1] = T(2.0 * v[n - 1 - m]);
     }
 
-    // REDFT10 of `count` lines from `in` to `out` (in == out allowed).
-    void forward(int count, const double* in, Layout from, double* out, Layout to) const {
-        BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
+    // REDFT10 of `count` contiguous lines (line c at in + c n) into out laid out alike; out
+    // may be in, or the block's scratch v (read before the twiddles write it).
+    template <typename In, typename Out>
+    void forward(int count, const In* in, Out* out, BlockScratch& s) const {
         double* const v = s.v->data;
-        if (from.sample == 1 && to.sample == 1) {
-            for (int c = 0; c < count; ++c) reorder_line(in + c * from.line, v + std::ptrdiff_t(c) * n);
-            fftw_execute_dft_r2c(r2c[count], v, s.spectrum->data);
-            for (int c = 0; c < count; ++c)
-                twiddle_line(&s.spectrum->data[std::ptrdiff_t(c) * half][0], out + c * to.line);
-            return;
-        }
-        each(count, (n + 1) / 2, from, [&](int c, int m) {
-            v[std::ptrdiff_t(c) * n + m] = in[c * from.line + 2 * m * from.sample];
-        });
-        each(count, n / 2, from, [&](int c, int m) {
-            v[std::ptrdiff_t(c) * n + n - 1 - m] = in[c * from.line + (2 * m + 1) * from.sample];
-        });
+        for (int c = 0; c < count; ++c) reorder_line(in + std::ptrdiff_t(c) * n, v + std::ptrdiff_t(c) * n);
         fftw_execute_dft_r2c(r2c[count], v, s.spectrum->data);
-        const auto put = [&](int c, int k, double value) { out[c * to.line + k * to.sample] = value; };
-        each(count, n / 2 + 1, to, [&](int c, int k) {
-            const fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
-            if (k == 0) {
-                put(c, 0, 2.0 * spectrum[0][0]);
-                return;
-            }
-            // w_k V_k, w_k = cos - i sin
-            const double co = cos_k[std::size_t(k)], sn = sin_k[std::size_t(k)];
-            put(c, k, 2.0 * (co * spectrum[k][0] + sn * spectrum[k][1]));
-            if (2 * k < n) put(c, n - k, -2.0 * (co * spectrum[k][1] - sn * spectrum[k][0]));
-        });
+        for (int c = 0; c < count; ++c)
+            twiddle_line(&s.spectrum->data[std::ptrdiff_t(c) * half][0], out + std::ptrdiff_t(c) * n);
     }
 
-    // REDFT01 of `count` lines from `in` to `out` (in == out allowed), each input value
-    // multiplied by scale's entry at the same place first when scale is given (scale laid out
-    // as in).
-    void inverse(int count, const double* in, Layout from, double* out, Layout to, const double* scale) const {
-        BlockScratch& s = block_scratch(std::size_t(n) * kBlock, std::size_t(half) * kBlock);
-        if (from.sample == 1 && to.sample == 1) {
-            for (int c = 0; c < count; ++c)
-                untwiddle_line(in + c * from.line, scale ? scale + c * from.line : nullptr,
-                               &s.spectrum->data[std::ptrdiff_t(c) * half][0]);
-            fftw_execute_dft_c2r(c2r[count], s.spectrum->data, s.v->data);
-            for (int c = 0; c < count; ++c) unorder_line(s.v->data + std::ptrdiff_t(c) * n, out + c * to.line);
-            return;
-        }
-        const auto get = [&](int c, int k) {
-            const std::ptrdiff_t at = c * from.line + k * from.sample;
-            return scale ? in[at] * scale[at] : in[at];
-        };
-        each(count, n / 2 + 1, from, [&](int c, int k) {
-            fftw_complex* spectrum = s.spectrum->data + std::ptrdiff_t(c) * half;
-            if (k == 0) {
-                spectrum[0][0] = 0.5 * get(c, 0), spectrum[0][1] = 0.0;
-                return;
-            }
-            // conj(w_k) (X_k - i X_{N-k}) / 2; at k = N/2 both are X_{N/2}
-            const double a = get(c, k), b = get(c, n - k);
-            const double co = cos_k[std::size_t(k)], sn = sin_k[std::size_t(k)];
-            spectrum[k][0] = 0.5 * (co * a + sn * b);
-            spectrum[k][1] = 0.5 * (sn * a - co * b);
-        });
+    // REDFT01 of `count` contiguous lines from in to out laid out alike (out may be in; in
+    // may be the block's scratch v), each input value multiplied by scale's entry at the same
+    // place first when scale is given.
+    template <typename In, typename Out>
+    void inverse(int count, const In* in, Out* out, const In* scale, BlockScratch& s) const {
+        for (int c = 0; c < count; ++c)
+            untwiddle_line(in + std::ptrdiff_t(c) * n, scale ? scale + std::ptrdiff_t(c) * n : nullptr,
+                           &s.spectrum->data[std::ptrdiff_t(c) * half][0]);
         fftw_execute_dft_c2r(c2r[count], s.spectrum->data, s.v->data);
-        const double* const v = s.v->data;
-        each(count, (n + 1) / 2, to, [&](int c, int m) {
-            out[c * to.line + 2 * m * to.sample] = 2.0 * v[std::ptrdiff_t(c) * n + m];
-        });
-        each(count, n / 2, to, [&](int c, int m) {
-            out[c * to.line + (2 * m + 1) * to.sample] = 2.0 * v[std::ptrdiff_t(c) * n + n - 1 - m];
-        });
+        for (int c = 0; c < count; ++c) unorder_line(s.v->data + std::ptrdiff_t(c) * n, out + std::ptrdiff_t(c) * n);
     }
 };
 
@@ -235,23 +169,56 @@ struct GridDct::Impl {
     GridSize grid;
     std::unique_ptr<Lines> rows, columns;  // lengths nu and nv
 
-    // Every row, then every column, kBlock lines at a time, each block read and written in
-    // place (Lines::Layout).  transform(lines, count, in, from, out, to, scale) runs one
-    // block; scale is given to the row pass only (the first, which reads rows contiguously).
-    template <typename Transform>
-    void separable(const double* in, double* out, const double* scale, Transform&& transform) const {
+    // This thread's block scratch, large enough for either length.
+    BlockScratch& scratch() const {
+        const std::size_t most = std::size_t(std::max(grid.nu, grid.nv)) + 2;
+        return block_scratch(most * kBlock, (most / 2 + 1) * kBlock);
+    }
+    static int blocks(int lines) { return (lines + kBlock - 1) / kBlock; }
+
+    // Every line is transformed where it lies contiguously: the rows' results go out
+    // transposed (a block of rows is a few neighbours in every row of the output), so that
+    // the columns are contiguous lines for the second pass, and the inverse gathers them back
+    // the same way.  Strided access is then one plain copy per transform, not the
+    // reordering and twiddles of every column.
+    template <typename T>
+    void forward(const T* in, T* out) const {
         const int nu = grid.nu, nv = grid.nv;
-        tbb::parallel_for(0, (nv + kBlock - 1) / kBlock, [&](int block) {
-            const std::ptrdiff_t start = std::ptrdiff_t(block) * kBlock * nu;
-            const Lines::Layout row_block{1, nu};
-            transform(*rows, std::min(kBlock, nv - block * kBlock), in + start, row_block, out + start, row_block,
-                      scale ? scale + start : nullptr);
+        tbb::parallel_for(0, blocks(nv), [&](int block) {
+            const int first = block * kBlock, count = std::min(kBlock, nv - first);
+            BlockScratch& s = scratch();
+            double* const v = s.v->data;
+            rows->forward(count, in + std::ptrdiff_t(first) * nu, v, s);
+            for (int p = 0; p < nu; ++p) {
+                T* const to = out + std::ptrdiff_t(p) * nv + first;
+                for (int c = 0; c < count; ++c) to[c] = T(v[std::ptrdiff_t(c) * nu + p]);
+            }
         });
-        tbb::parallel_for(0, (nu + kBlock - 1) / kBlock, [&](int block) {
+        tbb::parallel_for(0, blocks(nu), [&](int block) {
             const int first = block * kBlock;
-            const Lines::Layout column_block{nu, 1};
-            transform(*columns, std::min(kBlock, nu - first), out + first, column_block, out + first, column_block,
-                      nullptr);
+            T* const lines = out + std::ptrdiff_t(first) * nv;
+            columns->forward(std::min(kBlock, nu - first), lines, lines, scratch());
+        });
+    }
+
+    template <typename T>
+    void inverse(T* in, T* out, const T* scale) const {
+        const int nu = grid.nu, nv = grid.nv;
+        tbb::parallel_for(0, blocks(nu), [&](int block) {
+            const int first = block * kBlock;
+            T* const lines = in + std::ptrdiff_t(first) * nv;
+            columns->inverse(std::min(kBlock, nu - first), lines, lines,
+                             scale ? scale + std::ptrdiff_t(first) * nv : nullptr, scratch());
+        });
+        tbb::parallel_for(0, blocks(nv), [&](int block) {
+            const int first = block * kBlock, count = std::min(kBlock, nv - first);
+            BlockScratch& s = scratch();
+            double* const v = s.v->data;
+            for (int p = 0; p < nu; ++p) {
+                const T* const from = in + std::ptrdiff_t(p) * nv + first;
+                for (int c = 0; c < count; ++c) v[std::ptrdiff_t(c) * nu + p] = double(from[c]);
+            }
+            rows->inverse(count, v, out + std::ptrdiff_t(first) * nu, static_cast<const double*>(nullptr), s);
         });
     }
 };
@@ -264,16 +231,19 @@ GridDct::GridDct(GridSize grid) : impl_(std::make_unique<Impl>()) {
 
 GridDct::~GridDct() = default;
 
-void GridDct::forward(const double* in, double* out) const {
-    impl_->separable(in, out, nullptr,
-                     [](const Lines& lines, int count, const double* a, Lines::Layout from, double* b,
-                        Lines::Layout to, const double*) { lines.forward(count, a, from, b, to); });
+template <typename T>
+void GridDct::forward(const T* in, T* out) const {
+    impl_->forward(in, out);
 }
 
-void GridDct::inverse(const double* in, double* out, const double* scale) const {
-    impl_->separable(in, out, scale,
-                     [](const Lines& lines, int count, const double* a, Lines::Layout from, double* b,
-                        Lines::Layout to, const double* by) { lines.inverse(count, a, from, b, to, by); });
+template <typename T>
+void GridDct::inverse(T* in, T* out, const T* scale) const {
+    impl_->inverse(in, out, scale);
 }
+
+template void GridDct::forward(const double*, double*) const;
+template void GridDct::forward(const float*, float*) const;
+template void GridDct::inverse(double*, double*, const double*) const;
+template void GridDct::inverse(float*, float*, const float*) const;
 
 }  // namespace foldcast::drape::detail

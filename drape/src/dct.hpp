@@ -8,7 +8,8 @@
 //
 // Each 1-D transform (a row, then a column) is independent of the others and runs on its own
 // aligned scratch, so the rows and columns are spread over TBB and the result does not depend
-// on the thread count.
+// on the thread count.  The spectrum is kept transposed, so that both passes of each transform
+// read and write contiguous lines.
 #include <memory>
 
 #include "foldcast/drape.hpp"
@@ -23,13 +24,18 @@ public:
     GridDct& operator=(const GridDct&) = delete;
 
     // out = REDFT10 in both directions (X_k = 2 sum_n x_n cos(pi k (2n + 1) / 2N) per
-    // dimension).  in and out: nu * nv values; they may be the same array.
-    void forward(const double* in, double* out) const;
+    // dimension), laid out transposed: mode (p, q) (p along a row, q along a column) at
+    // out[p * nv + q].  in: nu * nv values, row-major; out: nu * nv values, not in's memory.
+    // T: double or float (the arithmetic is double either way; float halves the memory the
+    // passes move).
+    template <typename T>
+    void forward(const T* in, T* out) const;
     // out = REDFT01 in both directions (y_n = X_0 + 2 sum_k>0 X_k cos(pi k (2n + 1) / 2N)),
-    // the inverse of forward up to the factor 4 nu nv, of in multiplied entry by entry by scale
-    // when scale is given (the same bits as multiplying in first).  in, out, scale: nu * nv
-    // values; in and out may be the same array.
-    void inverse(const double* in, double* out, const double* scale = nullptr) const;
+    // the inverse of forward up to the factor 4 nu nv, of in (laid out as forward's out)
+    // multiplied entry by entry by scale (laid out alike) when scale is given.  in is
+    // overwritten (the first pass works in place); out: row-major, not in's memory.
+    template <typename T>
+    void inverse(T* in, T* out, const T* scale = nullptr) const;
 
 private:
     struct Impl;

@@ -5,10 +5,12 @@
 // FFTW_ESTIMATE plans: the same algorithm on every run, the same bytes).
 #include "grid_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "dct.hpp"
 #include "foldcast/core/error.hpp"
@@ -19,27 +21,34 @@ struct GridSolver::Impl {
     GridSize grid;
     std::size_t n = 0;
     std::vector<int> pinned;
-    Eigen::VectorXd inverse_eigenvalues;  // 1 / (eigenvalue x 4 nu nv), per DCT mode
+    Eigen::VectorXd inverse_eigenvalues;  // 1 / (eigenvalue x 4 nu nv), per DCT mode, as GridDct lays them out
+    Eigen::VectorXf inverse_eigenvalues_f;
     std::unique_ptr<GridDct> dct;
     Eigen::MatrixXd response;  // (L + anchor I)^-1 at every vertex to a unit load on each pin
+    Eigen::MatrixXf response_f;  // the same in float, for the float solve
     Eigen::LDLT<Eigen::MatrixXd> capacitance;
 
     // y = (L + anchor I)^-1 b, pins ignored; with zero_pins, b's entries on the pins are taken
     // as 0 (b itself is left as it is).  The forward DCT reads b where it can (no copy when
     // the pins' entries are +0 already, or there are none to zero); the inverse DCT scales by
-    // the inverse eigenvalues as it reads.
-    void free_solve(const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> y, bool zero_pins = false) const {
+    // the inverse eigenvalues as it reads.  spectrum: n values, neither b's nor y's memory.
+    template <typename T>
+    void free_solve(const T* b, T* y, T* spectrum, const T* inverse, bool zero_pins) const {
         bool copy = false;
         if (zero_pins)
-            for (int p : pinned) copy = copy || b[p] != 0.0 || std::signbit(b[p]);
-        const double* in = b.data();
+            for (int p : pinned) copy = copy || b[p] != T(0) || std::signbit(b[p]);
+        const T* in = b;
         if (copy) {
-            y = b;
-            for (int p : pinned) y[p] = 0.0;
-            in = y.data();
+            std::copy(b, b + n, y);
+            for (int p : pinned) y[p] = T(0);
+            in = y;
         }
-        dct->forward(in, y.data());
-        dct->inverse(y.data(), y.data(), inverse_eigenvalues.data());
+        dct->forward(in, spectrum);
+        dct->inverse(spectrum, y, inverse);
+    }
+    void free_solve(const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> y, bool zero_pins = false) const {
+        Eigen::VectorXd spectrum(static_cast<Eigen::Index>(n));
+        free_solve(b.data(), y.data(), spectrum.data(), inverse_eigenvalues.data(), zero_pins);
     }
 };
 
@@ -58,7 +67,7 @@ GridSolver::GridSolver(GridSize grid, double anchor, std::vector<int> pinned) : 
         for (int p = 0; p < grid.nu; ++p) {
             const double eigenvalue =
                 anchor + (2.0 - 2.0 * std::cos(M_PI * p / grid.nu)) + (2.0 - 2.0 * std::cos(M_PI * q / grid.nv));
-            m.inverse_eigenvalues[q * grid.nu + p] = 1.0 / (eigenvalue * scale);
+            m.inverse_eigenvalues[p * grid.nv + q] = 1.0 / (eigenvalue * scale);
         }
     m.dct = std::make_unique<GridDct>(grid);
     // Capacitance matrix: the pins' displacement under a unit load on each pin.
@@ -69,6 +78,8 @@ GridSolver::GridSolver(GridSize grid, double anchor, std::vector<int> pinned) : 
         load[m.pinned[std::size_t(j)]] = 1.0;
         m.free_solve(load, m.response.col(j));
     }
+    m.response_f = m.response.cast<float>();
+    m.inverse_eigenvalues_f = m.inverse_eigenvalues.cast<float>();
     Eigen::MatrixXd c(k, k);
     for (Eigen::Index i = 0; i < k; ++i) c.row(i) = m.response.row(m.pinned[std::size_t(i)]);
     m.capacitance.compute(c);
@@ -96,5 +107,30 @@ void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned
         gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - x[m.pinned[i]];
     x.noalias() += m.response * m.capacitance.solve(gap);
 }
+
+template <typename T>
+void GridSolver::solve(const T* rhs, const Eigen::VectorXd& pinned_values, T* x, T* spectrum) const {
+    const Impl& m = *impl_;
+    if (std::size_t(pinned_values.size()) != m.pinned.size()) throw InputError("grid solver: one value per pin");
+    constexpr bool kDouble = std::is_same_v<T, double>;
+    if constexpr (kDouble)
+        m.free_solve(rhs, x, spectrum, m.inverse_eigenvalues.data(), true);
+    else
+        m.free_solve(rhs, x, spectrum, m.inverse_eigenvalues_f.data(), true);
+    if (m.pinned.empty()) return;
+    Eigen::VectorXd gap(pinned_values.size());
+    for (std::size_t i = 0; i < m.pinned.size(); ++i)
+        gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - double(x[m.pinned[i]]);
+    // One pass over x (in float, its rounding is float's, as x's).
+    const Eigen::VectorXd loads = m.capacitance.solve(gap);
+    Eigen::Map<Eigen::Matrix<T, Eigen::Dynamic, 1>> solved(x, Eigen::Index(m.n));
+    if constexpr (kDouble)
+        solved.noalias() += m.response * loads;
+    else
+        solved.noalias() += m.response_f * loads.cast<float>();
+}
+
+template void GridSolver::solve(const double*, const Eigen::VectorXd&, double*, double*) const;
+template void GridSolver::solve(const float*, const Eigen::VectorXd&, float*, float*) const;
 
 }  // namespace foldcast::drape::detail

@@ -27,6 +27,12 @@ public:
     Eigen::VectorXd solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values) const;
     // The same into x (one entry per vertex, not rhs's memory): no allocation.
     void solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned_values, Eigen::Ref<Eigen::VectorXd> x) const;
+    // The same on arrays (rhs, x and spectrum, the DCT's work array: one entry per vertex
+    // each, three separate arrays).  T: double, or float (the transforms' arithmetic is double
+    // either way; the relaxation's iterations then move half the memory, and the pins are met
+    // to float's rounding).
+    template <typename T>
+    void solve(const T* rhs, const Eigen::VectorXd& pinned_values, T* x, T* spectrum) const;
 
 private:
     struct Impl;

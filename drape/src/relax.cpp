@@ -38,39 +38,59 @@ struct GridRelaxer::Impl {
     // relax()'s arrays (tens of megabytes at 256x256), kept for the next call: allocating them
     // afresh for every animation frame cost more in page faults than a few iterations.  A call
     // takes them (or makes its own while another call holds them) and gives them back.
+    template <typename T>
     struct Workspace;
     mutable std::mutex spare_lock;
-    mutable std::unique_ptr<Workspace> spare;
+    mutable std::unique_ptr<Workspace<double>> spare_double;
+    mutable std::unique_ptr<Workspace<float>> spare_float;
+    template <typename T>
+    std::unique_ptr<Workspace<T>>& spare() const {
+        if constexpr (std::is_same_v<T, double>)
+            return spare_double;
+        else
+            return spare_float;
+    }
+
+    template <typename T>
+    RelaxReport relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const;
 };
 
+// T: the per-vertex arrays' type (RelaxSettings::single_precision).  An iteration is a few
+// sweeps over them, too large for the caches at 256x256, so float halves the memory moved.
+// Float's rounding of a position (~3e-8 m) is a thousandth of the stretch bounds' scale on a
+// 4 mm edge; sums over the grid (stretch, energy, the Anderson step's dot products) and the
+// DCTs are in double.
+template <typename T>
 struct GridRelaxer::Impl::Workspace {
     detail::ThreadDirections directions;  // the smoothing phase's edge directions
-    std::vector<double> right_len, down_len;  // each edge's length (to the right, below)
-    std::vector<double> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
-    std::vector<double> target_y, target_z;         // the targets' height and depth, as doubles
-    std::vector<double> pull;                       // per vertex: its fold-line pull (0: none)
+    std::vector<T> right_len, down_len;   // each edge's length (to the right, below)
+    std::vector<T> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
+    std::vector<T> target_y, target_z;         // the targets' height and depth
+    std::vector<T> pull;                       // per vertex: its fold-line pull (0: none)
     std::vector<double> row_sum, row_max, row_energy;
-    std::array<Eigen::VectorXd, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
+    std::array<std::vector<T>, 3> global_rhs;  // per coordinate, every vertex (pins ignored)
+    std::vector<T> spectrum;                   // the global step's DCT work array, per coordinate
     // Positions, every vertex's x, then every y, then every z: what the global step returns
     // per coordinate and what the Anderson step combines, so neither needs a copy.
-    std::vector<double> current, next;
-    detail::Anderson anderson;
+    std::vector<T> current, next;
+    detail::Anderson<T> anderson;
 
     Workspace(std::size_t n, int rows)
-        : right_len(n, 0.0),
-          down_len(n, 0.0),
-          right_factor(n, 0.0),
-          down_factor(n, 0.0),
+        : right_len(n, T(0)),
+          down_len(n, T(0)),
+          right_factor(n, T(0)),
+          down_factor(n, T(0)),
           target_y(n),
           target_z(n),
           pull(n),
           row_sum(std::size_t(rows)),
           row_max(std::size_t(rows)),
           row_energy(std::size_t(rows)),
+          spectrum(3 * n),
           current(3 * n),
           next(3 * n),
           anderson(Eigen::Index(3 * n)) {
-        for (Eigen::VectorXd& b : global_rhs) b = Eigen::VectorXd::Zero(Eigen::Index(n));
+        for (std::vector<T>& b : global_rhs) b.assign(n, T(0));
     }
 };
 
@@ -141,10 +161,105 @@ std::vector<double> fold_line_vertices(const std::vector<Vec3f>& model, GridSize
     return crest;
 }
 
+// Sums over a row in lanes of the arrays' type T, two SIMD packets wide (entry e in lane
+// e % kLanes), so that the loops vectorise instead of waiting on one running sum per edge; the
+// lanes are added in order in double.  A row's sums have a few hundred terms, where float's
+// rounding (~1e-5 of the sum) is far below what the stopping rule and the energy test tell
+// apart.
+template <typename T>
+using Packet = typename Eigen::internal::packet_traits<T>::type;
+template <typename T>
+constexpr std::size_t kPacket = Eigen::internal::packet_traits<T>::size;
+template <typename T>
+constexpr std::size_t kLanes = 2 * kPacket<T>;
+
+// Runs term(lanes, e) for every entry e < count: the whole packets, then the rest a lane at
+// a time; returns the lanes, two packets of accumulators per quantity.
+template <typename T, int N, typename PacketTerm, typename ScalarTerm>
+std::array<std::array<T, kLanes<T>>, N> lane_sums(std::size_t count, PacketTerm&& packet_term,
+                                                  ScalarTerm&& scalar_term) {
+    using namespace Eigen::internal;
+    Packet<T> low[N], high[N];
+    for (int q = 0; q < N; ++q) low[q] = high[q] = pset1<Packet<T>>(T(0));
+    std::size_t e = 0;
+    for (; e + kLanes<T> <= count; e += kLanes<T>) packet_term(low, e), packet_term(high, e + kPacket<T>);
+    std::array<std::array<T, kLanes<T>>, N> lanes;
+    for (int q = 0; q < N; ++q)
+        pstoreu(lanes[std::size_t(q)].data(), low[q]), pstoreu(lanes[std::size_t(q)].data() + kPacket<T>, high[q]);
+    for (std::size_t l = 0; e < count; ++e, ++l) scalar_term(lanes, l, e);
+    return lanes;
+}
+
+// factor[e] = rest / len[e], 0 where len[e] is 0, a packet at a time (a loop with the test
+// keeps the division behind a branch: scalar).
+template <typename T>
+void rest_over(const T* len, std::size_t count, T rest, T* factor) {
+    using namespace Eigen::internal;
+    using P = Packet<T>;
+    const P r = pset1<P>(rest), zero = pset1<P>(T(0)), one = pset1<P>(T(1));
+    std::size_t e = 0;
+    for (; e + kPacket<T> <= count; e += kPacket<T>) {
+        const P l = ploadu<P>(len + e), positive = pcmp_lt(zero, l);
+        pstoreu(factor + e, pdiv(pand(positive, r), pselect(positive, l, one)));
+    }
+    for (; e < count; ++e) factor[e] = (len[e] > T(0) ? rest : T(0)) / (len[e] > T(0) ? len[e] : T(1));
+}
+
+struct Sums {
+    double sum = 0.0, max = 0.0, energy = 0.0;  // stretch |len / rest - 1|, its max, (len - rest)^2
+};
+
+template <typename T>
+Sums edge_sums(const T* len, std::size_t count, T rest) {
+    using namespace Eigen::internal;
+    using P = Packet<T>;
+    const T inverse = T(1) / rest;
+    const P r = pset1<P>(rest), inv = pset1<P>(inverse);
+    const auto lanes = lane_sums<T, 3>(
+        count,
+        [&](auto& acc, std::size_t e) {
+            const P d = psub(ploadu<P>(len + e), r), stretch = pabs(pmul(d, inv));
+            acc[0] = padd(acc[0], stretch), acc[1] = pmax(acc[1], stretch), acc[2] = padd(acc[2], pmul(d, d));
+        },
+        [&](auto& acc, std::size_t l, std::size_t e) {
+            const T d = len[e] - rest, stretch = std::abs(d * inverse);
+            acc[0][l] += stretch, acc[1][l] = std::max(acc[1][l], stretch), acc[2][l] += d * d;
+        });
+    Sums out;
+    for (std::size_t l = 0; l < kLanes<T>; ++l) {
+        out.sum += double(lanes[0][l]);
+        out.max = std::max(out.max, double(lanes[1][l]));
+        out.energy += double(lanes[2][l]);
+    }
+    return out;
+}
+
+// sum pull ((y - target_y)^2 + (z - target_z)^2) over a row (pull 0: an exact 0 term).
+template <typename T>
+double pull_energy(const T* y, const T* z, const T* ty, const T* tz, const T* pull, std::size_t count) {
+    using namespace Eigen::internal;
+    using P = Packet<T>;
+    const auto lanes = lane_sums<T, 1>(
+        count,
+        [&](auto& acc, std::size_t e) {
+            const P dy = psub(ploadu<P>(y + e), ploadu<P>(ty + e));
+            const P dz = psub(ploadu<P>(z + e), ploadu<P>(tz + e));
+            acc[0] = padd(acc[0], pmul(ploadu<P>(pull + e), padd(pmul(dy, dy), pmul(dz, dz))));
+        },
+        [&](auto& acc, std::size_t l, std::size_t e) {
+            const T dy = y[e] - ty[e], dz = z[e] - tz[e];
+            acc[0][l] += pull[e] * (dy * dy + dz * dz);
+        });
+    double out = 0.0;
+    for (const T v : lanes[0]) out += double(v);
+    return out;
+}
+
 }  // namespace
 
-RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const {
-    const Impl& m = *impl_;
+template <typename T>
+RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const {
+    const Impl& m = *this;
     const GridSize grid = m.grid;
     const std::size_t n = std::size_t(grid.nu) * std::size_t(grid.nv);
     if (positions.size() != n || targets.size() != n)
@@ -159,16 +274,16 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     report.before = detail::grid_stretch(targets, rest_params, grid);
     const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
 
-    std::unique_ptr<Impl::Workspace> workspace;
+    std::unique_ptr<Workspace<T>> workspace;
     {
         const std::lock_guard<std::mutex> hold(m.spare_lock);
-        workspace = std::move(m.spare);
+        workspace = std::move(m.spare<T>());
     }
-    if (!workspace) workspace = std::make_unique<Impl::Workspace>(n, grid.nv);
-    Impl::Workspace& w = *workspace;
+    if (!workspace) workspace = std::make_unique<Workspace<T>>(n, grid.nv);
+    Workspace<T>& w = *workspace;
     for (std::size_t k = 0; k < n; ++k) {
         const Vec3f& start = m.is_pinned[k] ? targets[k] : positions[k];
-        for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = double(start(Eigen::Index(c)));
+        for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = T(start(Eigen::Index(c)));
     }
     const double anchor = m.anchor;
 
@@ -183,7 +298,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     for (std::size_t c = 0; c < 3; ++c) {
         pinned_positions[c].resize(Eigen::Index(m.pinned_vertices.size()));
         for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
-            pinned_positions[c][Eigen::Index(i)] = w.current[c * n + std::size_t(m.pinned_vertices[i])];
+            pinned_positions[c][Eigen::Index(i)] = double(w.current[c * n + std::size_t(m.pinned_vertices[i])]);
     }
     double anchor_scale = 1.0;
     constexpr int kSoftenEvery = 30;
@@ -193,15 +308,14 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // Each edge's length, computed once per local step (the edge to the right of and the one
     // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
     // and |x_o - x_k| are the same bits, so the result is too.  Likewise rest / length.
-    std::vector<double>&right_len = w.right_len, &down_len = w.down_len;
-    std::vector<double>&right_factor = w.right_factor, &down_factor = w.down_factor;
-    for (std::size_t k = 0; k < n; ++k)
-        w.target_y[k] = double(targets[k].y()), w.target_z[k] = double(targets[k].z());
+    std::vector<T>&right_len = w.right_len, &down_len = w.down_len;
+    std::vector<T>&right_factor = w.right_factor, &down_factor = w.down_factor;
+    for (std::size_t k = 0; k < n; ++k) w.target_y[k] = T(targets[k].y()), w.target_z[k] = T(targets[k].z());
     // Each vertex's pull towards its fold-line target (crest weight x anchor_scale), 0 where
     // it has none: set again whenever anchor_scale changes.
     const auto set_pull = [&] {
         for (std::size_t k = 0; k < n; ++k)
-            w.pull[k] = !m.is_pinned[k] && crest[k] > 0.0 ? crest[k] * anchor_scale : 0.0;
+            w.pull[k] = !m.is_pinned[k] && crest[k] > 0.0 ? T(crest[k] * anchor_scale) : T(0);
     };
     set_pull();
     const int nu = grid.nu, nv = grid.nv;
@@ -211,17 +325,18 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     // (left, right, up, down, the same operations in the same order as a vertex at a time;
     // a zero pull or factor adds an exact zero).  Up and Down: whether the row has rows
     // above and below.  Branch-free inside the row, so it vectorises.
-    const auto rhs_row = [&](auto up, auto down, const double* __restrict x, const double* __restrict target,
-                             std::size_t row, double* __restrict out) {
-        const double* __restrict const pull = w.pull.data();
-        const double* __restrict const rf = right_factor.data();
-        const double* __restrict const df = down_factor.data();
+    const T anchor_t = T(anchor);
+    const auto rhs_row = [&](auto up, auto down, const T* __restrict x, const T* __restrict target, std::size_t row,
+                             T* __restrict out) {
+        const T* __restrict const pull = w.pull.data();
+        const T* __restrict const rf = right_factor.data();
+        const T* __restrict const df = down_factor.data();
         constexpr bool kUp = decltype(up)::value, kDown = decltype(down)::value;
         const std::size_t stride = std::size_t(nu);
         const auto vertex = [&](std::size_t k, bool left, bool right) {
-            double b = x[k];
+            T b = x[k];
             if (target) b += pull[k] * (target[k] - x[k]);
-            b *= anchor;
+            b *= anchor_t;
             if (left) b += (x[k] - x[k - 1]) * rf[k - 1];
             if (right) b += (x[k] - x[k + 1]) * rf[k];
             if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
@@ -234,9 +349,9 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         // (y and z) or without it (x).
         const auto interior = [&](auto with_target) {
             for (std::size_t k = row + 1; k < end; ++k) {
-                double b = x[k];
+                T b = x[k];
                 if constexpr (decltype(with_target)::value) b += pull[k] * (target[k] - x[k]);
-                b *= anchor;
+                b *= anchor_t;
                 b += (x[k] - x[k - 1]) * rf[k - 1];
                 b += (x[k] - x[k + 1]) * rf[k];
                 if (kUp) b += (x[k] - x[k - stride]) * df[k - stride];
@@ -251,68 +366,49 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         if (nu > 1) vertex(end, true, false);
     };
     int iteration = 0;  // the local step reads it: in the smoothing phase or not
-    const auto local = [&](const double* positions_now) -> Local {
-        const double* const px = positions_now;
-        const double* const py = positions_now + n;
-        const double* const pz = positions_now + 2 * n;
+    const auto local = [&](const T* positions_now) -> Local {
+        const T* const px = positions_now;
+        const T* const py = positions_now + n;
+        const T* const pz = positions_now + 2 * n;
         const bool smoothing = iteration < m.settings.smoothing_iterations && m.settings.smoothing > 0.0;
         // In the smoothing phase the edge terms come from the blended directions below, so
         // the rows' right-hand sides get the anchor terms only (rest 0 gives factors 0).
-        const double factor_u = smoothing ? 0.0 : rest_u, factor_v = smoothing ? 0.0 : rest_v;
+        const T factor_u = smoothing ? T(0) : T(rest_u), factor_v = smoothing ? T(0) : T(rest_v);
         tbb::parallel_for(0, nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(nu);
             // |x_o - x_k| as Eigen's norm() sums it, (dx^2 + dy^2) + dz^2, for the edges from
             // `first` to the vertex `step` further on; rest / |x_o - x_k| beside it (no
             // division by 0, so that the loop vectorises).
-            const auto lengths = [&](std::size_t first, std::size_t count, std::size_t step, double rest,
-                                     double* __restrict len_out, double* __restrict factor_out) {
-                const double* __restrict x = px + first;
-                const double* __restrict y = py + first;
-                const double* __restrict z = pz + first;
+            const auto lengths = [&](std::size_t first, std::size_t count, std::size_t step, T rest,
+                                     T* __restrict len_out, T* __restrict factor_out) {
+                const T* __restrict x = px + first;
+                const T* __restrict y = py + first;
+                const T* __restrict z = pz + first;
                 len_out += first, factor_out += first;
                 for (std::size_t e = 0; e < count; ++e) {
-                    const double dx = x[e + step] - x[e], dy = y[e + step] - y[e], dz = z[e + step] - z[e];
+                    const T dx = x[e + step] - x[e], dy = y[e + step] - y[e], dz = z[e + step] - z[e];
                     len_out[e] = dx * dx + dy * dy + dz * dz;
                 }
                 // Eigen's packet square root (std::sqrt's errno check keeps the loop scalar).
-                Eigen::Map<Eigen::ArrayXd> squared(len_out, Eigen::Index(count));
+                Eigen::Map<Eigen::Array<T, Eigen::Dynamic, 1>> squared(len_out, Eigen::Index(count));
                 squared = squared.sqrt();
-                for (std::size_t e = 0; e < count; ++e) {
-                    const double len = len_out[e];
-                    const double factor = rest / (len > 0.0 ? len : 1.0);
-                    factor_out[e] = len > 0.0 ? factor : 0.0;
-                }
+                rest_over(len_out, count, rest, factor_out);
             };
             lengths(row, std::size_t(nu) - 1, 1, factor_u, right_len.data(), right_factor.data());
             if (j + 1 < nv)
                 lengths(row, std::size_t(nu), std::size_t(nu), factor_v, down_len.data(), down_factor.data());
+            // The row's stretch and energy from the lengths just computed (each edge once: to
+            // the right and below), then the fold-line terms.
+            const Sums right = edge_sums(right_len.data() + row, std::size_t(nu) - 1, T(rest_u));
+            const Sums down = j + 1 < nv ? edge_sums(down_len.data() + row, std::size_t(nu), T(rest_v)) : Sums{};
+            const double pulled = pull_energy(py + row, pz + row, w.target_y.data() + row, w.target_z.data() + row,
+                                              w.pull.data() + row, std::size_t(nu));
+            w.row_sum[std::size_t(j)] = right.sum + down.sum;
+            w.row_max[std::size_t(j)] = std::max(right.max, down.max);
+            w.row_energy[std::size_t(j)] = (right.energy + down.energy) + anchor * pulled;
         });
         tbb::parallel_for(0, nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(nu);
-            // The stretch and the energy, summed along the row in vertex order (each edge
-            // once: to the right and below), then the fold-line terms.
-            double sum = 0.0, max = 0.0, energy = 0.0;
-            for (int i = 0; i < nu; ++i) {
-                const std::size_t k = row + std::size_t(i);
-                if (i + 1 < nu) {
-                    const double len = right_len[k];
-                    const double stretch = std::abs(len / rest_u - 1.0);
-                    sum += stretch, max = std::max(max, stretch);
-                    energy += (len - rest_u) * (len - rest_u);
-                }
-                if (j + 1 < nv) {
-                    const double len = down_len[k];
-                    const double stretch = std::abs(len / rest_v - 1.0);
-                    sum += stretch, max = std::max(max, stretch);
-                    energy += (len - rest_v) * (len - rest_v);
-                }
-                if (const double pull = w.pull[k]; pull > 0.0) {
-                    const double dy = py[k] - w.target_y[k], dz = pz[k] - w.target_z[k];
-                    energy += anchor * pull * dy * dy;
-                    energy += anchor * pull * dz * dz;
-                }
-            }
-            w.row_sum[std::size_t(j)] = sum, w.row_max[std::size_t(j)] = max, w.row_energy[std::size_t(j)] = energy;
             // The right-hand side, a coordinate at a time (x has no fold-line pull).  Pinned
             // vertices get one too, set to 0 below.
             const auto rows = [&](auto up, auto down) {
@@ -345,7 +441,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
                         if (i + 1 < nu) b -= rest_u * d.right[c][k];
                         if (j > 0) b += rest_v * d.down[c][k - std::size_t(nu)];
                         if (j + 1 < nv) b -= rest_v * d.down[c][k];
-                        w.global_rhs[c][Eigen::Index(k)] += b;
+                        w.global_rhs[c][k] = T(double(w.global_rhs[c][k]) + b);
                     }
                 }
             });
@@ -353,7 +449,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         // The pins' right-hand sides, which the solve ignores, as +0: then it need not copy
         // the rest to zero them.
         for (const int p : m.pinned_vertices)
-            for (Eigen::VectorXd& b : w.global_rhs) b[p] = 0.0;
+            for (std::vector<T>& b : w.global_rhs) b[std::size_t(p)] = T(0);
         Local out{0.0, 0.0, 0.0};
         for (int j = 0; j < grid.nv; ++j)
             out.energy += w.row_energy[std::size_t(j)], out.mean += w.row_sum[std::size_t(j)],
@@ -365,7 +461,7 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
 
     // Anderson acceleration of the local/global fixed-point map (anderson.hpp), with the
     // plain step whenever the accelerated one would raise the energy.
-    detail::Anderson& anderson = w.anderson;
+    detail::Anderson<T>& anderson = w.anderson;
     anderson.restart();
     Local state = local(w.current.data());
     double accepted_energy = state.energy;
@@ -384,12 +480,13 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
         ++iteration;
         // The global step, g = G(current), a coordinate at a time, the pins exactly where
         // they are held (the solve meets them to rounding).
-        double* const g = anderson.g();
+        T* const g = anderson.g();
         tbb::parallel_for(0, 3, [&](int c) {
-            Eigen::Map<Eigen::VectorXd> solved(g + std::size_t(c) * n, Eigen::Index(n));
-            m.solver->solve(w.global_rhs[std::size_t(c)], pinned_positions[std::size_t(c)], solved);
+            T* const solved = g + std::size_t(c) * n;
+            m.solver->solve(w.global_rhs[std::size_t(c)].data(), pinned_positions[std::size_t(c)], solved,
+                            w.spectrum.data() + std::size_t(c) * n);
             for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
-                solved[m.pinned_vertices[i]] = pinned_positions[std::size_t(c)][Eigen::Index(i)];
+                solved[m.pinned_vertices[i]] = T(pinned_positions[std::size_t(c)][Eigen::Index(i)]);
         });
         const bool accelerated = anderson.step(w.current.data(), w.next.data());
         state = local(accelerated ? w.next.data() : anderson.last_g());
@@ -410,8 +507,13 @@ RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<
     report.iterations = iteration;
     report.after = detail::grid_stretch(positions, rest_params, grid);
     const std::lock_guard<std::mutex> hold(m.spare_lock);
-    m.spare = std::move(workspace);
+    m.spare<T>() = std::move(workspace);
     return report;
+}
+
+RelaxReport GridRelaxer::relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const {
+    return impl_->settings.single_precision ? impl_->relax<float>(positions, targets)
+                                            : impl_->relax<double>(positions, targets);
 }
 
 namespace {

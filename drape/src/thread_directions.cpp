@@ -8,8 +8,10 @@ namespace foldcast::drape::detail {
 namespace {
 
 // Unit direction of p[b] - p[a] into out[.][a] (0 for a zero-length edge).
-void unit_edge(const double* const p[3], std::size_t a, std::size_t b, std::array<std::vector<double>, 3>& out) {
-    const double d[3] = {p[0][b] - p[0][a], p[1][b] - p[1][a], p[2][b] - p[2][a]};
+template <typename T>
+void unit_edge(const T* const p[3], std::size_t a, std::size_t b, std::array<std::vector<double>, 3>& out) {
+    const double d[3] = {double(p[0][b]) - double(p[0][a]), double(p[1][b]) - double(p[1][a]),
+                         double(p[2][b]) - double(p[2][a])};
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int c = 0; c < 3; ++c) out[std::size_t(c)][a] = len > 0.0 ? d[c] / len : 0.0;
 }
@@ -28,10 +30,10 @@ void blend(const std::array<std::vector<double>, 3>& raw, std::size_t k, std::si
 
 }  // namespace
 
-void thread_directions(const double* x, const double* y, const double* z, GridSize grid, double weight,
-                       ThreadDirections& out) {
+template <typename T>
+void thread_directions(const T* x, const T* y, const T* z, GridSize grid, double weight, ThreadDirections& out) {
     const std::size_t nu = std::size_t(grid.nu), nv = std::size_t(grid.nv), n = nu * nv;
-    const double* const p[3] = {x, y, z};
+    const T* const p[3] = {x, y, z};
     // The raw directions first (every one is read by its neighbours' blends), then the blend.
     // Every entry with an edge is written below, so zeros (the entries without) are only set
     // when the storage is new.
@@ -63,5 +65,8 @@ void thread_directions(const double* x, const double* y, const double* z, GridSi
         }
     });
 }
+
+template void thread_directions(const double*, const double*, const double*, GridSize, double, ThreadDirections&);
+template void thread_directions(const float*, const float*, const float*, GridSize, double, ThreadDirections&);
 
 }  // namespace foldcast::drape::detail

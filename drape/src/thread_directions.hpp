@@ -24,8 +24,8 @@ struct ThreadDirections {
 // direction, so smoothing leaves even bending alone and removes alternating kinks.  Each
 // entry depends only on the input, so the result is the same for any thread count.  `out`
 // keeps its storage between calls; reuse it for one grid size only (its zeros are set when
-// the storage is new).
-void thread_directions(const double* x, const double* y, const double* z, GridSize grid, double weight,
-                       ThreadDirections& out);
+// the storage is new).  T: double or float (the directions are computed in double either way).
+template <typename T>
+void thread_directions(const T* x, const T* y, const T* z, GridSize grid, double weight, ThreadDirections& out);
 
 }  // namespace foldcast::drape::detail
