@@ -23,10 +23,15 @@
 
 namespace foldcast::render {
 
-// Below this a channel's albedo is not divided out (the colour is filtered as it is): the
-// denoiser and the turntable's temporal filter demodulate alike.
+// A channel's albedo is divided out, but never less than this: the denoiser and the
+// turntable's temporal filter demodulate alike.  The divisor is continuous in the albedo:
+// velvet's dark green channel (0.005 diffuse) crosses 0.01 where its sheen rises with the view
+// angle, and a divisor that jumped from the albedo to 1 there drew bright green contour lines
+// (docs/benchmarks.md).
 constexpr float kMinDemodulationAlbedo = 0.01f;
-inline float demodulation_divisor(float albedo) { return albedo < kMinDemodulationAlbedo ? 1.0f : albedo; }
+inline float demodulation_divisor(float albedo) {
+    return albedo < kMinDemodulationAlbedo ? kMinDemodulationAlbedo : albedo;
+}
 
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are
 // neither changed nor used), guided by the first-hit albedo, unit shading normal (zero for

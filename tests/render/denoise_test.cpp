@@ -185,5 +185,31 @@ TEST(Denoise, AThinWiresPartlyCoveredPixelsAreNotAveragedWithTheBackdrop) {
     EXPECT_LT(std::abs(lost), 0.2) << "the wire's pixels lost " << lost << " of their extra light";
 }
 
+// Cloth whose dark green albedo rises smoothly through the demodulation floor (velvet's
+// green channel as its sheen rises with the view angle), under smooth light with little
+// noise: the denoised green follows the input's, with no line where the albedo crosses
+// the floor (a divisor that jumped there drew bright contour lines on the velvet swatch).
+TEST(Denoise, AnAlbedoCrossingTheDemodulationFloorLeavesNoLine) {
+    Image noisy{kW, kH, 4, std::vector<float>(kW * kH * 4, 1.0f)};
+    PixelFeatures f;
+    const std::size_t n = static_cast<std::size_t>(kW) * kH;
+    f.albedo.resize(n), f.normal.assign(n, V3(0.0f, 0.0f, 1.0f)), f.depth.assign(n, 2.0f);
+    f.variance.assign(n, 1e-6f), f.cloth.assign(n, 1.0f), f.turning.assign(n, 1.0f);
+    RandomStream rng(3, 5, 7);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * kW + x;
+            const float green = 0.004f + 0.012f * static_cast<float>(x) / (kW - 1);  // 0.004-0.016
+            f.albedo[i] = V3(0.3f, green, 0.2f);
+            const float light = 0.6f * (1.0f + 0.01f * (rng.next() - 0.5f));
+            for (int c = 0; c < 3; ++c) noisy.at(x, y)[c] = light * f.albedo[i][c];
+        }
+    Image out = noisy;
+    denoise(out, f, 2);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+            EXPECT_NEAR(out.at(x, y)[1] / noisy.at(x, y)[1], 1.0f, 0.05f) << "x " << x << ", y " << y;
+}
+
 }  // namespace
 }  // namespace foldcast::render
