@@ -11,10 +11,13 @@
 //            is estimated from the plain rows (flicker^2 = 2 var(test) + 2 var(ref) where the
 //            noise changes, var(test) falling as 1/spp);
 //   adaptive: the default scene at 640x360 with --noise-threshold, plain and denoised: time,
-//            mean spp, where the samples went (garment vs backdrop) and RMSE.
+//            mean spp, where the samples went (garment vs backdrop) and RMSE;
+//   looks:   every shipped look in the default scene at 320x180, 16 spp + denoise against
+//            plain 256 spp, each against the look's own reference: a look whose colour or
+//            gloss the denoiser mishandles shows as a denoised error far above plain 256 spp's.
 // References are rendered once and kept in --out.  Timed figures are wall clock on whatever
 // load the machine has; never asserts anything.
-//   bench_render_quality [rmse|twill|flicker|adaptive|all] [--out DIR] [--threads N] [--ref-spp N]
+//   bench_render_quality [rmse|twill|flicker|adaptive|looks|all] [--out DIR] [--threads N] [--ref-spp N]
 #include <OpenEXR/ImfArray.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
@@ -281,6 +284,29 @@ void part_adaptive(const Args& args) {
     }
 }
 
+// Velvet's contour lines (2026-11-26: its green albedo crossed the demodulation floor, where
+// the divisor jumped) were found only by looking at every look's swatch against a
+// high-spp one; this part measures that for each look.
+void part_looks(const Args& args) {
+    const render::SceneSpec base = render::load_scene(source("gallery/default.toml"));
+    const looks::Library library = looks::Library::load_default();
+    constexpr int kW = 320, kH = 180;
+    std::printf("every look in the default scene at %dx%d, RMSE (sRGB) against %d spp\n%-20s %10s %10s %10s %6s\n", kW,
+                kH, args.ref_spp, "look", "plain 16", "16 + dn", "plain 256", "ratio");
+    for (const std::string& name : library.names()) {
+        render::SceneSpec scene = base;
+        scene.look = library.get(name);
+        const compare::Image ref =
+            reference("look_" + name + "_" + std::to_string(kW) + "x" + std::to_string(kH), scene, kW, kH, args);
+        const double plain16 = rmse(ref, display(render(scene, kW, kH, 16, false, args).result.beauty));
+        const double denoised = rmse(ref, display(render(scene, kW, kH, 16, true, args).result.beauty));
+        const double plain256 = rmse(ref, display(render(scene, kW, kH, 256, false, args).result.beauty));
+        std::printf("%-20s %10.4f %10.4f %10.4f %6.2f\n", name.c_str(), plain16, denoised, plain256,
+                    denoised / plain256);
+        std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -301,5 +327,6 @@ int main(int argc, char** argv) {
     if (args.part == "twill" || args.part == "all") part_twill(args);
     if (args.part == "flicker" || args.part == "all") part_flicker(args);
     if (args.part == "adaptive" || args.part == "all") part_adaptive(args);
+    if (args.part == "looks" || args.part == "all") part_looks(args);
     return 0;
 }
