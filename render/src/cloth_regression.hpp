@@ -20,6 +20,7 @@ struct ClothRegressionInput {
     const std::vector<V3>* light = nullptr;        // the light to fit, demodulated (colour / albedo)
     const std::vector<float>* guide = nullptr;     // luminance of the a-trous result: the colour weight's
     const std::vector<float>* variance = nullptr;  // of the guide's luminance
+    const std::vector<float>* fitted_variance = nullptr;  // of the light's luminance: its noise
     const std::vector<float>* nx = nullptr;        // unit shading normal
     const std::vector<float>* ny = nullptr;
     const std::vector<float>* nz = nullptr;
@@ -31,7 +32,8 @@ struct ClothRegressionInput {
 };
 
 // For every cloth pixel, the regression's value at the pixel written to `out` (demodulated);
-// other pixels and pixels whose fit fails keep what `out` holds.  Each pixel depends only on
+// other pixels, and pixels whose fit fails or does not fit (its residual far beyond the
+// light's noise: a highlight that is not linear in the normal), keep what `out` holds.  Each pixel depends only on
 // the inputs: the same floats for any thread count.
 void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out);
 

@@ -455,6 +455,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
     const bool halves = features.half_a.size() == count;
     Guide guide(count);
     std::vector<V3> albedo(count);
+    std::vector<float> fitted_variance(count);
     Buffer a(count);
     std::optional<Buffer> b;
     if (halves) b.emplace(count);
@@ -474,6 +475,8 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
         const float al = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
         const float variance = features.variance[i] / (al * al);
+        // What the regression's light carries of it (a quarter of the noisy light's).
+        fitted_variance[i] = kRegressionNoisyShare * kRegressionNoisyShare * variance;
         if (!halves) {
             for (int k = 0; k < 3; ++k) a.light[i][k] = c[k] / albedo[i][k];
             a.variance[i] = variance;
@@ -509,6 +512,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
 
     // The noisy light, demodulated, for the cloth's regression after the passes.
     std::vector<V3> data(count);
+
     for (std::size_t i = 0; i < count; ++i)
         for (int k = 0; k < 3; ++k) data[i][k] = rgba.pixels[4 * i + k] / albedo[i][k];
     Filter filter(w, h, guide, threads);
@@ -539,7 +543,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         }
         ClothRegressionInput in;
         in.width = w, in.height = h;
-        in.light = &data, in.guide = &filtered_lum, in.variance = &a.variance;
+        in.light = &data, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
         in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
         in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
         tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
