@@ -51,7 +51,6 @@ V3 sample_vndf(const V3& wo, float ax, float ay, float u1, float u2) {
     const V3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
     return normalized3(V3(ax * nh.x(), ay * nh.y(), std::max(1e-6f, nh.z())));
 }
-V3 reflect(const V3& w, const V3& h) { return 2.0f * w.dot(h) * h - w; }
 
 // --- Charlie sheen with Neubelt-Pettineo visibility ----------------------------------------
 float charlie_d(float cos_h, float alpha) {

@@ -90,6 +90,9 @@ private:
     float p_spec_ = 0.0f, p_sheen_ = 0.0f, p_diffuse_ = 0.0f;
 };
 
+// w mirrored about the unit vector n (a microfacet normal, or a surface's shading normal).
+inline V3 reflect(const V3& w, const V3& n) { return 2.0f * w.dot(n) * n - w; }
+
 // Tabulated albedos (exposed for tests).
 float ggx_albedo(float mu, float roughness, float f0);
 float sheen_albedo(float mu, float sheen_roughness);

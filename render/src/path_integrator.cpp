@@ -96,8 +96,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         // light samples on lights the lobe does not see (default scene, 640x360, 16 spp: the
         // rod's squared error 40.7 -> 23.2 plain, 7.4 -> 4.2 denoised; docs/benchmarks.md).
         if (hit.material == MaterialId::metal) {
-            const Vec3f mirror = 2.0f * wo.dot(frame.n) * frame.n - wo;
-            lights_.weight_for_glossy(choice, hit.p, mirror, [&](const Vec3f& wi) {
+            lights_.weight_for_glossy(choice, hit.p, reflect(wo, frame.n), [&](const Vec3f& wi) {
                 float pdf = 0.0f;
                 return luminance(bsdf.eval(frame.to_local(wi), &pdf));
             });
