@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
 
 namespace foldcast::render {
@@ -92,7 +93,7 @@ void solve(const float (&xx)[kProducts], const float (&xy)[kRegressors][3], floa
     const Eigen::Matrix<double, kRegressors, 3> beta = fit.solve(rhs);
     const V3 value(float(beta(0, 0)), float(beta(0, 1)), float(beta(0, 2)));
     // The fit's weighted residual variance in luminance, (y^T W y - beta^T X^T W y) / sum W.
-    const Eigen::Vector3d to_luminance(0.2126, 0.7152, 0.0722);
+    const Eigen::Vector3d to_luminance = Eigen::Map<const Eigen::Vector3f>(kLuminanceWeights).cast<double>();
     const Eigen::Matrix<double, kRegressors, 1> beta_luminance = beta * to_luminance;
     const double residual = std::max(0.0, double(yy) - beta_luminance.dot(rhs * to_luminance)) / double(xx[0]);
     if (!(residual <= kMisfit * double(noise))) return;
@@ -137,7 +138,7 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
                 for (int b = a; b < kRegressors; ++b) xx[k++] += wa * r[b];
                 for (int c = 0; c < 3; ++c) xy[a][c] += wa * l[c];
             }
-            const float lum = 0.2126f * l[0] + 0.7152f * l[1] + 0.0722f * l[2];
+            const float lum = luminance(V3(l[0], l[1], l[2]));
             yy += weight * lum * lum;
         }
     }
@@ -202,9 +203,9 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
                 for (int b = a; b < kRegressors; ++b) xx[k] = _mm_add_ps(xx[k], _mm_mul_ps(wa, r[b])), ++k;
                 for (int c = 0; c < 3; ++c) xy[a][c] = _mm_add_ps(xy[a][c], _mm_mul_ps(wa, l[c]));
             }
-            const __m128 lum =
-                _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(0.2126f), l[0]), _mm_mul_ps(_mm_set1_ps(0.7152f), l[1])),
-                           _mm_mul_ps(_mm_set1_ps(0.0722f), l[2]));
+            const __m128 lum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(kLuminanceWeights[0]), l[0]),
+                                                     _mm_mul_ps(_mm_set1_ps(kLuminanceWeights[1]), l[1])),
+                                          _mm_mul_ps(_mm_set1_ps(kLuminanceWeights[2]), l[2]));
             yy = _mm_add_ps(yy, _mm_mul_ps(weight, _mm_mul_ps(lum, lum)));
         }
     }

@@ -14,8 +14,12 @@ inline float linear_to_srgb(float linear) {
     return linear <= 0.0031308f ? linear * 12.92f : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
+// Rec.709's weights of linear R, G and B in luminance (for code that weighs many pixels at once).
+constexpr float kLuminanceWeights[3] = {0.2126f, 0.7152f, 0.0722f};
+
 inline float luminance(const Eigen::Vector3f& linear_rgb) {
-    return 0.2126f * linear_rgb.x() + 0.7152f * linear_rgb.y() + 0.0722f * linear_rgb.z();
+    return kLuminanceWeights[0] * linear_rgb.x() + kLuminanceWeights[1] * linear_rgb.y() +
+           kLuminanceWeights[2] * linear_rgb.z();
 }
 
 }  // namespace foldcast
