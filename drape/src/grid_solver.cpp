@@ -99,13 +99,8 @@ void GridSolver::solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& pinned
     if (std::size_t(rhs.size()) != m.n || std::size_t(x.size()) != m.n ||
         std::size_t(pinned_values.size()) != m.pinned.size())
         throw InputError("grid solver: one right-hand side per vertex and one value per pin");
-    m.free_solve(rhs, x, true);
-    if (m.pinned.empty()) return;
-    // Loads mu on the pins such that the pins sit at their values: C mu = values - x_pins.
-    Eigen::VectorXd gap(pinned_values.size());
-    for (std::size_t i = 0; i < m.pinned.size(); ++i)
-        gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - x[m.pinned[i]];
-    x.noalias() += m.response * m.capacitance.solve(gap);
+    Eigen::VectorXd spectrum(static_cast<Eigen::Index>(m.n));
+    solve(rhs.data(), pinned_values, x.data(), spectrum.data());
 }
 
 template <typename T>
@@ -118,6 +113,7 @@ void GridSolver::solve(const T* rhs, const Eigen::VectorXd& pinned_values, T* x,
     else
         m.free_solve(rhs, x, spectrum, m.inverse_eigenvalues_f.data(), true);
     if (m.pinned.empty()) return;
+    // Loads mu on the pins such that the pins sit at their values: C mu = values - x_pins.
     Eigen::VectorXd gap(pinned_values.size());
     for (std::size_t i = 0; i < m.pinned.size(); ++i)
         gap[Eigen::Index(i)] = pinned_values[Eigen::Index(i)] - double(x[m.pinned[i]]);
