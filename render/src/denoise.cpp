@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <utility>
 
 #include "cloth_regression.hpp"
 #include "foldcast/core/colour.hpp"
@@ -175,6 +176,12 @@ public:
         });
         a.swap();
         if (b) b->swap();
+    }
+
+    // f() on the filter's threads (a further stage of the same image).
+    template <class F>
+    void execute(F&& f) {
+        arena_.execute(std::forward<F>(f));
     }
 
 private:
@@ -456,6 +463,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
     Guide guide(count);
     std::vector<V3> albedo(count);
     std::vector<float> fitted_variance(count);
+    std::vector<V3> noisy(count);  // the pixel's light, demodulated: what the regression fits (in part)
     Buffer a(count);
     std::optional<Buffer> b;
     if (halves) b.emplace(count);
@@ -477,8 +485,9 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         const float variance = features.variance[i] / (al * al);
         // What the regression's light carries of it (a quarter of the noisy light's).
         fitted_variance[i] = kRegressionNoisyShare * kRegressionNoisyShare * variance;
+        for (int k = 0; k < 3; ++k) noisy[i][k] = c[k] / albedo[i][k];
         if (!halves) {
-            for (int k = 0; k < 3; ++k) a.light[i][k] = c[k] / albedo[i][k];
+            a.light[i] = noisy[i];
             a.variance[i] = variance;
         } else {
             // Each half's variance from the whole pixel's, by its share of the samples.
@@ -510,11 +519,6 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
             guide.inv_depth_tolerance[i] = 1.0f / (kSigmaDepth * depth_step);
         }
 
-    // The noisy light, demodulated, for the cloth's regression after the passes.
-    std::vector<V3> data(count);
-
-    for (std::size_t i = 0; i < count; ++i)
-        for (int k = 0; k < 3; ++k) data[i][k] = rgba.pixels[4 * i + k] / albedo[i][k];
     Filter filter(w, h, guide, threads);
     for (int pass = 0; pass < kPasses; ++pass) {
         if (b && pass == kCrossPasses) merge(a, *b, features.half_share), b.reset();
@@ -537,17 +541,17 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         // cloth of the default 1280x720 render with adaptive sampling; fitted to the passes'
         // result alone, it kept less of its gain (docs/benchmarks.md, "Cloth regression").
         std::vector<float> filtered_lum(count);
+        std::vector<V3>& fitted = noisy;  // blended in place
         for (std::size_t i = 0; i < count; ++i) {
             filtered_lum[i] = luminance(a.light[i]);
-            data[i] = kRegressionNoisyShare * data[i] + (1.0f - kRegressionNoisyShare) * a.light[i];
+            fitted[i] = kRegressionNoisyShare * noisy[i] + (1.0f - kRegressionNoisyShare) * a.light[i];
         }
         ClothRegressionInput in;
         in.width = w, in.height = h;
-        in.light = &data, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
+        in.light = &fitted, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
         in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
         in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
-        tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-        arena.execute([&] { regress_cloth(in, a.light); });
+        filter.execute([&] { regress_cloth(in, a.light); });
     }
     for (std::size_t i = 0; i < count; ++i) {
         if (!guide.covered[i]) continue;
