@@ -15,7 +15,7 @@ namespace {
 
 // Entries per chunk: fixed, so the dot products' summation order is too.
 constexpr Eigen::Index kChunk = 8192;
-constexpr int kHistory = 5;  // Anderson<T>::kHistory
+constexpr int kHistory = Anderson<double>::kHistory;  // the same for every T
 
 template <typename Body>
 void for_chunks(Eigen::Index size, Body&& body) {
@@ -239,7 +239,6 @@ Anderson<T>::Anderson(Eigen::Index size)
 
 template <typename T>
 bool Anderson<T>::step(const T* current, T* next) {
-    static_assert(kHistory == detail::kHistory);
     const T* const g = g_.data();
     T* const f = f_.data();
     if (steps_ == 0) {
