@@ -23,6 +23,7 @@
 #include "anderson.hpp"
 #include "fold_surface.hpp"
 #include "grid_solver.hpp"
+#include "strain_windows.hpp"
 
 namespace foldcast::drape {
 
@@ -34,6 +35,7 @@ struct GridRelaxer::Impl {
     std::vector<char> is_pinned;       // per vertex
     std::vector<int> pinned_vertices;  // in vertex order, each once
     std::unique_ptr<detail::GridSolver> solver;
+    detail::StrainWindows windows;
 
     // relax()'s arrays (tens of megabytes at 256x256), kept for the next call: allocating them
     // afresh for every animation frame cost more in page faults than a few iterations.  A call
@@ -102,9 +104,15 @@ GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<i
     m.rest_u = params.width_m / (grid.nu - 1);
     m.rest_v = params.height_m / (grid.nv - 1);
     m.settings = settings;
+    if (!(settings.proximal_share > 0.0 && settings.proximal_share <= 1.0))
+        throw InputError("relaxation: proximal_share = " + std::to_string(settings.proximal_share) +
+                         ": must be in (0, 1]");
+    if (!(settings.over_relaxation >= 1.0 && settings.over_relaxation <= 2.0))
+        throw InputError("relaxation: over_relaxation = " + std::to_string(settings.over_relaxation) +
+                         ": must be in [1, 2]");
     // Fold-line vertices per fold line grow with nu while the edge energy of the sheet
     // does not: per-vertex weights scale as 1/nu (set for 64 columns).
-    m.anchor = settings.anchor_weight * 63.0 / (grid.nu - 1);
+    m.anchor = settings.anchor_weight * settings.proximal_share * 63.0 / (grid.nu - 1);
     const int n = grid.nu * grid.nv;
     m.is_pinned.assign(std::size_t(n), 0);
     for (int p : pinned) {
@@ -117,6 +125,7 @@ GridRelaxer::GridRelaxer(const ClothParams& params, GridSize grid, std::vector<i
         throw std::runtime_error("relaxation: every vertex of the grid is pinned, nothing to relax");
     // The matrix: the graph Laplacian of the warp/weft edges plus the anchor on the diagonal.
     m.solver = std::make_unique<detail::GridSolver>(grid, m.anchor, m.pinned_vertices);
+    m.windows = {grid, m.rest_u, m.rest_v, &m.is_pinned};
 }
 
 GridRelaxer::~GridRelaxer() = default;
@@ -140,7 +149,8 @@ std::vector<double> fold_line_vertices(const std::vector<Vec3f>& model, GridSize
     constexpr double kSpread_m = 0.01;
     const int reach = std::max(1, int(std::lround(kSpread_m / rest_v)));
     const double per_row = std::min(1.0, rest_v * 63.0 / 0.7);
-    for (int i = 0; i < grid.nu; ++i)
+    // Column by column (each writes only its own column): in parallel.
+    tbb::parallel_for(0, grid.nu, [&](int i) {
         for (int j = 0; j < grid.nv; ++j) {
             const auto z = [&](int row) { return std::abs(double(model[std::size_t(row * grid.nu + i)].z())); };
             const double here = z(j);
@@ -158,6 +168,7 @@ std::vector<double> fold_line_vertices(const std::vector<Vec3f>& model, GridSize
                 c = std::max(c, w * per_row * double(reach + 1 - std::abs(d)) / (reach + 1));
             }
         }
+    });
     return crest;
 }
 
@@ -191,18 +202,26 @@ std::array<std::array<T, kLanes<T>>, N> lane_sums(std::size_t count, PacketTerm&
 }
 
 // factor[e] = rest / len[e], 0 where len[e] is 0, a packet at a time (a loop with the test
-// keeps the division behind a branch: scalar).
+// keeps the division behind a branch: scalar).  Over-relaxed (omega > 1): the projection
+// carried past the rest length, len + omega (rest - len), i.e. omega rest / len - (omega - 1).
 template <typename T>
-void rest_over(const T* len, std::size_t count, T rest, T* factor) {
+void rest_over(const T* len, std::size_t count, T rest, T omega, T* factor) {
     using namespace Eigen::internal;
     using P = Packet<T>;
-    const P r = pset1<P>(rest), zero = pset1<P>(T(0)), one = pset1<P>(T(1));
+    const P r = pset1<P>(rest * omega), zero = pset1<P>(T(0)), one = pset1<P>(T(1));
+    const P past = pset1<P>(omega - T(1));
     std::size_t e = 0;
+    const bool over = omega != T(1);
     for (; e + kPacket<T> <= count; e += kPacket<T>) {
         const P l = ploadu<P>(len + e), positive = pcmp_lt(zero, l);
-        pstoreu(factor + e, pdiv(pand(positive, r), pselect(positive, l, one)));
+        P f = pdiv(pand(positive, r), pselect(positive, l, one));
+        if (over) f = psub(f, pand(positive, past));
+        pstoreu(factor + e, f);
     }
-    for (; e < count; ++e) factor[e] = (len[e] > T(0) ? rest : T(0)) / (len[e] > T(0) ? len[e] : T(1));
+    for (; e < count; ++e) {
+        factor[e] = (len[e] > T(0) ? rest * omega : T(0)) / (len[e] > T(0) ? len[e] : T(1));
+        if (over && len[e] > T(0)) factor[e] -= omega - T(1);
+    }
 }
 
 struct Sums {
@@ -271,7 +290,7 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
         return p;
     }();
     RelaxReport report;
-    report.before = detail::grid_stretch(targets, rest_params, grid);
+    if (m.settings.report_stretch) report.before = detail::grid_stretch(targets, rest_params, grid);
     const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
 
     std::unique_ptr<Workspace<T>> workspace;
@@ -281,10 +300,19 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
     }
     if (!workspace) workspace = std::make_unique<Workspace<T>>(n, grid.nv);
     Workspace<T>& w = *workspace;
-    for (std::size_t k = 0; k < n; ++k) {
+    // Per-vertex set-up and the result below, a row at a time: at 256x256 a frame's passes
+    // over the grid outside the iterations were 6 % of an animation's time on one core.
+    const auto each_row = [&](auto&& body) {
+        tbb::parallel_for(0, grid.nv, [&](int j) {
+            const std::size_t row = std::size_t(j) * std::size_t(grid.nu);
+            for (std::size_t k = row; k < row + std::size_t(grid.nu); ++k) body(k);
+        });
+    };
+    each_row([&](std::size_t k) {
         const Vec3f& start = m.is_pinned[k] ? targets[k] : positions[k];
         for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = T(start(Eigen::Index(c)));
-    }
+        w.target_y[k] = T(targets[k].y()), w.target_z[k] = T(targets[k].z());
+    });
     const double anchor = m.anchor;
 
     // Local step at x: the right-hand side of the global step, the energy
@@ -302,6 +330,8 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
     }
     double anchor_scale = 1.0;
     constexpr int kSoftenEvery = 30;
+    constexpr int kMaxWindowFixes = 3;
+    constexpr double kWindowAim = 0.98;
     struct Local {
         double energy, mean, max;
     };
@@ -310,12 +340,13 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
     // and |x_o - x_k| are the same bits, so the result is too.  Likewise rest / length.
     std::vector<T>&right_len = w.right_len, &down_len = w.down_len;
     std::vector<T>&right_factor = w.right_factor, &down_factor = w.down_factor;
-    for (std::size_t k = 0; k < n; ++k) w.target_y[k] = T(targets[k].y()), w.target_z[k] = T(targets[k].z());
     // Each vertex's pull towards its fold-line target (crest weight x anchor_scale), 0 where
     // it has none: set again whenever anchor_scale changes.
     const auto set_pull = [&] {
-        for (std::size_t k = 0; k < n; ++k)
-            w.pull[k] = !m.is_pinned[k] && crest[k] > 0.0 ? T(crest[k] * anchor_scale) : T(0);
+        each_row([&](std::size_t k) {
+            w.pull[k] =
+                !m.is_pinned[k] && crest[k] > 0.0 ? T(crest[k] / m.settings.proximal_share * anchor_scale) : T(0);
+        });
     };
     set_pull();
     const int nu = grid.nu, nv = grid.nv;
@@ -374,6 +405,7 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
         // In the smoothing phase the edge terms come from the blended directions below, so
         // the rows' right-hand sides get the anchor terms only (rest 0 gives factors 0).
         const T factor_u = smoothing ? T(0) : T(rest_u), factor_v = smoothing ? T(0) : T(rest_v);
+        const T omega = smoothing ? T(1) : T(m.settings.over_relaxation);
         tbb::parallel_for(0, nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(nu);
             // |x_o - x_k| as Eigen's norm() sums it, (dx^2 + dy^2) + dz^2, for the edges from
@@ -392,7 +424,7 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
                 // Eigen's packet square root (std::sqrt's errno check keeps the loop scalar).
                 Eigen::Map<Eigen::Array<T, Eigen::Dynamic, 1>> squared(len_out, Eigen::Index(count));
                 squared = squared.sqrt();
-                rest_over(len_out, count, rest, factor_out);
+                rest_over(len_out, count, rest, omega, factor_out);
             };
             lengths(row, std::size_t(nu) - 1, 1, factor_u, right_len.data(), right_factor.data());
             if (j + 1 < nv)
@@ -501,11 +533,26 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
             std::copy(anderson.last_g(), anderson.last_g() + 3 * n, w.current.begin());
         else
             w.current.swap(w.next);
+        // A few edges left beyond the max: strain limiting in windows around them.  Aimed
+        // a little inside the bound (the global step nudges them back out).  Three tries at
+        // most per relaxation; a window that cannot settle (a pinned edge's neighbours) is left
+        // to the global iterations.
+        if (m.settings.window_fix_below_max > 0.0 && report.window_fixes < kMaxWindowFixes &&
+            iteration >= m.settings.smoothing_iterations && state.mean <= m.settings.target_mean &&
+            state.max > m.settings.target_max && state.max <= m.settings.window_fix_below_max) {
+            ++report.window_fixes;
+            m.windows.limit(w.current.data(), w.current.data() + n, w.current.data() + 2 * n,
+                            kWindowAim * m.settings.target_max);
+            anderson.forget();
+            state = local(w.current.data());
+            accepted_energy = state.energy;
+        }
     }
-    for (std::size_t k = 0; k < n; ++k)
+    each_row([&](std::size_t k) {
         positions[k] = Vec3f(float(w.current[k]), float(w.current[n + k]), float(w.current[2 * n + k]));
+    });
     report.iterations = iteration;
-    report.after = detail::grid_stretch(positions, rest_params, grid);
+    if (m.settings.report_stretch) report.after = detail::grid_stretch(positions, rest_params, grid);
     const std::lock_guard<std::mutex> hold(m.spare_lock);
     m.spare<T>() = std::move(workspace);
     return report;

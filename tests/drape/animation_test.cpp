@@ -98,6 +98,24 @@ TEST(Animation, EveryRelaxedFrameMeetsTheStretchBounds) {
     EXPECT_GT(stretch_of(check, model.frames.back()).max, 0.1);
 }
 
+// The frames' quicker relaxation (weaker pulls, over-relaxed projections, strain limiting
+// in windows: frame_settings in animation.cpp) keeps the fold layout: the last frame has the
+// model's fold count and each crest on the centre fibre within the 1.5 cm of the
+// model's (#14).
+TEST(Animation, LastFrameKeepsTheModelsCrests) {
+    const ClothParams p;
+    const GridSize grid{64, 64};
+    AnimationOptions opt;
+    opt.frames = 30;
+    const CentreFibreFolds relaxed = centre_fibre_folds(animate(p, grid, opt).frames.back(), grid);
+    opt.relax = false;
+    const CentreFibreFolds model = centre_fibre_folds(animate(p, grid, opt).frames.back(), grid);
+    EXPECT_EQ(relaxed.sign_changes, model.sign_changes);
+    ASSERT_EQ(relaxed.crest_heights_m.size(), model.crest_heights_m.size());
+    for (std::size_t c = 0; c < model.crest_heights_m.size(); ++c)
+        EXPECT_NEAR(relaxed.crest_heights_m[c], model.crest_heights_m[c], 0.015) << "crest " << c;
+}
+
 TEST(Animation, SameBytesWhateverTheThreadCount) {
     const ClothParams p;
     AnimationOptions opt;

@@ -31,11 +31,28 @@ struct RelaxSettings {
     // moved by millimetres), so stills keep double and animation frames, warm-started from
     // the previous frame, use float.
     bool single_precision = false;
+    // The proximal term (every vertex pulled towards where it is: the matrix's diagonal)
+    // relative to anchor_weight (1: the stills').  Lower, each iteration moves the cloth
+    // further; the fold-line pull stays anchor_weight (docs/drape.md, "Animation").  0 < x <= 1.
+    double proximal_share = 1.0;
+    // > 0: once the mean is within target_mean and the max within this, the edges still
+    // beyond target_max are brought back by strain limiting in windows around them
+    // (strain_windows.hpp) instead of by more global iterations; 0: never.
+    double window_fix_below_max = 0.0;
+    // The local step's projections carried past the rest length by this factor (1: plain
+    // projection; 2: reflection through it).  Over-relaxed, the iterations' fixed point holds
+    // the stretched edges nearer their rest length, so the max falls below target_max sooner
+    // (docs/drape.md, "Animation").  1..2.
+    double over_relaxation = 1.0;
+    // false: RelaxReport's before and after are left 0 (animation frames, whose reports
+    // nobody reads: the two passes over the grid were 3.5 % of the animation's CPU).
+    bool report_stretch = true;
 };
 
 struct RelaxReport {
     Stretch before, after;
     int iterations = 0;
+    int window_fixes = 0;  // strain limiting in windows (RelaxSettings::window_fix_below_max)
 };
 
 // Prefactored for one grid, its rest lengths (from params' width and height) and its pinned

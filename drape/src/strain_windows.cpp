@@ -1,0 +1,141 @@
+#include "strain_windows.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace foldcast::drape::detail {
+
+namespace {
+// Measured on the 256x256 x 120-frame animation (docs/benchmarks.md, "Strain windows"):
+// 3 vertices either side of an edge holds a spike's neighbours; 10 sweeps per round and up
+// to 5 rounds (each round's windows around the edges the last one left over) settle all but
+// a few; more of either did not save global iterations.
+constexpr int kRadius = 3, kSweeps = 10, kRounds = 5;
+}  // namespace
+
+template <typename T>
+bool StrainWindows::limit(T* x, T* y, T* z, double bound) const {
+    const int nu = grid.nu, nv = grid.nv;
+    const std::size_t n = std::size_t(nu) * std::size_t(nv);
+    const std::vector<char>& pinned = *is_pinned;
+    // An edge is 2 k + 0 (k to its right neighbour) or 2 k + 1 (k to the vertex below).
+    const auto far_end = [&](std::size_t edge) { return edge / 2 + (edge % 2 ? std::size_t(nu) : 1); };
+    const auto rest = [&](std::size_t edge) { return edge % 2 ? rest_v : rest_u; };
+    const auto strain = [&](std::size_t edge) {
+        const std::size_t a = edge / 2, b = far_end(edge);
+        const double dx = double(x[b]) - double(x[a]), dy = double(y[b]) - double(y[a]),
+                     dz = double(z[b]) - double(z[a]);
+        return std::abs(std::sqrt(dx * dx + dy * dy + dz * dz) / rest(edge) - 1.0);
+    };
+
+    std::vector<std::size_t> over;  // edges beyond the bound
+    // The whole grid's edges, a row at a time: squared lengths against the squared limits in
+    // T, branch-free so that it vectorises (a scan is as long as a global iteration's local
+    // step, and most rows have no edge beyond), then the rows that do, edge by edge.
+    const auto beyond = [&](const T* x0, const T* y0, const T* z0, std::size_t step, std::size_t count, double rest) {
+        const T shortest = T(rest * (1.0 - bound) * rest * (1.0 - bound));
+        const T longest = T(rest * (1.0 + bound) * rest * (1.0 + bound));
+        int any = 0;
+        for (std::size_t e = 0; e < count; ++e) {
+            const T dx = x0[e + step] - x0[e], dy = y0[e + step] - y0[e], dz = z0[e + step] - z0[e];
+            const T squared = dx * dx + dy * dy + dz * dz;
+            any |= int(squared > longest) | int(squared < shortest);
+        }
+        return any != 0;
+    };
+    for (int j = 0; j < nv; ++j) {
+        const std::size_t row = std::size_t(j) * std::size_t(nu);
+        const bool across = beyond(x + row, y + row, z + row, 1, std::size_t(nu) - 1, rest_u);
+        const bool down = j + 1 < nv && beyond(x + row, y + row, z + row, std::size_t(nu), std::size_t(nu), rest_v);
+        if (!across && !down) continue;
+        for (std::size_t k = row; k < row + std::size_t(nu); ++k) {
+            if (across && k + 1 < row + std::size_t(nu) && strain(2 * k) > bound) over.push_back(2 * k);
+            if (down && strain(2 * k + 1) > bound) over.push_back(2 * k + 1);
+        }
+    }
+    std::vector<char> movable(n, 0);    // in this round's windows and not pinned
+    std::vector<int> window_of(n, -1);  // the connected window each movable vertex is in
+    std::vector<std::size_t> marked;
+    std::vector<std::vector<std::size_t>> windows;  // each window's edges, row-major
+    for (int round = 0; !over.empty(); ++round) {
+        if (round == kRounds) return false;
+        for (const std::size_t v : marked) movable[v] = 0, window_of[v] = -1;
+        marked.clear();
+        for (const std::size_t edge : over) {
+            const int i = int(edge / 2 % std::size_t(nu)), j = int(edge / 2 / std::size_t(nu));
+            const int right = edge % 2 ? 0 : 1, down = edge % 2 ? 1 : 0;
+            for (int b = std::max(0, j - kRadius); b <= std::min(nv - 1, j + down + kRadius); ++b)
+                for (int a = std::max(0, i - kRadius); a <= std::min(nu - 1, i + right + kRadius); ++a) {
+                    const std::size_t v = std::size_t(b) * std::size_t(nu) + std::size_t(a);
+                    if (!movable[v] && !pinned[v]) movable[v] = 1, marked.push_back(v);
+                }
+        }
+        std::sort(marked.begin(), marked.end());
+        // Windows that share no movable vertex share no edge that moves either end of both:
+        // they settle independently, in parallel, each in its own row-major order, so the
+        // result is the same on any number of threads.  Numbered from their first vertex.
+        int count = 0;
+        std::vector<std::size_t> stack;
+        for (const std::size_t seed : marked) {
+            if (window_of[seed] >= 0) continue;
+            window_of[seed] = count;
+            stack.push_back(seed);
+            while (!stack.empty()) {
+                const std::size_t v = stack.back();
+                stack.pop_back();
+                const int i = int(v % std::size_t(nu)), j = int(v / std::size_t(nu));
+                const auto reach = [&](bool inside, std::size_t o) {
+                    if (inside && movable[o] && window_of[o] < 0) window_of[o] = count, stack.push_back(o);
+                };
+                reach(i > 0, v - 1), reach(i + 1 < nu, v + 1);
+                reach(j > 0, v - std::size_t(nu)), reach(j + 1 < nv, v + std::size_t(nu));
+            }
+            ++count;
+        }
+        windows.assign(std::size_t(count), {});
+        // Every edge with a movable end, once, with the window of that end (in row-major
+        // order: marked is sorted, and an edge is listed from its first vertex when movable).
+        for (const std::size_t v : marked) {
+            std::vector<std::size_t>& edges = windows[std::size_t(window_of[v])];
+            const int i = int(v % std::size_t(nu)), j = int(v / std::size_t(nu));
+            if (i > 0 && !movable[v - 1]) edges.push_back(2 * (v - 1));
+            if (j > 0 && !movable[v - std::size_t(nu)]) edges.push_back(2 * (v - std::size_t(nu)) + 1);
+            if (i + 1 < nu) edges.push_back(2 * v);
+            if (j + 1 < nv) edges.push_back(2 * v + 1);
+        }
+        std::vector<std::vector<std::size_t>> left(windows.size());  // each window's edges still over
+        tbb::parallel_for(std::size_t(0), windows.size(), [&](std::size_t w) {
+            std::vector<std::size_t>& edges = windows[w];
+            std::sort(edges.begin(), edges.end());
+            for (int sweep = 0; sweep < kSweeps; ++sweep)
+                for (const std::size_t edge : edges) {
+                    // In T: a sweep is a chain of dependent square roots, and float's rounding
+                    // of an edge (~1e-5 of it) is far inside the margin the caller aims within.
+                    const std::size_t a = edge / 2, b = far_end(edge);
+                    const T dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
+                    const T squared = dx * dx + dy * dy + dz * dz;
+                    if (!(squared > T(0))) continue;
+                    // Each movable end takes its share of the change to the rest length.
+                    const T c = T(1) - T(rest(edge)) / std::sqrt(squared);
+                    const T share_a = movable[a] ? (movable[b] ? T(0.5) : T(1)) : T(0);
+                    const T share_b = movable[b] ? (movable[a] ? T(0.5) : T(1)) : T(0);
+                    x[a] += share_a * c * dx, y[a] += share_a * c * dy, z[a] += share_a * c * dz;
+                    x[b] -= share_b * c * dx, y[b] -= share_b * c * dy, z[b] -= share_b * c * dz;
+                }
+            // Only the windows' edges moved: the rest stayed within the bound.
+            for (const std::size_t edge : edges)
+                if (strain(edge) > bound) left[w].push_back(edge);
+        });
+        over.clear();
+        for (const std::vector<std::size_t>& edges : left) over.insert(over.end(), edges.begin(), edges.end());
+    }
+    return true;
+}
+
+template bool StrainWindows::limit<float>(float*, float*, float*, double) const;
+template bool StrainWindows::limit<double>(double*, double*, double*, double) const;
+
+}  // namespace foldcast::drape::detail

@@ -1,0 +1,29 @@
+#pragma once
+// Strain limiting in windows (docs/drape.md, "Relaxation"): the few warp and weft edges
+// still beyond the stretch bound once the rest of the grid is within it are brought back by
+// projecting every edge in a small window around them to its rest length, Gauss-Seidel, the
+// window's rim and the pins held (Provot 1995's deformation constraints, applied locally).
+// Why: the global iterations take such a local spike down by only a few per cent each (a
+// warm-started animation frame spent half its iterations there), while a window of a few
+// hundred edges settles in a few sweeps.
+//
+// Sequential in row-major order, so the result does not depend on the thread count.
+#include <vector>
+
+#include "foldcast/drape.hpp"
+
+namespace foldcast::drape::detail {
+
+struct StrainWindows {
+    GridSize grid;
+    double rest_u = 0.0, rest_v = 0.0;             // edge rest lengths along a row and down a column
+    const std::vector<char>* is_pinned = nullptr;  // per vertex: held where it is
+
+    // Moves the vertices near every edge whose |length / rest - 1| exceeds `bound` (x, y, z:
+    // one array per coordinate, grid vertex order) until none does or the rounds run out.
+    // Returns whether every edge ended within `bound`.
+    template <typename T>
+    bool limit(T* x, T* y, T* z, double bound) const;
+};
+
+}  // namespace foldcast::drape::detail
