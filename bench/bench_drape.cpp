@@ -3,7 +3,12 @@
 // TBB, then relaxed in order with warm starts).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "foldcast/drape.hpp"
+#include "foldcast/drape_relax.hpp"
 
 namespace {
 using namespace foldcast::drape;
@@ -53,6 +58,42 @@ void BM_SolveGridRelax(benchmark::State& state) {
 }
 BENCHMARK(BM_SolveGridRelax)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond);
 
+// What the relaxed frames look like beside the model's own (after the timed runs): the worst
+// frame's stretch, the crests on the centre fibre (on frames with the model's fold count:
+// the median and the largest distance of a crest from the model's, and the last frame's), and
+// the last frame's 90th-percentile turn between quads (crumpling).
+void report_animation_quality(const ClothParams& p, GridSize grid, AnimationOptions options, benchmark::State& state) {
+    options.sway_amplitude_m = 0.0;  // the sway is added after the relaxation
+    const foldcast::Animation relaxed = animate(p, grid, options);
+    options.relax = false;
+    const foldcast::Animation model = animate(p, grid, options);
+    RelaxSettings measure_only;
+    measure_only.max_iterations = 0;
+    const GridRelaxer measure(p, grid, {0, grid.nu - 1}, measure_only);
+    double worst_mean = 0.0, worst_max = 0.0, last_crest = 0.0;
+    std::vector<double> crest;  // per frame with the model's fold count: its farthest crest
+    for (std::size_t f = 0; f < relaxed.frames.size(); ++f) {
+        std::vector<foldcast::Vec3f> copy = relaxed.frames[f];
+        const Stretch s = measure.relax(copy, relaxed.frames[f]).before;
+        worst_mean = std::max(worst_mean, s.mean), worst_max = std::max(worst_max, s.max);
+        const CentreFibreFolds a = centre_fibre_folds(relaxed.frames[f], grid);
+        const CentreFibreFolds b = centre_fibre_folds(model.frames[f], grid);
+        if (a.crest_heights_m.size() != b.crest_heights_m.size()) continue;
+        double farthest = 0.0;
+        for (std::size_t c = 0; c < a.crest_heights_m.size(); ++c)
+            farthest = std::max(farthest, std::abs(a.crest_heights_m[c] - b.crest_heights_m[c]));
+        crest.push_back(farthest);
+        if (f + 1 == relaxed.frames.size()) last_crest = farthest;
+    }
+    std::sort(crest.begin(), crest.end());
+    state.counters["stretch_mean_worst"] = worst_mean;
+    state.counters["stretch_max_worst"] = worst_max;
+    state.counters["crest_mm_median"] = crest.empty() ? 0.0 : 1e3 * crest[crest.size() / 2];
+    state.counters["crest_mm_max"] = crest.empty() ? 0.0 : 1e3 * crest.back();
+    state.counters["crest_mm_last"] = 1e3 * last_crest;
+    state.counters["turn_last_rad"] = turn_p90(relaxed.frames.back(), grid);
+}
+
 // Args: grid side, frames, relax (0/1).  Budget with relaxation: 256x256 x 120 frames < 2 s
 // on 2 cores.
 void BM_Animate(benchmark::State& state) {
@@ -68,6 +109,7 @@ void BM_Animate(benchmark::State& state) {
     }
     state.counters["vertex_frames/s"] =
         benchmark::Counter(double(grid.nu) * grid.nv * options.frames, benchmark::Counter::kIsIterationInvariantRate);
+    if (options.relax) report_animation_quality(p, grid, options, state);
 }
 BENCHMARK(BM_Animate)
     ->Args({256, 120, 0})

@@ -87,4 +87,9 @@ struct CentreFibreFolds {
 };
 CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSize grid);
 
+// How much the surface turns between neighbouring grid quads: the 90th percentile, over every
+// pair of quads sharing a warp or weft edge, of the angle between their normals (from their
+// diagonals), in radians.  Crumpling shows up as a turn at every vertex.
+double turn_p90(const std::vector<Vec3f>& positions, GridSize grid);
+
 }  // namespace foldcast::drape
