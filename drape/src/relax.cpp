@@ -503,9 +503,11 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
         // cloth can give, so soften them.  After the smoothing phase: plain projections.
         const bool soften = iteration > 0 && iteration % kSoftenEvery == 0;
         const bool smoothing_over = iteration > 0 && iteration == m.settings.smoothing_iterations;
-        if (soften) anchor_scale *= 0.5, set_pull();
-        if (soften || smoothing_over) {  // a new fixed-point map: the history goes
-            anderson.forget();
+        if (soften || smoothing_over) anderson.forget();  // a new fixed-point map: the history goes
+        // The last local step already projected plainly (it ran with the phase's last
+        // iteration counted): only a softened pull changes what it computed.
+        if (soften) {
+            anchor_scale *= 0.5, set_pull();
             state = local(w.current.data());
             accepted_energy = state.energy;
         }
