@@ -76,6 +76,7 @@ struct GridRelaxer::Impl::Workspace {
     // per coordinate and what the Anderson step combines, so neither needs a copy.
     std::vector<T> current, next;
     detail::Anderson<T> anderson;
+    detail::StrainWindows::Scratch windows;
 
     Workspace(std::size_t n, int rows)
         : right_len(n, T(0)),
@@ -544,7 +545,7 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
             state.max > m.settings.target_max && state.max <= m.settings.window_fix_below_max) {
             ++report.window_fixes;
             m.windows.limit(w.current.data(), w.current.data() + n, w.current.data() + 2 * n,
-                            kWindowAim * m.settings.target_max);
+                            kWindowAim * m.settings.target_max, w.windows);
             anderson.forget();
             state = local(w.current.data());
             accepted_energy = state.energy;

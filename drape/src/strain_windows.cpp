@@ -17,7 +17,7 @@ constexpr int kRadius = 3, kSweeps = 10, kRounds = 5;
 }  // namespace
 
 template <typename T>
-bool StrainWindows::limit(T* x, T* y, T* z, double bound) const {
+bool StrainWindows::limit(T* x, T* y, T* z, double bound, Scratch& scratch) const {
     const int nu = grid.nu, nv = grid.nv;
     const std::size_t n = std::size_t(nu) * std::size_t(nv);
     const std::vector<char>& pinned = *is_pinned;
@@ -56,14 +56,19 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound) const {
             if (down && strain(2 * k + 1) > bound) over.push_back(2 * k + 1);
         }
     }
-    std::vector<char> movable(n, 0);    // in this round's windows and not pinned
-    std::vector<int> window_of(n, -1);  // the connected window each movable vertex is in
+    // Left all 0 / -1 by the last call: only the marked vertices are set, and reset below.
+    std::vector<char>& movable = scratch.movable;
+    std::vector<int>& window_of = scratch.window_of;
+    if (movable.size() != n) movable.assign(n, 0), window_of.assign(n, -1);
     std::vector<std::size_t> marked;
-    std::vector<std::vector<std::size_t>> windows;  // each window's edges, row-major
-    for (int round = 0; !over.empty(); ++round) {
-        if (round == kRounds) return false;
+    const auto reset = [&] {
         for (const std::size_t v : marked) movable[v] = 0, window_of[v] = -1;
         marked.clear();
+    };
+    std::vector<std::vector<std::size_t>> windows;  // each window's edges, row-major
+    for (int round = 0; !over.empty(); ++round) {
+        reset();
+        if (round == kRounds) return false;
         for (const std::size_t edge : over) {
             const int i = int(edge / 2 % std::size_t(nu)), j = int(edge / 2 / std::size_t(nu));
             const int right = edge % 2 ? 0 : 1, down = edge % 2 ? 1 : 0;
@@ -132,10 +137,11 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound) const {
         over.clear();
         for (const std::vector<std::size_t>& edges : left) over.insert(over.end(), edges.begin(), edges.end());
     }
+    reset();
     return true;
 }
 
-template bool StrainWindows::limit<float>(float*, float*, float*, double) const;
-template bool StrainWindows::limit<double>(double*, double*, double*, double) const;
+template bool StrainWindows::limit<float>(float*, float*, float*, double, Scratch&) const;
+template bool StrainWindows::limit<double>(double*, double*, double*, double, Scratch&) const;
 
 }  // namespace foldcast::drape::detail

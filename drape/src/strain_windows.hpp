@@ -19,11 +19,18 @@ struct StrainWindows {
     double rest_u = 0.0, rest_v = 0.0;             // edge rest lengths along a row and down a column
     const std::vector<char>* is_pinned = nullptr;  // per vertex: held where it is
 
+    // Per-vertex work arrays, kept by the caller between calls (allocating and clearing them
+    // for every call was a fifth of the call at 256x256).
+    struct Scratch {
+        std::vector<char> movable;   // in this round's windows and not pinned
+        std::vector<int> window_of;  // the connected window of each movable vertex, else -1
+    };
+
     // Moves the vertices near every edge whose |length / rest - 1| exceeds `bound` (x, y, z:
     // one array per coordinate, grid vertex order) until none does or the rounds run out.
     // Returns whether every edge ended within `bound`.
     template <typename T>
-    bool limit(T* x, T* y, T* z, double bound) const;
+    bool limit(T* x, T* y, T* z, double bound, Scratch& scratch) const;
 };
 
 }  // namespace foldcast::drape::detail

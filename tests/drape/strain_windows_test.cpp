@@ -20,6 +20,7 @@ constexpr double kRest = 0.01;
 struct Sheet {
     GridSize grid;
     std::vector<float> x, y, z;
+    StrainWindows::Scratch scratch;
     explicit Sheet(GridSize g) : grid(g) {
         for (int j = 0; j < g.nv; ++j)
             for (int i = 0; i < g.nu; ++i)
@@ -41,7 +42,7 @@ struct Sheet {
     }
     bool limit(const std::vector<char>& pinned, double bound) {
         const StrainWindows windows{grid, kRest, kRest, &pinned};
-        return windows.limit(x.data(), y.data(), z.data(), bound);
+        return windows.limit(x.data(), y.data(), z.data(), bound, scratch);
     }
 };
 
@@ -101,6 +102,24 @@ TEST(StrainWindows, AnEdgeBetweenPinsIsReportedNotFixed) {
     pinned[a] = pinned[b] = 1;
     EXPECT_FALSE(sheet.limit(pinned, 0.01));
     EXPECT_EQ(sheet.x[b], float(kRest) + float(0.1 * kRest));
+}
+
+// The scratch a call leaves behind (even one that gave up) serves the next call as a new one.
+TEST(StrainWindows, AReusedScratchChangesNothing) {
+    Sheet gave_up({12, 12});
+    gave_up.x[gave_up.at(1, 0)] += float(0.1 * kRest);
+    std::vector<char> pinned(gave_up.x.size(), 0);
+    pinned[gave_up.at(0, 0)] = pinned[gave_up.at(1, 0)] = 1;
+    ASSERT_FALSE(gave_up.limit(pinned, 0.01));
+    Sheet fresh({12, 12}), reused({12, 12});
+    for (Sheet* s : {&fresh, &reused}) s->z[s->at(6, 6)] = float(0.25 * kRest);
+    reused.scratch = gave_up.scratch;
+    const std::vector<char> none(fresh.x.size(), 0);
+    EXPECT_TRUE(fresh.limit(none, 0.01));
+    EXPECT_TRUE(reused.limit(none, 0.01));
+    EXPECT_EQ(fresh.x, reused.x);
+    EXPECT_EQ(fresh.y, reused.y);
+    EXPECT_EQ(fresh.z, reused.z);
 }
 
 // Many separate windows (settled in parallel): the same bytes on one thread and on several.
