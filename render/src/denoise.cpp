@@ -13,6 +13,7 @@
 #include <optional>
 #include <utility>
 
+#include "backdrop_regression.hpp"
 #include "cloth_regression.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
@@ -541,6 +542,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         // cloth of the default 1280x720 render with adaptive sampling; fitted to the passes'
         // result alone, it kept less of its gain (docs/benchmarks.md, "Cloth regression").
         std::vector<float> filtered_lum(count);
+        const std::vector<V3> noisy_light = noisy;
         std::vector<V3>& fitted = noisy;  // blended in place
         for (std::size_t i = 0; i < count; ++i) {
             filtered_lum[i] = luminance(a.light[i]);
@@ -551,7 +553,19 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         in.light = &fitted, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
         in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
         in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
-        filter.execute([&] { regress_cloth(in, a.light); });
+        // The backdrop's regression (backdrop_regression.hpp) on the noisy light (before the
+        // blend above), the same guide; it reads no cloth pixel and the cloth's none of it.
+        std::vector<std::int32_t> backdrop(count);
+        for (std::size_t i = 0; i < count; ++i)
+            backdrop[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] == 0.0f;
+        BackdropRegressionInput back;
+        back.width = w, back.height = h;
+        back.light = &noisy_light, back.guide = &filtered_lum, back.variance = &a.variance, back.depth = &guide.depth;
+        back.backdrop = &backdrop;
+        filter.execute([&] {
+            regress_backdrop(back, a.light);
+            regress_cloth(in, a.light);
+        });
     }
     for (std::size_t i = 0; i < count; ++i) {
         if (!guide.covered[i]) continue;
