@@ -14,14 +14,15 @@
 namespace foldcast::render {
 namespace {
 
-// The window and its Gaussian weights: at 320x180 radius 10 / 12 (sigma half of it) fit the
-// default scene's backdrop alike and 8 worse; a box of the same size was as good by the
-// score but left faint streaks along the rows and columns (docs/benchmarks.md).
+// The window and its Gaussian weights: at 320x180 radius 10 and 12 (sigma half of it) did
+// alike and 8 worse; a box window was as good by the score but left faint streaks along the
+// rows and columns (docs/benchmarks.md).
 constexpr int kRadius = 10;
 constexpr float kSigma = 5.0f;
 constexpr int kTaps = 2 * kRadius + 1;
 // How far the guide's residual may go beyond its noise before the fit gives way to the
-// a-trous result (exp(-residual / (kMisfit noise))): 16 / 32 / 64 alike, a hard cut worse.
+// a-trous result (exp(-residual / (kMisfit noise))): 8 / 32 / 128 at 320x180, 26.1 / 25.9 /
+// 26.2 (docs/benchmarks.md); a hard cut at 16 was worse than the blend.
 constexpr float kMisfit = 32.0f;
 constexpr float kRidge = 1e-6f;  // on the slopes, relative to the weights' sum
 

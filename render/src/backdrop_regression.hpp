@@ -1,12 +1,11 @@
 #pragma once
-// The denoiser's last stage on the backdrop: each backdrop pixel's noisy light fitted as a
-// linear function of the image position and the depth over a 21 x 21 window with Gaussian
-// weights.  The a-trous passes' colour weight keeps low-frequency blotches a few pixels
-// across on the flat backdrop; the backdrop's light is smooth in its position on the
-// surface, so a fit to the noisy light over a window wider than the blotches removes them
-// without the passes' bias.  The weights depend only on the offset and on whether the tap is
-// backdrop, so the fit's sums are separable (a row pass, then a column pass); a fit that does
-// not follow the a-trous result (a shadow's edge, the floor's bend) is blended back to it.
+// The denoiser's last stage on the backdrop: each backdrop pixel's light fitted as a linear
+// function of the image position and the depth over a 21 x 21 window with Gaussian weights.
+// The a-trous passes' colour weight leaves blotches a few pixels across on the flat backdrop;
+// the backdrop's light is smooth on the surface, so a fit over a window wider than the
+// blotches takes them out.  The weights depend only on the offset and on whether the tap is
+// backdrop, so the fit's sums are separable (a row pass, then a column pass); where the same
+// model does not fit the a-trous result (a shadow's edge), the fit is blended back to it.
 // Measured in docs/benchmarks.md ("The backdrop's regression").
 #include <cstdint>
 #include <vector>
@@ -18,7 +17,7 @@ namespace foldcast::render {
 // One image's inputs, one entry per pixel.
 struct BackdropRegressionInput {
     int width = 0, height = 0;
-    const std::vector<V3>* light = nullptr;               // the noisy light to fit, demodulated
+    const std::vector<V3>* light = nullptr;               // the light to fit, demodulated
     const std::vector<float>* guide = nullptr;            // luminance of the a-trous result
     const std::vector<float>* variance = nullptr;         // of the guide
     const std::vector<float>* depth = nullptr;            // first-hit depth
