@@ -20,7 +20,7 @@ constexpr int kRadius = 10;
 constexpr float kSigma = 5.0f;
 // How far the guide's residual may go beyond its noise before the fit gives way to the
 // a-trous result (exp(-residual / (kMisfit noise))): 8 / 32 / 128 at 320x180, 26.1 / 25.9 /
-// 26.2 (docs/benchmarks.md); a hard cut at 16 was worse than the blend.
+// 26.2 (docs/benchmarks.md); a hard cut was no better than the blend.
 constexpr float kMisfit = 32.0f;
 constexpr float kRidge = 1e-6f;  // on the slopes, relative to the weights' sum
 
