@@ -6,7 +6,9 @@
 // along the thread, thread_directions.hpp) with the global step, a linear solve whose matrix (graph Laplacian +
 // anchor) depends only on the grid and the pinned set: diagonal in the grid's DCT basis, it is
 // solved by two DCTs and a small system for the pins (grid_solver.hpp), set up once and
-// reused for every iteration and every frame.
+// reused for every iteration and every frame.  Animation frames (animation.cpp) also
+// over-relax the local step's projections (RelaxSettings::over_relaxation) and bring the last
+// edges over the max back by strain limiting in windows (strain_windows.hpp).
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
@@ -301,8 +303,8 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
     }
     if (!workspace) workspace = std::make_unique<Workspace<T>>(n, grid.nv);
     Workspace<T>& w = *workspace;
-    // Per-vertex set-up and the result below, a row at a time: at 256x256 a frame's passes
-    // over the grid outside the iterations were 6 % of an animation's time on one core.
+    // Per-vertex set-up and the result below, a row at a time: run on one thread, an
+    // animation frame's passes over the grid outside the iterations left the other core idle.
     const auto each_row = [&](auto&& body) {
         tbb::parallel_for(0, grid.nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(grid.nu);
