@@ -13,7 +13,6 @@
 #include <optional>
 #include <utility>
 
-#include "backdrop_regression.hpp"
 #include "cloth_regression.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
@@ -552,22 +551,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         in.light = &fitted, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
         in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
         in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
-        // The backdrop's regression (backdrop_regression.hpp) fits the same blend with the same
-        // guide: fitted to the noisy light alone, it lowered the error at 320x180 more but left
-        // blotches on the backdrop of the 1280x720 render with adaptive sampling, which the
-        // passes' result there does not have (docs/benchmarks.md, "The backdrop's regression").
-        // It reads and writes backdrop pixels only, the cloth's regression cloth pixels only.
-        std::vector<std::int32_t> backdrop(count);
-        for (std::size_t i = 0; i < count; ++i)
-            backdrop[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] == 0.0f;
-        BackdropRegressionInput back;
-        back.width = w, back.height = h;
-        back.light = &fitted, back.guide = &filtered_lum, back.variance = &a.variance, back.depth = &guide.depth;
-        back.backdrop = &backdrop;
-        filter.execute([&] {
-            regress_backdrop(back, a.light);
-            regress_cloth(in, a.light);
-        });
+        filter.execute([&] { regress_cloth(in, a.light); });
     }
     for (std::size_t i = 0; i < count; ++i) {
         if (!guide.covered[i]) continue;

@@ -14,10 +14,8 @@
 // is guided by the merged light.  Last, every cloth pixel's light is fitted afresh from its
 // neighbourhood's (a quarter the noisy light, the rest the passes' result) as a linear
 // function of the normal and the position (cloth_regression.hpp), with the passes' result
-// deciding which neighbours lie across a shadow's edge, and every backdrop pixel's from the
-// same blend over a wider window as a linear function of the position and the depth
-// (backdrop_regression.hpp).  Each output pixel depends only on the inputs, so the result is
-// the same for any thread count.
+// deciding which neighbours lie across a shadow's edge.  Each output pixel depends only on
+// the inputs, so the result is the same for any thread count.
 #include <vector>
 
 #include "cloth_bsdf.hpp"
