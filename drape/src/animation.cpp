@@ -76,25 +76,26 @@ template <typename Done>
 void relax_frames(const ClothParams& params, GridSize grid, std::vector<std::vector<Vec3f>>& frames, Done&& done) {
     const GridRelaxer relaxer(params, grid, detail::support_columns(params, grid),  // build_garment's supports
                               frame_settings());
-    std::vector<Vec3f> previous_model, model_before, start;
+    // The frame's model moves out of frames[f] and the relaxed frame in; the model two frames
+    // back gives its storage to the next start: no per-frame copies or allocations.
+    std::vector<Vec3f> model, previous_model, model_before, start;
     for (std::size_t f = 0; f < frames.size(); ++f) {
-        std::vector<Vec3f>& frame = frames[f];
-        std::vector<Vec3f> model = frame;
+        model.swap(frames[f]);
         start.resize(model.size());
-        tbb::parallel_for(std::size_t(0), model.size(), [&](std::size_t k) {
-            if (f == 0) {
-                start[k] = model[k];
-                return;
-            }
-            start[k] = frames[f - 1][k] + (model[k] - previous_model[k]);
-            if (f >= 2)
-                start[k] +=
-                    kOffsetTrend * ((frames[f - 1][k] - previous_model[k]) - (frames[f - 2][k] - model_before[k]));
-        });
+        if (f == 0)
+            start = model;
+        else
+            tbb::parallel_for(std::size_t(0), model.size(), [&](std::size_t k) {
+                start[k] = frames[f - 1][k] + (model[k] - previous_model[k]);
+                if (f >= 2)
+                    start[k] +=
+                        kOffsetTrend * ((frames[f - 1][k] - previous_model[k]) - (frames[f - 2][k] - model_before[k]));
+            });
         relaxer.relax(start, model);
-        frame = start;
-        model_before = std::move(previous_model);
-        previous_model = std::move(model);
+        frames[f].swap(start);
+        start.swap(model_before);
+        model_before.swap(previous_model);
+        previous_model.swap(model);
         done(int(f));
     }
 }
