@@ -67,14 +67,10 @@ void report_animation_quality(const ClothParams& p, GridSize grid, AnimationOpti
     const foldcast::Animation relaxed = animate(p, grid, options);
     options.relax = false;
     const foldcast::Animation model = animate(p, grid, options);
-    RelaxSettings measure_only;
-    measure_only.max_iterations = 0;
-    const GridRelaxer measure(p, grid, {0, grid.nu - 1}, measure_only);
     double worst_mean = 0.0, worst_max = 0.0, last_crest = 0.0;
     std::vector<double> crest;  // per frame with the model's fold count: its farthest crest
     for (std::size_t f = 0; f < relaxed.frames.size(); ++f) {
-        std::vector<foldcast::Vec3f> copy = relaxed.frames[f];
-        const Stretch s = measure.relax(copy, relaxed.frames[f]).before;
+        const Stretch s = measure_stretch(relaxed.frames[f], p, grid);
         worst_mean = std::max(worst_mean, s.mean), worst_max = std::max(worst_max, s.max);
         const CentreFibreFolds a = centre_fibre_folds(relaxed.frames[f], grid);
         const CentreFibreFolds b = centre_fibre_folds(model.frames[f], grid);

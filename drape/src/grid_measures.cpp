@@ -100,6 +100,13 @@ CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSiz
     return out;
 }
 
+Stretch measure_stretch(const std::vector<Vec3f>& positions, const ClothParams& params, GridSize grid) {
+    detail::validate_grid(grid);
+    if (positions.size() != std::size_t(grid.nu) * std::size_t(grid.nv))
+        throw InputError("stretch: positions must have one entry per grid vertex");
+    return detail::grid_stretch(positions, params, grid);
+}
+
 double turn_p90(const std::vector<Vec3f>& positions, GridSize grid) {
     detail::validate_grid(grid);
     if (positions.size() != std::size_t(grid.nu) * std::size_t(grid.nv))

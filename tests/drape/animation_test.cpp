@@ -34,19 +34,6 @@ TEST(Animation, SupportsFixedInEveryFrameAndFramesFinite) {
     EXPECT_EQ(frame_inset_m(p, opt, opt.frames - 1), p.inset_m);
 }
 
-// A relaxer that only measures (no iterations) on the corner supports of a two-support grid.
-GridRelaxer measuring_relaxer(const ClothParams& p, GridSize grid) {
-    RelaxSettings measure_only;
-    measure_only.max_iterations = 0;
-    return GridRelaxer(p, grid, {0, grid.nu - 1}, measure_only);
-}
-
-// A frame's own stretch: what the relaxer reports of its targets before it starts.
-Stretch stretch_of(const GridRelaxer& measure, const std::vector<Vec3f>& frame) {
-    std::vector<Vec3f> copy = frame;
-    return measure.relax(copy, frame).before;
-}
-
 TEST(Animation, StartsFlatAndEndsOnTheTargetGarment) {
     const ClothParams p;
     const GridSize grid{17, 13};
@@ -69,7 +56,7 @@ TEST(Animation, StartsFlatAndEndsOnTheTargetGarment) {
     EXPECT_EQ(anim.frames.back()[0], last.mesh.positions[0]);
     const CentreFibreFolds folds = centre_fibre_folds(anim.frames.back(), grid);
     EXPECT_EQ(folds.sign_changes, s.folds);
-    const Stretch stretch = stretch_of(measuring_relaxer(p, grid), anim.frames.back());
+    const Stretch stretch = measure_stretch(anim.frames.back(), p, grid);
     EXPECT_LE(stretch.mean, 0.005);
     EXPECT_LE(stretch.max, 0.03);
     // Without relaxation every frame is the model's grid, the last one the model's garment.
@@ -86,16 +73,15 @@ TEST(Animation, EveryRelaxedFrameMeetsTheStretchBounds) {
     AnimationOptions opt;
     opt.frames = 10;
     const Animation anim = animate(p, grid, opt);
-    const GridRelaxer check = measuring_relaxer(p, grid);
     for (int f = 0; f < opt.frames; ++f) {
-        const Stretch s = stretch_of(check, anim.frames[std::size_t(f)]);
+        const Stretch s = measure_stretch(anim.frames[std::size_t(f)], p, grid);
         EXPECT_LE(s.mean, 0.005) << "frame " << f;
         EXPECT_LE(s.max, 0.03) << "frame " << f;
     }
     // And the model's own frames do not: the bounds above are the relaxation's doing.
     opt.relax = false;
     const Animation model = animate(p, grid, opt);
-    EXPECT_GT(stretch_of(check, model.frames.back()).max, 0.1);
+    EXPECT_GT(measure_stretch(model.frames.back(), p, grid).max, 0.1);
 }
 
 // The frames' quicker relaxation (weaker pulls, over-relaxed projections, strain limiting

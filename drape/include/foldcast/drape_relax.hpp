@@ -87,6 +87,10 @@ struct CentreFibreFolds {
 };
 CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSize grid);
 
+// How far a grid is from its cut: mean and max |length / rest - 1| over its warp and weft edges,
+// the rest lengths from params' width and height.
+Stretch measure_stretch(const std::vector<Vec3f>& positions, const ClothParams& params, GridSize grid);
+
 // How much the surface turns between neighbouring grid quads: the 90th percentile, over every
 // pair of quads sharing a warp or weft edge, of the angle between their normals (from their
 // diagonals), in radians.  Crumpling shows up as a turn at every vertex.
