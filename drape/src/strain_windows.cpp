@@ -9,15 +9,16 @@
 namespace foldcast::drape::detail {
 
 namespace {
-// Measured on the 256x256 x 120-frame animation (docs/benchmarks.md, "Strain windows"):
-// 3 vertices either side of an edge holds a spike's neighbours; 10 sweeps per round and up
-// to 5 rounds (each round's windows around the edges the last one left over) settle all but
-// a few; more of either did not save global iterations.
-constexpr int kRadius = 3, kSweeps = 10, kRounds = 5;
+// Measured on the 256x256 x 120-frame animation (docs/benchmarks.md, "Strain windows" and
+// "Windows that settle into a band"): 6 vertices either side of an edge and 30 sweeps per
+// round, up to 5 rounds (each round's windows around the edges the last one left over).
+// With a band the windows' runs along the top row settle where projecting to the rest
+// length did not; more sweeps, rounds or a wider radius saved no further iterations.
+constexpr int kRadius = 6, kSweeps = 30, kRounds = 5;
 }  // namespace
 
 template <typename T>
-bool StrainWindows::limit(T* x, T* y, T* z, double bound, Scratch& scratch) const {
+bool StrainWindows::limit(T* x, T* y, T* z, double bound, double settle, Scratch& scratch) const {
     const int nu = grid.nu, nv = grid.nv;
     const std::size_t n = std::size_t(nu) * std::size_t(nv);
     const std::vector<char>& pinned = *is_pinned;
@@ -66,10 +67,15 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound, Scratch& scratch) cons
         marked.clear();
     };
     std::vector<std::vector<std::size_t>> windows;  // each window's edges, row-major
+    bool between_pins = false;                      // an edge beyond the bound that no window can move
     for (int round = 0; !over.empty(); ++round) {
         reset();
         if (round == kRounds) return false;
         for (const std::size_t edge : over) {
+            if (pinned[edge / 2] && pinned[far_end(edge)]) {
+                between_pins = true;
+                continue;
+            }
             const int i = int(edge / 2 % std::size_t(nu)), j = int(edge / 2 / std::size_t(nu));
             const int right = edge % 2 ? 0 : 1, down = edge % 2 ? 1 : 0;
             for (int b = std::max(0, j - kRadius); b <= std::min(nv - 1, j + down + kRadius); ++b)
@@ -123,8 +129,12 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound, Scratch& scratch) cons
                     const T dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
                     const T squared = dx * dx + dy * dy + dz * dz;
                     if (!(squared > T(0))) continue;
-                    // Each movable end takes its share of the change to the rest length.
-                    const T c = T(1) - T(rest(edge)) / std::sqrt(squared);
+                    const T length = std::sqrt(squared), r = T(rest(edge));
+                    const T shortest = r * T(1.0 - settle), longest = r * T(1.0 + settle);
+                    if (length >= shortest && length <= longest && settle > 0.0) continue;
+                    // Each movable end takes its share of the change to the nearest length
+                    // within the band.
+                    const T c = T(1) - (length > longest ? longest : length < shortest ? shortest : r) / length;
                     const T share_a = movable[a] ? (movable[b] ? T(0.5) : T(1)) : T(0);
                     const T share_b = movable[b] ? (movable[a] ? T(0.5) : T(1)) : T(0);
                     x[a] += share_a * c * dx, y[a] += share_a * c * dy, z[a] += share_a * c * dz;
@@ -138,10 +148,10 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound, Scratch& scratch) cons
         for (const std::vector<std::size_t>& edges : left) over.insert(over.end(), edges.begin(), edges.end());
     }
     reset();
-    return true;
+    return !between_pins;
 }
 
-template bool StrainWindows::limit<float>(float*, float*, float*, double, Scratch&) const;
-template bool StrainWindows::limit<double>(double*, double*, double*, double, Scratch&) const;
+template bool StrainWindows::limit<float>(float*, float*, float*, double, double, Scratch&) const;
+template bool StrainWindows::limit<double>(double*, double*, double*, double, double, Scratch&) const;
 
 }  // namespace foldcast::drape::detail
