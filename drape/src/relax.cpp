@@ -66,7 +66,7 @@ struct GridRelaxer::Impl {
 // DCTs are in double.
 template <typename T>
 struct GridRelaxer::Impl::Workspace {
-    detail::ThreadDirections directions;  // the smoothing phase's edge directions
+    detail::ThreadDirections<T> directions;  // the smoothing phase's edge directions
     std::vector<T> right_len, down_len;   // each edge's length (to the right, below)
     std::vector<T> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
     std::vector<T> target_y, target_z;         // the targets' height and depth
@@ -466,16 +466,16 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
             // Each edge at its rest length along its blended direction d: +d for the edge
             // arriving at a vertex, -d for the one leaving it.
             detail::thread_directions(px, py, pz, grid, m.settings.smoothing, w.directions);
-            const detail::ThreadDirections& d = w.directions;
+            const detail::ThreadDirections<T>& d = w.directions;
             tbb::parallel_for(0, nv, [&](int j) {
                 for (int i = 0; i < nu; ++i) {
                     const std::size_t k = std::size_t(j) * std::size_t(nu) + std::size_t(i);
                     for (std::size_t c = 0; c < 3; ++c) {
                         double b = 0.0;
-                        if (i > 0) b += rest_u * d.right[c][k - 1];
-                        if (i + 1 < nu) b -= rest_u * d.right[c][k];
-                        if (j > 0) b += rest_v * d.down[c][k - std::size_t(nu)];
-                        if (j + 1 < nv) b -= rest_v * d.down[c][k];
+                        if (i > 0) b += rest_u * double(d.right[c][k - 1]);
+                        if (i + 1 < nu) b -= rest_u * double(d.right[c][k]);
+                        if (j > 0) b += rest_v * double(d.down[c][k - std::size_t(nu)]);
+                        if (j + 1 < nv) b -= rest_v * double(d.down[c][k]);
                         w.global_rhs[c][k] = T(double(w.global_rhs[c][k]) + b);
                     }
                 }

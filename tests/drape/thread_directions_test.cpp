@@ -19,7 +19,7 @@ struct Grid {
     }
 };
 
-double dot_down(const ThreadDirections& d, std::size_t k, const double v[3]) {
+double dot_down(const ThreadDirections<double>& d, std::size_t k, const double v[3]) {
     return d.down[0][k] * v[0] + d.down[1][k] * v[1] + d.down[2][k] * v[2];
 }
 
@@ -30,7 +30,7 @@ TEST(ThreadDirections, EvenBendingIsLeftAlone) {
     const double radius = 0.3, step = 0.15;  // radians per edge
     for (int j = 0; j < 12; ++j)
         for (int i = 0; i < 5; ++i) g.set(i, j, 0.02 * i, -radius * std::sin(step * j), radius * (1 - std::cos(step * j)));
-    ThreadDirections d;
+    ThreadDirections<double> d;
     thread_directions(g.x.data(), g.y.data(), g.z.data(), g.size, 0.5, d);
     for (std::size_t k = 0; k < g.x.size(); ++k) {
         for (int c = 0; c < 3; ++c) {
@@ -48,7 +48,7 @@ TEST(ThreadDirections, KinksAreSmoothedButEndsKeepTheirOwn) {
     Grid g({3, 10});
     for (int j = 0; j < 10; ++j)
         for (int i = 0; i < 3; ++i) g.set(i, j, 0.01 * i, -0.01 * j, (j % 2) * 0.006);
-    ThreadDirections d;
+    ThreadDirections<double> d;
     thread_directions(g.x.data(), g.y.data(), g.z.data(), g.size, 0.5, d);
     const double down[3] = {0.0, -1.0, 0.0};
     for (int j = 0; j + 1 < 10; ++j) {
@@ -67,7 +67,7 @@ TEST(ThreadDirections, WeightZeroIsTheRawDirections) {
     Grid g({4, 4});
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) g.set(i, j, 0.01 * i + 0.001 * j * j, -0.01 * j, 0.002 * i * j);
-    ThreadDirections d;
+    ThreadDirections<double> d;
     thread_directions(g.x.data(), g.y.data(), g.z.data(), g.size, 0.0, d);
     for (int c = 0; c < 3; ++c) {
         EXPECT_EQ(d.down[std::size_t(c)], d.raw_down[std::size_t(c)]);
