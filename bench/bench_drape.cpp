@@ -63,7 +63,6 @@ BENCHMARK(BM_SolveGridRelax)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond);
 // the median and the largest distance of a crest from the model's, and the last frame's), and
 // the last frame's 90th-percentile turn between quads (crumpling).
 void report_animation_quality(const ClothParams& p, GridSize grid, AnimationOptions options, benchmark::State& state) {
-    options.sway_amplitude_m = 0.0;  // the sway is added after the relaxation
     const foldcast::Animation relaxed = animate(p, grid, options);
     options.relax = false;
     const foldcast::Animation model = animate(p, grid, options);

@@ -128,13 +128,33 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
     anim.topology.triangles = detail::grid_triangles(grid);
     anim.topology.uvs = detail::grid_uvs(params, grid);
     anim.frames.resize(std::size_t(options.frames));
+    // A pendulum-like swing out of the cloth plane: zero on the support line, growing with
+    // the square of the depth, lagging a little further down.  Added to the model's frame, so
+    // that the relaxation keeps the swinging cloth at its length too (added after it, a 2 cm
+    // sway stretched the 256x256 frames' edges by up to 4.5 %).  In float, the sines in
+    // Eigen's packets (one libm sine per vertex was a twentieth of a 256x256 animation's
+    // time); the frame's phase taken modulo 2 pi in double first, so that float's rounding of
+    // it stays ~1e-7 rad.
+    const auto add_sway = [&](int f, std::vector<Vec3f>& frame) {
+        const double time_s = f / options.fps;
+        const float phase_rad = float(std::fmod(2.0 * kPi * time_s / options.sway_period_s, 2.0 * kPi));
+        const float inverse_height = float(1.0 / params.height_m);
+        const float amplitude_m = float(options.sway_amplitude_m);
+        Eigen::ArrayXf depth(Eigen::Index(frame.size()));
+        for (std::size_t k = 0; k < frame.size(); ++k)
+            depth[Eigen::Index(k)] = std::max(0.0f, -frame[k].y()) * inverse_height;
+        const Eigen::ArrayXf swing = amplitude_m * depth.square() * (phase_rad - 0.5f * depth).sin();
+        for (std::size_t k = 0; k < frame.size(); ++k) frame[k].z() += swing[Eigen::Index(k)];
+    };
     std::atomic<int> done{0};
     // Progress once per frame: from the relaxation when relaxing (the slower pass).
     tbb::parallel_for(0, options.frames, [&](int f) {
         ClothParams frame_params = params;
         frame_params.inset_m = frame_inset_m(params, options, f);
         const FoldSolution solution = solve_folds(frame_params);
-        detail::garment_positions(frame_params, solution, grid, anim.frames[std::size_t(f)]);
+        std::vector<Vec3f>& frame = anim.frames[std::size_t(f)];
+        detail::garment_positions(frame_params, solution, grid, frame);
+        if (options.sway_amplitude_m > 0.0) add_sway(f, frame);
         const int finished = ++done;
         if (progress && !options.relax) progress("frames", double(finished) / options.frames);
     });
@@ -142,25 +162,6 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
         relax_frames(params, grid, anim.frames, [&](int f) {
             if (progress) progress("frames", double(f + 1) / options.frames);
         });
-    if (options.sway_amplitude_m > 0.0) {
-        tbb::parallel_for(0, options.frames, [&](int f) {
-            // A pendulum-like swing out of the cloth plane: zero on the support line,
-            // growing with the square of the depth, lagging a little further down.  In
-            // float, the sines in Eigen's packets (one libm sine per vertex was a twentieth
-            // of a 256x256 animation's time); the frame's phase taken modulo 2 pi in double
-            // first, so that float's rounding of it stays ~1e-7 rad.
-            const double time_s = f / options.fps;
-            const float phase_rad = float(std::fmod(2.0 * kPi * time_s / options.sway_period_s, 2.0 * kPi));
-            const float inverse_height = float(1.0 / params.height_m);
-            const float amplitude_m = float(options.sway_amplitude_m);
-            std::vector<Vec3f>& frame = anim.frames[std::size_t(f)];
-            Eigen::ArrayXf depth(Eigen::Index(frame.size()));
-            for (std::size_t k = 0; k < frame.size(); ++k)
-                depth[Eigen::Index(k)] = std::max(0.0f, -frame[k].y()) * inverse_height;
-            const Eigen::ArrayXf swing = amplitude_m * depth.square() * (phase_rad - 0.5f * depth).sin();
-            for (std::size_t k = 0; k < frame.size(); ++k) frame[k].z() += swing[Eigen::Index(k)];
-        });
-    }
     return anim;
 }
 

@@ -127,7 +127,7 @@ Garment build_garment(const ClothParams& params, const FoldSolution& solution, G
 struct AnimationOptions {
     int frames = 60;
     double fps = 30.0;
-    double sway_amplitude_m = 0.0;  // optional sway added on top; 0 = none
+    double sway_amplitude_m = 0.0;  // optional sway at the hem, added to the model's frames before relaxing; 0 = none
     double sway_period_s = 2.0;
     bool relax = true;  // each frame relaxed towards isometry, warm-started from the last
 };
