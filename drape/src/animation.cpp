@@ -47,7 +47,10 @@ double smoothstep(double t) { return t * t * (3.0 - 2.0 * t); }
 //   in windows around them (strain_windows.hpp) instead of by more iterations.
 // At 256x256 x 120 frames: 0.52x the iterations (1906 -> 996), the last frame's turn 0.19 rad
 // against 0.26, the crests on the centre fibre a median 5.0 mm from the model's (3.2 before),
-// the last frame's within 9.4 mm (3.9).
+// the last frame's within 9.4 mm (3.9).  Then the windows settled into a band instead of to
+// the rest lengths (the top row's stretched runs, which the global iterations had carried for
+// tens of iterations a frame, settle): 996 -> 682, turn 0.18, crests a median 4.3 mm off
+// (docs/benchmarks.md, "Windows that settle into a band").
 RelaxSettings frame_settings() {
     RelaxSettings settings;
     settings.target_mean = 0.0049;
@@ -132,9 +135,9 @@ Animation animate(const ClothParams& params, GridSize grid, const AnimationOptio
     // the square of the depth, lagging a little further down.  Added to the model's frame, so
     // that the relaxation keeps the swinging cloth at its length too (added after it, a 2 cm
     // sway stretched the 256x256 frames' edges by up to 4.5 %).  In float, the sines in
-    // Eigen's packets (one libm sine per vertex was a twentieth of a 256x256 animation's
-    // time); the frame's phase taken modulo 2 pi in double first, so that float's rounding of
-    // it stays ~1e-7 rad.
+    // Eigen's packets (one libm sine per vertex was 2.5 % of a 256x256 animation's CPU); the
+    // frame's phase taken modulo 2 pi in double first, so that float's rounding of it stays
+    // ~1e-7 rad.
     const auto add_sway = [&](int f, std::vector<Vec3f>& frame) {
         const double time_s = f / options.fps;
         const float phase_rad = float(std::fmod(2.0 * kPi * time_s / options.sway_period_s, 2.0 * kPi));

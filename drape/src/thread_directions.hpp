@@ -27,7 +27,7 @@ struct ThreadDirections {
 // entry depends only on the input, so the result is the same for any thread count.  `out`
 // keeps its storage between calls; reuse it for one grid size only (its zeros are set when
 // the storage is new).  Computed in T, a row at a time in SIMD packets (the animation's
-// frames, in float, paid a twentieth of their time for this in double, one edge at a time).
+// frames, in float, paid 6 % of their CPU for this in double, one edge at a time).
 template <typename T>
 void thread_directions(const T* x, const T* y, const T* z, GridSize grid, double weight, ThreadDirections<T>& out);
 
