@@ -29,6 +29,9 @@ struct ClothRegressionInput {
     const std::vector<float>* ay = nullptr;
     const std::vector<float>* az = nullptr;
     const std::vector<std::int32_t>* cloth = nullptr;  // 1: most of the pixel's samples hit the garment
+    // The depth's change as a seventh regressor, and a looser depth weight (stills: a
+    // seventh of the regression's time more, which turntable frames do not spend).
+    bool depth_regressor = false;
 };
 
 // For every cloth pixel, the regression's value at the pixel written to `out` (demodulated);

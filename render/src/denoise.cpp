@@ -456,7 +456,7 @@ void merge(Buffer& a, const Buffer& b, const std::vector<float>& share) {
 
 }  // namespace
 
-void denoise(Image& rgba, const PixelFeatures& features, int threads) {
+void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBudget budget) {
     const int w = rgba.width, h = rgba.height;
     const std::size_t count = static_cast<std::size_t>(w) * h;
     const bool halves = features.half_a.size() == count;
@@ -551,6 +551,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads) {
         in.light = &fitted, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
         in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
         in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
+        in.depth_regressor = budget == DenoiseBudget::still;
         filter.execute([&] { regress_cloth(in, a.light); });
     }
     for (std::size_t i = 0; i < count; ++i) {

@@ -33,10 +33,15 @@ inline float demodulation_divisor(float albedo) {
     return albedo < kMinDemodulationAlbedo ? kMinDemodulationAlbedo : albedo;
 }
 
+// What a frame may spend on denoising.  A still takes the stages that a turntable's frames
+// leave out so that the 36-frame 640x640 turntable stays within its 40 s (issue #16): the
+// cloth regression's depth regressor (cloth_regression.hpp).
+enum class DenoiseBudget { frame, still };
+
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are
 // neither changed nor used), guided by the first-hit albedo, unit shading normal (zero for
 // the sky), depth and luminance variance of `features` (the tracer's PixelFeatures), and
 // cross-filtering its half buffers when it has them.
-void denoise(Image& rgba, const PixelFeatures& features, int threads);
+void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBudget budget);
 
 }  // namespace foldcast::render
