@@ -14,8 +14,10 @@
 // is guided by the merged light.  Last, every cloth pixel's light is fitted afresh from its
 // neighbourhood's (a quarter the noisy light, the rest the passes' result) as a linear
 // function of the normal and the position (cloth_regression.hpp), with the passes' result
-// deciding which neighbours lie across a shadow's edge.  Each output pixel depends only on
-// the inputs, so the result is the same for any thread count.
+// deciding which neighbours lie across a shadow's edge, and, in a still, every backdrop
+// pixel's from the same blend over a wider window as a linear function of the position and
+// the depth (backdrop_regression.hpp).  Each output pixel depends only on the inputs, so the
+// result is the same for any thread count.
 #include <vector>
 
 #include "cloth_bsdf.hpp"
@@ -35,7 +37,8 @@ inline float demodulation_divisor(float albedo) {
 
 // What a frame may spend on denoising.  A still takes the stages that a turntable's frames
 // leave out so that the 36-frame 640x640 turntable stays within its 40 s (issue #16): the
-// cloth regression's depth regressor (cloth_regression.hpp).
+// backdrop's regression (backdrop_regression.hpp; about 1.2 s of that turntable's wall clock
+// on two cores) and the cloth regression's depth regressor (cloth_regression.hpp).
 enum class DenoiseBudget { frame, still };
 
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are
