@@ -17,13 +17,12 @@
 namespace foldcast::render {
 namespace {
 
-// A 9 x 9 window with Gaussian spatial weights of 3 pixels; regressors 1, the normal's
-// change (3), the offset (2) and, for stills, the depth's change (1).  The settings were
-// chosen on the default scene at 640x360 and 16 spp (docs/benchmarks.md, "Cloth regression":
-// 11 x 11 was 1 % better and 50 % dearer).
+// A 9 x 9 window with Gaussian spatial weights (ClothRegressionInput::spatial_sigma);
+// regressors 1, the normal's change (3), the offset (2) and, for stills, the depth's change
+// (1).  The settings were chosen on the default scene at 640x360 and 16 spp
+// (docs/benchmarks.md, "Cloth regression": 11 x 11 was 1 % better and 50 % dearer).
 constexpr int kRadius = 4;
 constexpr int kTaps = 2 * kRadius + 1;
-constexpr float kSpatialSigma = 3.0f;
 constexpr int kFrameRegressors = 6;
 constexpr int kStillRegressors = 7;  // with the depth's change
 // The upper triangle of X^T W X for n regressors.
@@ -63,11 +62,11 @@ constexpr double kMisfit = 16.0;
 // distance, and its offset regressors.
 struct Offsets {
     float spatial[kTaps][kTaps], inv_distance[kTaps][kTaps], regressor[kTaps];
-    Offsets() {
+    explicit Offsets(float sigma) {
         float g[kTaps];
         for (int d = 0; d < kTaps; ++d) {
             const float o = float(d - kRadius);
-            g[d] = std::exp(-o * o / (2.0f * kSpatialSigma * kSpatialSigma));
+            g[d] = std::exp(-o * o / (2.0f * sigma * sigma));
             regressor[d] = o / kRadius;
         }
         for (int a = 0; a < kTaps; ++a)
@@ -249,8 +248,7 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
 #endif
 
 template <int kRegressors>
-void regress_rows(const Planes& p, std::vector<V3>& out) {
-    static const Offsets offsets;
+void regress_rows(const Planes& p, const Offsets& offsets, std::vector<V3>& out) {
     tbb::parallel_for(tbb::blocked_range<int>(0, p.h), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y < rows.end(); ++y) {
             const std::size_t row = std::size_t(y) * p.w;
@@ -284,10 +282,11 @@ void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
     p.red.resize(light.size()), p.green.resize(light.size()), p.blue.resize(light.size());
     for (std::size_t i = 0; i < light.size(); ++i)
         p.red[i] = light[i].x(), p.green[i] = light[i].y(), p.blue[i] = light[i].z();
+    const Offsets offsets(in.spatial_sigma);
     if (in.depth_regressor)
-        regress_rows<kStillRegressors>(p, out);
+        regress_rows<kStillRegressors>(p, offsets, out);
     else
-        regress_rows<kFrameRegressors>(p, out);
+        regress_rows<kFrameRegressors>(p, offsets, out);
 }
 
 }  // namespace foldcast::render

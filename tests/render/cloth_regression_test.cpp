@@ -23,6 +23,7 @@ struct Plane {
     std::vector<float> guide, variance, noise, nx, ny, nz, depth, ax, ay, az;
     std::vector<std::int32_t> cloth;
     bool depth_regressor = false;  // a still's regression
+    float spatial_sigma = 3.0f;
     ClothRegressionInput input() const {
         ClothRegressionInput in;
         in.width = kW, in.height = kH;
@@ -30,6 +31,7 @@ struct Plane {
         in.nx = &nx, in.ny = &ny, in.nz = &nz, in.depth = &depth;
         in.ax = &ax, in.ay = &ay, in.az = &az, in.cloth = &cloth;
         in.depth_regressor = depth_regressor;
+        in.spatial_sigma = spatial_sigma;
         return in;
     }
 };
@@ -99,6 +101,28 @@ TEST(ClothRegression, StillsFollowLightThatChangesWithTheDepth) {
     const double still = rmse(regressed(p), p.clean);
     // (noise 0.05, frame 0.035, still 0.012 when written)
     EXPECT_LT(still, 0.5 * frame) << "noise " << before << ", frame " << frame << ", still " << still;
+}
+
+// Folds of 16 pixels on flat-lit cloth whose light bends within the window (a garment seen
+// small): the narrower window of a small garment's still follows them where sigma 3 smooths
+// them away.
+TEST(ClothRegression, ANarrowerWindowFollowsFinerFolds) {
+    Plane p = make_plane(flat, 0.05f, [](int x, int, const V3&) { return 0.5f + 0.3f * std::sin(float(x) / 2.5f); });
+    const double wide = rmse(regressed(p), p.clean);
+    p.spatial_sigma = 1.5f;
+    const double narrow = rmse(regressed(p), p.clean);
+    // (0.041 and 0.027 when written)
+    EXPECT_LT(narrow, 0.8 * wide) << "sigma 3: " << wide << ", sigma 1.5: " << narrow;
+}
+
+// The window follows the garment's size in pixels: 1.5 at the default scene's 320x180 (about
+// 4 500 cloth pixels), 3 from its 640x360 (about 18 000) on, in between by the square root.
+TEST(ClothRegression, AStillsWindowFollowsTheGarmentsSize) {
+    EXPECT_FLOAT_EQ(still_spatial_sigma(0), 1.5f);
+    EXPECT_NEAR(still_spatial_sigma(4482), 1.5f, 0.05f);
+    EXPECT_NEAR(still_spatial_sigma(18084), 3.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(still_spatial_sigma(72708), 3.0f);
+    EXPECT_NEAR(still_spatial_sigma(9000), 2.16f, 0.02f);
 }
 
 // A glossy highlight across the wrinkles (light far from linear in the normal) under little
