@@ -15,7 +15,6 @@
 
 #include "backdrop_regression.hpp"
 #include "cloth_regression.hpp"
-#include "silhouette_blend.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
 
@@ -584,14 +583,6 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
     for (std::size_t i = 0; i < count; ++i) {
         if (!guide.covered[i]) continue;
         for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = a.light[i][k] * albedo[i][k];
-    }
-    if (budget == DenoiseBudget::still && features.cloth.size() == count && features.turning.size() == count) {
-        // The silhouette's pixels, which no stage above averaged (silhouette_blend.hpp).
-        SilhouetteInput edge;
-        edge.width = w, edge.height = h;
-        edge.cloth = &features.cloth, edge.turning = &features.turning, edge.variance = &features.variance;
-        edge.covered = &guide.covered;
-        blend_silhouette(edge, rgba.pixels);
     }
 }
 
