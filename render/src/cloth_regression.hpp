@@ -32,8 +32,8 @@ struct ClothRegressionInput {
     const std::vector<float>* ay = nullptr;
     const std::vector<float>* az = nullptr;
     const std::vector<std::int32_t>* cloth = nullptr;  // 1: most of the pixel's samples hit the garment
-    // The depth's change as a seventh regressor, and a looser depth weight (stills: a
-    // seventh of the regression's time more, which turntable frames do not spend).
+    // The depth's change as a seventh regressor, and a looser depth weight (stills: 28
+    // products a tap instead of 21, which turntable frames do not spend).
     bool depth_regressor = false;
     // The window's Gaussian weights, in pixels (3 for turntable frames; a still's from
     // still_spatial_sigma below).

@@ -37,8 +37,9 @@ inline float demodulation_divisor(float albedo) {
 
 // What a frame may spend on denoising.  A still takes the stages that a turntable's frames
 // leave out so that the 36-frame 640x640 turntable stays within its 40 s (issue #16): the
-// backdrop's regression (backdrop_regression.hpp; about 1.2 s of that turntable's wall clock
-// on two cores) and the cloth regression's depth regressor (cloth_regression.hpp).
+// backdrop's regression (backdrop_regression.hpp; on frames it took that turntable's median
+// from 38.8 s to 41.0 s) and the cloth regression's depth regressor and window by the
+// garment's size (cloth_regression.hpp).  Frames keep the bytes they had without them.
 enum class DenoiseBudget { frame, still };
 
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are
