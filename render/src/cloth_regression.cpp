@@ -17,17 +17,30 @@
 namespace foldcast::render {
 namespace {
 
-// A 9 x 9 window with Gaussian spatial weights of 3 pixels; regressors 1, the normal's
-// change (3) and the offset (2).  The settings were chosen on the default scene at 640x360
-// and 16 spp (docs/benchmarks.md, "Cloth regression": 11 x 11 was 1 % better and 50 % dearer).
+// A 9 x 9 window with Gaussian spatial weights (ClothRegressionInput::spatial_sigma);
+// regressors 1, the normal's change (3), the offset (2) and, for stills, the depth's change
+// (1).  The settings were chosen on the default scene at 640x360 and 16 spp
+// (docs/benchmarks.md, "Cloth regression": 11 x 11 was 1 % better and 50 % dearer).
 constexpr int kRadius = 4;
 constexpr int kTaps = 2 * kRadius + 1;
-constexpr float kSpatialSigma = 3.0f;
-constexpr int kRegressors = 6;
-constexpr int kProducts = kRegressors * (kRegressors + 1) / 2;  // the upper triangle of X^T W X
+constexpr int kFrameRegressors = 6;
+constexpr int kStillRegressors = 7;  // with the depth's change
+// The upper triangle of X^T W X for n regressors.
+constexpr int products(int n) { return n * (n + 1) / 2; }
 // A tap's depth may differ from the pixel's by this share of the depth per pixel of distance
-// (exp(-1) there): the same sheet of cloth, not a fold behind it.
-constexpr float kDepthTolerance = 0.002f;
+// (exp(-1) there): the same sheet of cloth, not a fold behind it.  With the depth's change a
+// regressor (stills) the model itself follows the light along a fold turning away from the
+// camera and across the mixed pixels of a self-occlusion edge (front and back in proportion
+// to their mean depth), so more of the depth is let in.  Default scene, 16 spp + denoise,
+// squared error (seeds 1-3) with the still's window (still_spatial_sigma) at 0.003 / 0.005 /
+// 0.01: 24.3 / 24.0 / 24.0 at 320x180, - / 12.55 / 12.50 at 640x360; the twill close-up's SSIM
+// 0.998190 at 0.002, 0.998197 at 0.005, 0.998198 at 0.01 as without the regressor
+// (docs/benchmarks.md, 2026-11-27).
+constexpr float kFrameDepthTolerance = 0.002f;
+constexpr float kStillDepthTolerance = 0.01f;
+// The depth regressor's unit, a share of the pixel's depth: the ridge below is on the scale of
+// a unit slope.
+constexpr float kDepthRegressorUnit = 0.01f;
 // Taps of a much different albedo (a print, a trim; the demodulated light of cloth whose
 // sheen and gloss weigh differently against its colour) are left out.  Not tighter: where the
 // weave is resolved (the twill close-up) neighbouring threads differ in albedo, and a tight
@@ -51,11 +64,11 @@ constexpr double kMisfit = 16.0;
 // distance, and its offset regressors.
 struct Offsets {
     float spatial[kTaps][kTaps], inv_distance[kTaps][kTaps], regressor[kTaps];
-    Offsets() {
+    explicit Offsets(float sigma) {
         float g[kTaps];
         for (int d = 0; d < kTaps; ++d) {
             const float o = float(d - kRadius);
-            g[d] = std::exp(-o * o / (2.0f * kSpatialSigma * kSpatialSigma));
+            g[d] = std::exp(-o * o / (2.0f * sigma * sigma));
             regressor[d] = o / kRadius;
         }
         for (int a = 0; a < kTaps; ++a)
@@ -70,6 +83,7 @@ struct Offsets {
 // The image's arrays, the light split by channel so that four pixels' are contiguous.
 struct Planes {
     int w = 0, h = 0;
+    float depth_tolerance = kFrameDepthTolerance;
     const float *guide, *variance, *fitted_variance, *nx, *ny, *nz, *depth, *ax, *ay, *az;
     const std::int32_t* cloth;
     std::vector<float> red, green, blue;
@@ -79,7 +93,9 @@ struct Planes {
 // xy: X^T W y; yy: the weighted sum of the light's squared luminance), written to `out` when
 // the fit is sound and fits: its residual within kMisfit times `noise`, the variance of the
 // light's luminance at the pixel.
-void solve(const float (&xx)[kProducts], const float (&xy)[kRegressors][3], float yy, float noise, V3& out) {
+template <int kRegressors>
+void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegressors][3], float yy, float noise,
+           V3& out) {
     Eigen::Matrix<double, kRegressors, kRegressors> m;
     int k = 0;
     for (int a = 0; a < kRegressors; ++a)
@@ -101,12 +117,14 @@ void solve(const float (&xx)[kProducts], const float (&xy)[kRegressors][3], floa
 }
 
 // Pixel i's fit at (x, y), a tap at a time.
+template <int kRegressors>
 void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
     const std::size_t i = std::size_t(y) * p.w + x;
-    float xx[kProducts] = {};
+    float xx[products(kRegressors)] = {};
     float xy[kRegressors][3] = {};
     float yy = 0.0f;
-    const float inv_tolerance = 1.0f / (kDepthTolerance * p.depth[i] + 1e-6f);
+    const float inv_tolerance = 1.0f / (p.depth_tolerance * p.depth[i] + 1e-6f);
+    const float inv_depth_unit = 1.0f / (kDepthRegressorUnit * p.depth[i] + 1e-6f);
     const float relative = kColourRelative * p.guide[i];
     const float scale_floor = relative * relative + 1e-8f;
     for (int dy = -kRadius; dy <= kRadius; ++dy) {
@@ -125,12 +143,13 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
             const float exponent =
                 std::abs(p.depth[j] - p.depth[i]) * inv_tolerance * o.inv_distance[dy + kRadius][dx + kRadius] + colour;
             const float weight = o.spatial[dy + kRadius][dx + kRadius] * fast_exp(-exponent);
-            const float r[kRegressors] = {1.0f,
-                                          p.nx[j] - p.nx[i],
-                                          p.ny[j] - p.ny[i],
-                                          p.nz[j] - p.nz[i],
-                                          o.regressor[dx + kRadius],
-                                          o.regressor[dy + kRadius]};
+            float r[kStillRegressors] = {1.0f,
+                                         p.nx[j] - p.nx[i],
+                                         p.ny[j] - p.ny[i],
+                                         p.nz[j] - p.nz[i],
+                                         o.regressor[dx + kRadius],
+                                         o.regressor[dy + kRadius],
+                                         (p.depth[j] - p.depth[i]) * inv_depth_unit};
             const float l[3] = {p.red[j], p.green[j], p.blue[j]};
             int k = 0;
             for (int a = 0; a < kRegressors; ++a) {
@@ -142,12 +161,13 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
             yy += weight * lum * lum;
         }
     }
-    solve(xx, xy, yy, p.fitted_variance[i], out);
+    solve<kRegressors>(xx, xy, yy, p.fitted_variance[i], out);
 }
 
 #if defined(__SSE2__)
 // Pixels i..i+3 of row y at once, every tap inside the image: each lane the same operations
 // as regress_pixel in the same order, so the same floats.
+template <int kRegressors>
 void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
     const std::size_t i = std::size_t(y) * p.w + x;
     const auto load = [](const float* a) { return _mm_loadu_ps(a); };
@@ -155,14 +175,16 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
     const __m128 ax_i = load(p.ax + i), ay_i = load(p.ay + i), az_i = load(p.az + i);
     const __m128 nx_i = load(p.nx + i), ny_i = load(p.ny + i), nz_i = load(p.nz + i);
     const __m128 inv_tolerance = _mm_div_ps(
-        _mm_set1_ps(1.0f), _mm_add_ps(_mm_mul_ps(_mm_set1_ps(kDepthTolerance), depth_i), _mm_set1_ps(1e-6f)));
+        _mm_set1_ps(1.0f), _mm_add_ps(_mm_mul_ps(_mm_set1_ps(p.depth_tolerance), depth_i), _mm_set1_ps(1e-6f)));
+    const __m128 inv_depth_unit = _mm_div_ps(
+        _mm_set1_ps(1.0f), _mm_add_ps(_mm_mul_ps(_mm_set1_ps(kDepthRegressorUnit), depth_i), _mm_set1_ps(1e-6f)));
     const __m128 relative = _mm_mul_ps(_mm_set1_ps(kColourRelative), guide_i);
     const __m128 scale_floor = _mm_add_ps(_mm_mul_ps(relative, relative), _mm_set1_ps(1e-8f));
     const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     const __m128 same_albedo = _mm_set1_ps(kSameAlbedo);
     const __m128 colour_sigma2 = _mm_set1_ps(kColourSigma * kColourSigma);
     const __m128 sign_bit = _mm_set1_ps(-0.0f);
-    __m128 xx[kProducts], xy[kRegressors][3];
+    __m128 xx[products(kRegressors)], xy[kRegressors][3];
     __m128 yy = _mm_setzero_ps();
     for (__m128& s : xx) s = _mm_setzero_ps();
     for (auto& row : xy)
@@ -180,22 +202,24 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
                     _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(_mm_sub_ps(load(p.ay + j), ay_i), abs_mask), same_albedo),
                                _mm_cmplt_ps(_mm_and_ps(_mm_sub_ps(load(p.az + j), az_i), abs_mask), same_albedo))));
             if (_mm_movemask_ps(taken) == 0) continue;
+            const __m128 depth_j = load(p.depth + j);
             const __m128 difference = _mm_sub_ps(load(p.guide + j), guide_i);
             const __m128 colour = _mm_div_ps(
                 _mm_mul_ps(difference, difference),
                 _mm_add_ps(_mm_mul_ps(colour_sigma2, _mm_add_ps(variance_i, load(p.variance + j))), scale_floor));
-            const __m128 exponent = _mm_add_ps(
-                _mm_mul_ps(_mm_mul_ps(_mm_and_ps(_mm_sub_ps(load(p.depth + j), depth_i), abs_mask), inv_tolerance),
-                           _mm_set1_ps(o.inv_distance[dy + kRadius][dx + kRadius])),
-                colour);
+            const __m128 exponent =
+                _mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_and_ps(_mm_sub_ps(depth_j, depth_i), abs_mask), inv_tolerance),
+                                      _mm_set1_ps(o.inv_distance[dy + kRadius][dx + kRadius])),
+                           colour);
             const __m128 weight = _mm_and_ps(taken, _mm_mul_ps(_mm_set1_ps(o.spatial[dy + kRadius][dx + kRadius]),
                                                                fast_exp4(_mm_xor_ps(exponent, sign_bit))));
-            const __m128 r[kRegressors] = {_mm_set1_ps(1.0f),
-                                           _mm_sub_ps(load(p.nx + j), nx_i),
-                                           _mm_sub_ps(load(p.ny + j), ny_i),
-                                           _mm_sub_ps(load(p.nz + j), nz_i),
-                                           _mm_set1_ps(o.regressor[dx + kRadius]),
-                                           _mm_set1_ps(o.regressor[dy + kRadius])};
+            const __m128 r[kStillRegressors] = {_mm_set1_ps(1.0f),
+                                                _mm_sub_ps(load(p.nx + j), nx_i),
+                                                _mm_sub_ps(load(p.ny + j), ny_i),
+                                                _mm_sub_ps(load(p.nz + j), nz_i),
+                                                _mm_set1_ps(o.regressor[dx + kRadius]),
+                                                _mm_set1_ps(o.regressor[dy + kRadius]),
+                                                _mm_mul_ps(_mm_sub_ps(depth_j, depth_i), inv_depth_unit)};
             const __m128 l[3] = {load(p.red.data() + j), load(p.green.data() + j), load(p.blue.data() + j)};
             int k = 0;
             for (int a = 0; a < kRegressors; ++a) {
@@ -209,35 +233,24 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
             yy = _mm_add_ps(yy, _mm_mul_ps(weight, _mm_mul_ps(lum, lum)));
         }
     }
-    alignas(16) float lanes_xx[kProducts][4], lanes_xy[kRegressors][3][4], lanes_yy[4];
+    alignas(16) float lanes_xx[products(kRegressors)][4], lanes_xy[kRegressors][3][4], lanes_yy[4];
     _mm_store_ps(lanes_yy, yy);
-    for (int k = 0; k < kProducts; ++k) _mm_store_ps(lanes_xx[k], xx[k]);
+    for (int k = 0; k < products(kRegressors); ++k) _mm_store_ps(lanes_xx[k], xx[k]);
     for (int a = 0; a < kRegressors; ++a)
         for (int c = 0; c < 3; ++c) _mm_store_ps(lanes_xy[a][c], xy[a][c]);
     for (int lane = 0; lane < 4; ++lane) {
         if (!p.cloth[i + std::size_t(lane)]) continue;
-        float sums_xx[kProducts], sums_xy[kRegressors][3];
-        for (int k = 0; k < kProducts; ++k) sums_xx[k] = lanes_xx[k][lane];
+        float sums_xx[products(kRegressors)], sums_xy[kRegressors][3];
+        for (int k = 0; k < products(kRegressors); ++k) sums_xx[k] = lanes_xx[k][lane];
         for (int a = 0; a < kRegressors; ++a)
             for (int c = 0; c < 3; ++c) sums_xy[a][c] = lanes_xy[a][c][lane];
-        solve(sums_xx, sums_xy, lanes_yy[lane], p.fitted_variance[i + std::size_t(lane)], out[lane]);
+        solve<kRegressors>(sums_xx, sums_xy, lanes_yy[lane], p.fitted_variance[i + std::size_t(lane)], out[lane]);
     }
 }
 #endif
 
-}  // namespace
-
-void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
-    Planes p;
-    p.w = in.width, p.h = in.height;
-    p.guide = in.guide->data(), p.variance = in.variance->data(), p.fitted_variance = in.fitted_variance->data();
-    p.nx = in.nx->data(), p.ny = in.ny->data(), p.nz = in.nz->data(), p.depth = in.depth->data();
-    p.ax = in.ax->data(), p.ay = in.ay->data(), p.az = in.az->data(), p.cloth = in.cloth->data();
-    const std::vector<V3>& light = *in.light;
-    p.red.resize(light.size()), p.green.resize(light.size()), p.blue.resize(light.size());
-    for (std::size_t i = 0; i < light.size(); ++i)
-        p.red[i] = light[i].x(), p.green[i] = light[i].y(), p.blue[i] = light[i].z();
-    static const Offsets offsets;
+template <int kRegressors>
+void regress_rows(const Planes& p, const Offsets& offsets, std::vector<V3>& out) {
     tbb::parallel_for(tbb::blocked_range<int>(0, p.h), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y < rows.end(); ++y) {
             const std::size_t row = std::size_t(y) * p.w;
@@ -247,16 +260,35 @@ void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
                 // Four pixels at a time where all their taps lie inside the row.
                 if (x >= kRadius && x + 4 + kRadius <= p.w) {
                     const std::int32_t* c = p.cloth + row + x;
-                    if (c[0] | c[1] | c[2] | c[3]) regress_four(p, offsets, x, y, &out[row + x]);
+                    if (c[0] | c[1] | c[2] | c[3]) regress_four<kRegressors>(p, offsets, x, y, &out[row + x]);
                     x += 4;
                     continue;
                 }
 #endif
-                if (p.cloth[row + x]) regress_pixel(p, offsets, x, y, out[row + x]);
+                if (p.cloth[row + x]) regress_pixel<kRegressors>(p, offsets, x, y, out[row + x]);
                 ++x;
             }
         }
     });
+}
+}  // namespace
+
+void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
+    Planes p;
+    p.w = in.width, p.h = in.height;
+    p.depth_tolerance = in.depth_regressor ? kStillDepthTolerance : kFrameDepthTolerance;
+    p.guide = in.guide->data(), p.variance = in.variance->data(), p.fitted_variance = in.fitted_variance->data();
+    p.nx = in.nx->data(), p.ny = in.ny->data(), p.nz = in.nz->data(), p.depth = in.depth->data();
+    p.ax = in.ax->data(), p.ay = in.ay->data(), p.az = in.az->data(), p.cloth = in.cloth->data();
+    const std::vector<V3>& light = *in.light;
+    p.red.resize(light.size()), p.green.resize(light.size()), p.blue.resize(light.size());
+    for (std::size_t i = 0; i < light.size(); ++i)
+        p.red[i] = light[i].x(), p.green[i] = light[i].y(), p.blue[i] = light[i].z();
+    const Offsets offsets(in.spatial_sigma);
+    if (in.depth_regressor)
+        regress_rows<kStillRegressors>(p, offsets, out);
+    else
+        regress_rows<kFrameRegressors>(p, offsets, out);
 }
 
 }  // namespace foldcast::render

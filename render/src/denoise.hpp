@@ -14,8 +14,10 @@
 // is guided by the merged light.  Last, every cloth pixel's light is fitted afresh from its
 // neighbourhood's (a quarter the noisy light, the rest the passes' result) as a linear
 // function of the normal and the position (cloth_regression.hpp), with the passes' result
-// deciding which neighbours lie across a shadow's edge.  Each output pixel depends only on
-// the inputs, so the result is the same for any thread count.
+// deciding which neighbours lie across a shadow's edge, and, in a still, every backdrop
+// pixel's from the same blend over a wider window as a linear function of the position and
+// the depth (backdrop_regression.hpp).  Each output pixel depends only on the inputs, so the
+// result is the same for any thread count.
 #include <vector>
 
 #include "cloth_bsdf.hpp"
@@ -33,10 +35,17 @@ inline float demodulation_divisor(float albedo) {
     return albedo < kMinDemodulationAlbedo ? kMinDemodulationAlbedo : albedo;
 }
 
+// What a frame may spend on denoising.  A still takes the stages that a turntable's frames
+// leave out so that the 36-frame 640x640 turntable stays within its 40 s (issue #16): the
+// backdrop's regression (backdrop_regression.hpp; on frames it took that turntable's median
+// from 38.8 s to 41.0 s) and the cloth regression's depth regressor and window by the
+// garment's size (cloth_regression.hpp).  Frames keep the bytes they had without them.
+enum class DenoiseBudget { frame, still };
+
 // Denoises the RGB of an RGBA image in place (alpha is kept; pixels with alpha 0 are
 // neither changed nor used), guided by the first-hit albedo, unit shading normal (zero for
 // the sky), depth and luminance variance of `features` (the tracer's PixelFeatures), and
 // cross-filtering its half buffers when it has them.
-void denoise(Image& rgba, const PixelFeatures& features, int threads);
+void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBudget budget);
 
 }  // namespace foldcast::render

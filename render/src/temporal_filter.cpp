@@ -217,7 +217,7 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
         averaged.variance = std::move(variance);
         averaged.half_a = std::move(half_a);
         averaged.half_b = std::move(half_b);
-        denoise(out, averaged, threads);
+        denoise(out, averaged, threads, DenoiseBudget::frame);
     }
     return out;
 }

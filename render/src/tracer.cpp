@@ -114,15 +114,16 @@ TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& option
 
 namespace {
 // The image kept as `raw` when asked, then denoised: render()'s last step and the turntable's.
-void denoise_beauty(RenderResult& result, const PixelFeatures& features, bool keep_raw, int threads) {
+void denoise_beauty(RenderResult& result, const PixelFeatures& features, bool keep_raw, int threads,
+                    DenoiseBudget budget) {
     if (keep_raw) result.raw = result.beauty;
-    denoise(result.beauty, features, threads);
+    denoise(result.beauty, features, threads, budget);
 }
 }  // namespace
 
 void denoise_traced(RenderResult& result, bool keep_raw, int threads) {
     if (!result.features) throw std::logic_error("denoise_traced: the frame was traced without keep_features");
-    denoise_beauty(result, *result.features, keep_raw, threads);
+    denoise_beauty(result, *result.features, keep_raw, threads, DenoiseBudget::frame);
 }
 
 RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings, const ProgressFn& progress) const {
@@ -303,7 +304,9 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
             for (int t = r.begin(); t != r.end(); ++t) render_tile(t);
         });
     });
-    if (settings.denoise) denoise_beauty(result, features, settings.keep_raw, settings.threads);
+    if (settings.denoise)
+        denoise_beauty(result, features, settings.keep_raw, settings.threads,
+                       settings.turntable_frame ? DenoiseBudget::frame : DenoiseBudget::still);
     if (settings.keep_features) result.features = std::move(features);
 
     for (int a = 0; a < 4; ++a)

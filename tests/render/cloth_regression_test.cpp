@@ -22,12 +22,16 @@ struct Plane {
     std::vector<V3> clean, noisy;
     std::vector<float> guide, variance, noise, nx, ny, nz, depth, ax, ay, az;
     std::vector<std::int32_t> cloth;
+    bool depth_regressor = false;  // a still's regression
+    float spatial_sigma = 3.0f;
     ClothRegressionInput input() const {
         ClothRegressionInput in;
         in.width = kW, in.height = kH;
         in.light = &noisy, in.guide = &guide, in.variance = &variance, in.fitted_variance = &noise;
         in.nx = &nx, in.ny = &ny, in.nz = &nz, in.depth = &depth;
         in.ax = &ax, in.ay = &ay, in.az = &az, in.cloth = &cloth;
+        in.depth_regressor = depth_regressor;
+        in.spatial_sigma = spatial_sigma;
         return in;
     }
 };
@@ -83,6 +87,42 @@ TEST(ClothRegression, FollowsShadingThatChangesWithTheNormal) {
     const Plane p = make_plane(wrinkles, 0.1f, [&](int, int, const V3& n) { return 0.3f + 0.5f * n.x(); });
     const double before = rmse(p.noisy, p.clean), after = rmse(regressed(p), p.clean);
     EXPECT_LT(after, 0.3 * before) << "before " << before << ", after " << after;
+}
+
+// Flat cloth facing the camera whose depth waves (a fold running away from the lens) and
+// whose light follows the depth: a fit in the normal and the position cannot follow a wave
+// of 13 pixels within a 9 x 9 window, a still's fit with the depth's change does.
+TEST(ClothRegression, StillsFollowLightThatChangesWithTheDepth) {
+    Plane p = make_plane(flat, 0.05f, [](int x, int, const V3&) { return 0.5f + 0.3f * std::sin(float(x) / 2.0f); });
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) p.depth[std::size_t(y) * kW + x] = 2.0f + 0.01f * std::sin(float(x) / 2.0f);
+    const double before = rmse(p.noisy, p.clean), frame = rmse(regressed(p), p.clean);
+    p.depth_regressor = true;
+    const double still = rmse(regressed(p), p.clean);
+    // (noise 0.05, frame 0.035, still 0.012 when written)
+    EXPECT_LT(still, 0.5 * frame) << "noise " << before << ", frame " << frame << ", still " << still;
+}
+
+// Folds of 16 pixels on flat-lit cloth whose light bends within the window (a garment seen
+// small): the narrower window of a small garment's still follows them where sigma 3 smooths
+// them away.
+TEST(ClothRegression, ANarrowerWindowFollowsFinerFolds) {
+    Plane p = make_plane(flat, 0.05f, [](int x, int, const V3&) { return 0.5f + 0.3f * std::sin(float(x) / 2.5f); });
+    const double wide = rmse(regressed(p), p.clean);
+    p.spatial_sigma = 1.5f;
+    const double narrow = rmse(regressed(p), p.clean);
+    // (0.041 and 0.027 when written)
+    EXPECT_LT(narrow, 0.8 * wide) << "sigma 3: " << wide << ", sigma 1.5: " << narrow;
+}
+
+// The window follows the garment's size in pixels: 1.5 at the default scene's 320x180 (about
+// 4 500 cloth pixels), 3 from its 640x360 (about 18 000) on, in between by the square root.
+TEST(ClothRegression, AStillsWindowFollowsTheGarmentsSize) {
+    EXPECT_FLOAT_EQ(still_spatial_sigma(0), 1.5f);
+    EXPECT_NEAR(still_spatial_sigma(4482), 1.5f, 0.05f);
+    EXPECT_NEAR(still_spatial_sigma(18084), 3.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(still_spatial_sigma(72708), 3.0f);
+    EXPECT_NEAR(still_spatial_sigma(9000), 2.16f, 0.02f);
 }
 
 // A glossy highlight across the wrinkles (light far from linear in the normal) under little
@@ -178,16 +218,20 @@ TEST(ClothRegression, SameFloatsWhereverThePixelLies) {
             moved.depth[to] = p.depth[from], moved.cloth[to] = p.cloth[from];
             moved.ax[to] = p.ax[from], moved.ay[to] = p.ay[from], moved.az[to] = p.az[from];
         }
-    const std::vector<V3> a = regressed(p), b = regressed(moved);
-    constexpr int kRadius = 4;  // cloth_regression.cpp's window
-    int compared = 0;
-    for (int y = 0; y < kH; ++y)
-        for (int x = kRadius; x + 1 + kRadius < kW; ++x) {
-            const std::size_t i = std::size_t(y) * kW + x;
-            EXPECT_EQ(std::memcmp(&a[i], &b[i + 1], sizeof(V3)), 0) << "x " << x << ", y " << y;
-            ++compared;
-        }
-    EXPECT_GT(compared, 0);
+    for (const bool still : {false, true}) {
+        p.depth_regressor = moved.depth_regressor = still;
+        const std::vector<V3> a = regressed(p), b = regressed(moved);
+        constexpr int kRadius = 4;  // cloth_regression.cpp's window
+        int compared = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = kRadius; x + 1 + kRadius < kW; ++x) {
+                const std::size_t i = std::size_t(y) * kW + x;
+                EXPECT_EQ(std::memcmp(&a[i], &b[i + 1], sizeof(V3)), 0)
+                    << "x " << x << ", y " << y << (still ? ", still" : ", frame");
+                ++compared;
+            }
+        EXPECT_GT(compared, 0);
+    }
 }
 
 }  // namespace

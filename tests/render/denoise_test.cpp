@@ -62,7 +62,7 @@ double rmse(const Image& a, const Image& b) {
 Image denoised_with_less_noise(const Scene& s) {
     const double before = rmse(s.noisy, s.clean);
     Image out = s.noisy;
-    denoise(out, s.features, 2);
+    denoise(out, s.features, 2, DenoiseBudget::still);
     const double after = rmse(out, s.clean);
     EXPECT_LT(after, 0.3 * before) << "before " << before << ", after " << after;
     return out;
@@ -94,7 +94,7 @@ TEST(Denoise, LeavesUncoveredPixelsAndAlphaAlone) {
     for (int y = 0; y < kH; ++y) s.noisy.at(5, y)[3] = 0.0f;
     for (int y = 0; y < kH; ++y) s.noisy.at(5, y)[0] = 123.0f;  // would smear if used
     Image out = s.noisy;
-    denoise(out, s.features, 1);
+    denoise(out, s.features, 1, DenoiseBudget::still);
     for (int y = 0; y < kH; ++y) {
         EXPECT_EQ(out.at(5, y)[0], 123.0f);
         EXPECT_EQ(out.at(5, y)[3], 0.0f);
@@ -105,8 +105,8 @@ TEST(Denoise, LeavesUncoveredPixelsAndAlphaAlone) {
 // The scene denoised on one thread and on three gives the same bits.
 void expect_same_for_any_thread_count(const Scene& s) {
     Image a = s.noisy, b = s.noisy;
-    denoise(a, s.features, 1);
-    denoise(b, s.features, 3);
+    denoise(a, s.features, 1, DenoiseBudget::still);
+    denoise(b, s.features, 3, DenoiseBudget::still);
     EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)));
 }
 
@@ -175,7 +175,7 @@ TEST(Denoise, AThinWiresPartlyCoveredPixelsAreNotAveragedWithTheBackdrop) {
             }
         }
     Image out = s.noisy;
-    denoise(out, s.features, 2);
+    denoise(out, s.features, 2, DenoiseBudget::still);
     double lost = 0.0;  // of the wire's extra light, on average over the column
     for (int y = 4; y < kH - 4; ++y) {
         const float clean = s.clean.at(wire, y)[0], backdrop = clean / 1.5f;
@@ -205,7 +205,7 @@ TEST(Denoise, AnAlbedoCrossingTheDemodulationFloorLeavesNoLine) {
             for (int c = 0; c < 3; ++c) noisy.at(x, y)[c] = light * f.albedo[i][c];
         }
     Image out = noisy;
-    denoise(out, f, 2);
+    denoise(out, f, 2, DenoiseBudget::still);
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x)
             EXPECT_NEAR(out.at(x, y)[1] / noisy.at(x, y)[1], 1.0f, 0.05f) << "x " << x << ", y " << y;
