@@ -112,11 +112,9 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const StudioSetup setup(scene, load_garment(scene));
     const int width = options.render.width > 0 ? options.render.width : scene.width;
     const int height = options.render.height > 0 ? options.render.height : scene.height;
-    const TraceSettings settings = [&] {
-        TraceSettings s = trace_settings(scene, options.render);
-        s.turntable_frame = true;  // frames skip the denoiser's stills-only stages
-        return s;
-    }();
+    // Its frames are denoised by denoise_traced or the temporal filter, without the stills'
+    // stages (render/src/denoise.hpp).
+    const TraceSettings settings = trace_settings(scene, options.render);
     const bool animated = setup.frame_count() > 1;
     auto garment_frame = [&](int f) {
         return animated ? f % setup.frame_count() : std::min(scene.garment.frame, setup.frame_count() - 1);

@@ -304,9 +304,9 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
             for (int t = r.begin(); t != r.end(); ++t) render_tile(t);
         });
     });
-    if (settings.denoise)
-        denoise_beauty(result, features, settings.keep_raw, settings.threads,
-                       settings.turntable_frame ? DenoiseBudget::frame : DenoiseBudget::still);
+    // render() denoises stills; a turntable's frames go through denoise_traced or the
+    // temporal filter.
+    if (settings.denoise) denoise_beauty(result, features, settings.keep_raw, settings.threads, DenoiseBudget::still);
     if (settings.keep_features) result.features = std::move(features);
 
     for (int a = 0; a < 4; ++a)

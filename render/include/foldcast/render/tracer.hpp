@@ -28,9 +28,6 @@ struct TraceSettings {
     // The image will be denoised after the render (the temporal filter does it): adaptive
     // sampling judges packets as it does for `denoise`, but the tracer leaves the image raw.
     bool denoised_later = false;
-    // A turntable's frame: `denoise` leaves out the stages only a still can afford (the
-    // turntable's 40 s budget, issue #16; render/src/denoise.hpp).
-    bool turntable_frame = false;
 };
 // The settings a still or turntable frame renders with: the options over the scene's.
 TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& options);
@@ -57,9 +54,10 @@ private:
 
 // What render() does after tracing when TraceSettings::denoise is set, for a turntable's
 // frame traced with keep_features (and denoised_later, so that adaptive sampling judged it
-// alike): keeps the image as `raw` when asked, then denoises it as a frame.  A turntable
-// calls it on one thread for frame f while frame f+1 traces on the others; the bytes are
-// those of render() with denoise and turntable_frame.
+// alike): keeps the image as `raw` when asked, then denoises it as a frame, without the
+// stages only a still can afford (the turntable's 40 s budget, issue #16;
+// render/src/denoise.hpp).  A turntable calls it on one thread for frame f while frame f+1
+// traces on the others.
 void denoise_traced(RenderResult& result, bool keep_raw, int threads);
 
 // Puts the render thread into flush-to-zero / denormals-are-zero mode (Embree's advice).
