@@ -32,6 +32,11 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound, double settle, Scratch
         return std::abs(std::sqrt(dx * dx + dy * dy + dz * dz) / rest(edge) - 1.0);
     };
 
+    // The band each window's edges settle into, by direction (edge % 2: 0 along a row, 1 down
+    // a column); settle 0 leaves only the rest length itself.
+    const T shortest_of[2] = {T(rest_u) * T(1.0 - settle), T(rest_v) * T(1.0 - settle)};
+    const T longest_of[2] = {T(rest_u) * T(1.0 + settle), T(rest_v) * T(1.0 + settle)};
+
     std::vector<std::size_t> over;  // edges beyond the bound
     // The whole grid's edges, a row at a time: squared lengths against the squared limits in
     // T, branch-free so that it vectorises (a scan is as long as a global iteration's local
@@ -129,12 +134,12 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound, double settle, Scratch
                     const T dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
                     const T squared = dx * dx + dy * dy + dz * dz;
                     if (!(squared > T(0))) continue;
-                    const T length = std::sqrt(squared), r = T(rest(edge));
-                    const T shortest = r * T(1.0 - settle), longest = r * T(1.0 + settle);
-                    if (length >= shortest && length <= longest && settle > 0.0) continue;
+                    const T length = std::sqrt(squared);
+                    const T shortest = shortest_of[edge % 2], longest = longest_of[edge % 2];
+                    if (length >= shortest && length <= longest) continue;
                     // Each movable end takes its share of the change to the nearest length
                     // within the band.
-                    const T c = T(1) - (length > longest ? longest : length < shortest ? shortest : r) / length;
+                    const T c = T(1) - (length > longest ? longest : shortest) / length;
                     const T share_a = movable[a] ? (movable[b] ? T(0.5) : T(1)) : T(0);
                     const T share_b = movable[b] ? (movable[a] ? T(0.5) : T(1)) : T(0);
                     x[a] += share_a * c * dx, y[a] += share_a * c * dy, z[a] += share_a * c * dz;
