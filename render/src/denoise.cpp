@@ -552,15 +552,13 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         in.light = &fitted, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
         in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
         in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
-        in.depth_regressor = budget == DenoiseBudget::still;
-        if (budget == DenoiseBudget::still) {
-            std::size_t cloth_pixels = 0;
-            for (std::size_t i = 0; i < count; ++i) cloth_pixels += guide.cloth[i] != 0;
-            in.spatial_sigma = still_spatial_sigma(cloth_pixels);
-        }
         if (budget == DenoiseBudget::frame) {
             filter.execute([&] { regress_cloth(in, a.light); });
         } else {
+            in.depth_regressor = true;
+            std::size_t cloth_pixels = 0;
+            for (std::size_t i = 0; i < count; ++i) cloth_pixels += guide.cloth[i] != 0;
+            in.spatial_sigma = still_spatial_sigma(cloth_pixels);
             // A still's backdrop regression (backdrop_regression.hpp) fits the same blend with
             // the same guide: fitted to the noisy light alone, it lowered the error at 320x180
             // more but left blotches on the backdrop of the 1280x720 render with adaptive
