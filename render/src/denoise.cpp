@@ -17,6 +17,7 @@
 #include "cloth_regression.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
+#include "mixed_pixels.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -582,6 +583,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         if (!guide.covered[i]) continue;
         for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = a.light[i][k] * albedo[i][k];
     }
+    if (budget == DenoiseBudget::still) rebuild_mixed_pixels(rgba, features, a.light);
 }
 
 }  // namespace foldcast::render

@@ -22,6 +22,7 @@
 #include "foldcast/core/error.hpp"
 #include "light_sampler.hpp"
 #include "path_integrator.hpp"
+#include "pixel_layers.hpp"
 #include "pixel_sums.hpp"
 #include "sobol_sampler.hpp"
 #include "denoise.hpp"
@@ -163,6 +164,17 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
         features.half_b.resize(pixel_count);
         features.half_share.resize(pixel_count);
     }
+    // A still's layers, for the denoiser's mixed pixels (pixel_layers.hpp).
+    const bool layers_wanted = settings.denoise && !m.transparent;
+    if (layers_wanted) {
+        features.layer_share.resize(pixel_count);
+        for (int l = 0; l < 2; ++l) {
+            features.layer_colour[l].resize(pixel_count);
+            features.layer_albedo[l].resize(pixel_count);
+            features.layer_normal[l].resize(pixel_count);
+            features.layer_depth[l].resize(pixel_count);
+        }
+    }
 
     const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
     const int tile_count = tiles_x * tiles_y;
@@ -181,6 +193,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
         for (int by = y0; by < y1; by += kBlock)
             for (int bx = x0; bx < x1; bx += kBlock) {
                 std::array<PixelSums, 16> sums{};
+                std::array<PixelLayers, 16> layers{};
                 std::array<bool, 16> inside{};
                 for (int k = 0; k < 16; ++k) inside[k] = bx + k % kBlock < x1 && by + k / kBlock < y1;
                 for (int s = 0; s < spp; ++s) {
@@ -219,8 +232,10 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         RTCRay r;
                         RTCHit h;
                         unpack_lane(packet, k, &r, &h);
-                        sums[k].add(m.integrator.trace(origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h,
-                                                       pixel_angle, *sampler[k], rays));
+                        const PathSample sample = m.integrator.trace(
+                            origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h, pixel_angle, *sampler[k], rays);
+                        sums[k].add(sample);
+                        if (layers_wanted) layers[k].add(sample);
                     }
                     const int taken = s + 1;
                     if (threshold > 0.0f && (taken & (taken - 1)) == 0) {
@@ -265,6 +280,24 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         features.turning[i] = static_cast<float>(p.turning_count) * inv;
                         features.cloth[i] = static_cast<float>(p.garment_count) * inv;
                         features.variance[i] = p.variance_of_mean();
+                    }
+                    if (layers_wanted) {
+                        const std::size_t i = static_cast<std::size_t>(y) * width + x;
+                        const LayerSums& o = layers[k].other;
+                        const int n0 = p.n - o.n;
+                        features.layer_share[i] = static_cast<float>(o.n) * inv;
+                        const auto keep = [&](int l, const V3& all, const V3& albedo, const V3& normal, float depth,
+                                              int n) {
+                            const float inv_n = n > 0 ? 1.0f / static_cast<float>(n) : 0.0f;
+                            features.layer_colour[l][i] = all * inv_n;
+                            features.layer_albedo[l][i] = albedo * inv_n;
+                            features.layer_normal[l][i] =
+                                normal.squaredNorm() > 1e-8f ? Vec3f(normal.normalized()) : Vec3f::Zero();
+                            features.layer_depth[l][i] = depth * inv_n;
+                        };
+                        keep(0, p.all - o.all, p.albedo - o.albedo, p.shading_normal - o.normal, p.depth - o.depth,
+                             n0);
+                        keep(1, o.all, o.albedo, o.normal, o.depth, o.n);
                     }
                     if (halves_wanted) {
                         // The two half buffers, each made as the beauty pixel is from its samples.

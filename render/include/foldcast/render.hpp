@@ -192,6 +192,13 @@ struct PixelFeatures {
     // then filters the colour alone.
     std::vector<Vec3f> half_a, half_b;
     std::vector<float> half_share;
+    // A still's two layers per pixel, its samples split by the surface they hit first
+    // (render/src/pixel_layers.hpp): layer 1's share of the samples (0 where the pixel saw one
+    // surface), and each layer's mean colour, albedo, unit shading normal and depth.  Empty
+    // where not kept (turntable frames, transparent renders).
+    std::vector<float> layer_share;
+    std::vector<Vec3f> layer_colour[2], layer_albedo[2], layer_normal[2];
+    std::vector<float> layer_depth[2];
 };
 
 struct RenderResult {

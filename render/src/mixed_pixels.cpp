@@ -1,0 +1,107 @@
+#include "mixed_pixels.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+#include "denoise.hpp"
+
+namespace foldcast::render {
+namespace {
+
+constexpr int kRadius = 2;  // 5 x 5 window
+constexpr float kSpatialSigma = 1.5f;  // pixels
+// Relative depth: a layer on a fold's back sheet must not take the front sheet's light,
+// 2-10% nearer at 320x180.
+constexpr float kDepthTolerance = 0.01f;
+constexpr int kNormalSquarings = 4;  // cos^16
+constexpr float kAlbedoSigma = 0.05f;
+// A pure pixel's denoised light, next to a mixed pixel's noisy layer of the same share: it
+// lies farther from the edge (a fold's contact shadow darkens the light towards it), so it
+// counts less.  Default scene, 320x180, seed 1: squared error 21.86 at 1 / 0.5, 21.79 at
+// 0.3, 22.05 at 0.1 (x1e-6).
+constexpr float kPureWeight = 0.3f;
+
+// One layer of a pixel: its share of the samples and means.
+struct Layer {
+    float share = 0.0f, depth = 0.0f;
+    V3 albedo = V3::Zero(), normal = V3::Zero(), light = V3::Zero();  // light: demodulated
+};
+
+V3 to_v3(const Vec3f& v) { return V3(v.x(), v.y(), v.z()); }
+
+V3 divisor(const V3& albedo) {
+    return V3(demodulation_divisor(albedo.x()), demodulation_divisor(albedo.y()), demodulation_divisor(albedo.z()));
+}
+
+// How well a candidate layer stands in for `layer`: depth, normal and albedo.
+float match(const Layer& layer, float depth, const V3& normal, const V3& albedo) {
+    const float d = (depth - layer.depth) / (kDepthTolerance * layer.depth);
+    float c = std::max(0.0f, normal.dot(layer.normal));
+    for (int k = 0; k < kNormalSquarings; ++k) c *= c;
+    return std::exp(-d * d - (albedo - layer.albedo).squaredNorm() / (kAlbedoSigma * kAlbedoSigma)) * c;
+}
+
+}  // namespace
+
+void rebuild_mixed_pixels(Image& rgba, const PixelFeatures& features, const std::vector<V3>& light) {
+    const int w = rgba.width, h = rgba.height;
+    const std::size_t count = static_cast<std::size_t>(w) * h;
+    if (features.layer_share.size() != count) return;
+    const auto layer = [&](std::size_t i, int l) {
+        Layer out;
+        out.share = l == 0 ? 1.0f - features.layer_share[i] : features.layer_share[i];
+        out.depth = features.layer_depth[l][i];
+        out.albedo = to_v3(features.layer_albedo[l][i]);
+        out.normal = to_v3(features.layer_normal[l][i]);
+        out.light = to_v3(features.layer_colour[l][i]).cwiseQuotient(divisor(out.albedo));
+        return out;
+    };
+    // Two surfaces, neither of them sky (no normal) nor metal (a support: turning, not cloth).
+    const auto rebuilt = [&](std::size_t i) {
+        return features.layer_share[i] > 0.0f && rgba.pixels[4 * i + 3] > 0.0f &&
+               features.turning[i] == features.cloth[i] && features.layer_normal[0][i].squaredNorm() > 0.0f &&
+               features.layer_normal[1][i].squaredNorm() > 0.0f;
+    };
+    // The outputs are written after every pixel's is computed, from the inputs alone.
+    std::vector<std::pair<std::size_t, V3>> out;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * w + x;
+            if (!rebuilt(i)) continue;
+            V3 colour = V3::Zero();
+            for (int l = 0; l < 2; ++l) {
+                const Layer self = layer(i, l);
+                V3 sum = V3::Zero();
+                float weight = 0.0f;
+                for (int qy = std::max(0, y - kRadius); qy <= std::min(h - 1, y + kRadius); ++qy)
+                    for (int qx = std::max(0, x - kRadius); qx <= std::min(w - 1, x + kRadius); ++qx) {
+                        const std::size_t q = static_cast<std::size_t>(qy) * w + qx;
+                        if (rgba.pixels[4 * q + 3] <= 0.0f) continue;
+                        const float r2 = static_cast<float>((qx - x) * (qx - x) + (qy - y) * (qy - y));
+                        const float spatial = std::exp(-r2 / (2.0f * kSpatialSigma * kSpatialSigma));
+                        if (features.layer_share[q] == 0.0f) {
+                            const float m = match(self, features.depth[q], to_v3(features.normal[q]),
+                                                  to_v3(features.albedo[q]));
+                            const float wt = kPureWeight * spatial * m;
+                            sum += wt * light[q], weight += wt;
+                            continue;
+                        }
+                        for (int k = 0; k < 2; ++k) {
+                            const Layer other = layer(q, k);
+                            if (other.share <= 0.0f) continue;
+                            const float wt = other.share * spatial * match(self, other.depth, other.normal, other.albedo);
+                            sum += wt * other.light, weight += wt;
+                        }
+                    }
+                // The pixel's own layer is among the candidates, with weight > 0.
+                colour += self.share * divisor(self.albedo).cwiseProduct(sum / weight);
+            }
+            out.emplace_back(i, colour);
+        }
+    for (const auto& [i, colour] : out)
+        for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = colour[k];
+}
+
+}  // namespace foldcast::render

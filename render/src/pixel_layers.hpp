@@ -1,0 +1,48 @@
+#pragma once
+// A still's pixel split in two layers by what its camera rays hit first: at a silhouette or
+// where a fold's front sheet hides the back one, a pixel's samples see two surfaces, and the
+// means the denoiser is given (light, albedo, normal, depth) are a mixture that no neighbour
+// resembles.  Kept per layer, each part can be denoised as the surface it is
+// (mixed_pixels.hpp).  The first sample's surface is layer 0; a sample joins it when it hit
+// the same kind of surface (garment, support, backdrop or sky) within kLayerDepthTolerance of
+// the first sample's depth, else it joins layer 1.  Samples are added in a fixed order, so the
+// split is the same for any thread count.
+#include <cmath>
+
+#include "path_integrator.hpp"
+
+namespace foldcast::render {
+
+// Relative depth: a fold's front and back sheets at 320x180 lie 2-10% apart in depth, while
+// one surface's depth changes across a pixel by well under 1% except at grazing angles.
+constexpr float kLayerDepthTolerance = 0.02f;
+
+// The sums of one layer's samples.
+struct LayerSums {
+    V3 all = V3::Zero(), albedo = V3::Zero(), normal = V3::Zero();
+    float depth = 0.0f;
+    int n = 0;
+    void add(const PathSample& s) {
+        ++n;
+        all += s.radiance;
+        albedo += s.albedo;
+        normal += V3(s.shading_normal.x(), s.shading_normal.y(), s.shading_normal.z());
+        depth += s.depth;
+    }
+};
+
+// What a pixel keeps beyond PixelSums for its layers: the first sample's surface and the
+// sums of the samples that are not on it (layer 0's are the pixel's sums less these).
+struct PixelLayers {
+    float first_depth = 0.0f;
+    int first_kind = -1;  // -1: no sample yet
+    LayerSums other;
+    static int kind(const PathSample& s) { return s.depth <= 0.0f ? 0 : s.garment ? 1 : s.turning ? 2 : 3; }
+    void add(const PathSample& s) {
+        const int k = kind(s);
+        if (first_kind < 0) first_kind = k, first_depth = s.depth;
+        if (k != first_kind || std::abs(s.depth - first_depth) > kLayerDepthTolerance * first_depth) other.add(s);
+    }
+};
+
+}  // namespace foldcast::render
