@@ -58,10 +58,10 @@ void rebuild_mixed_pixels(Image& rgba, const PixelFeatures& features, const std:
         out.light = to_v3(features.layer_colour[l][i]).cwiseQuotient(divisor(out.albedo));
         return out;
     };
-    // Two surfaces, neither of them sky (no normal) nor metal (a support: turning, not cloth).
+    // Two surfaces, neither of them sky (no normal) nor mostly metal.
     const auto rebuilt = [&](std::size_t i) {
-        return features.layer_share[i] > 0.0f && rgba.pixels[4 * i + 3] > 0.0f &&
-               features.turning[i] == features.cloth[i] && features.layer_normal[0][i].squaredNorm() > 0.0f &&
+        return features.layer_share[i] > 0.0f && rgba.pixels[4 * i + 3] > 0.0f && !features.layer_metal[i] &&
+               features.layer_normal[0][i].squaredNorm() > 0.0f &&
                features.layer_normal[1][i].squaredNorm() > 0.0f;
     };
     // The outputs are written after every pixel's is computed, from the inputs alone.

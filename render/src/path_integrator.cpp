@@ -82,6 +82,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
             out.depth = hit.t;
             out.garment = hit.material == MaterialId::garment;
             out.turning = hit.material != MaterialId::backdrop;
+            out.metal = hit.material == MaterialId::metal || hit.material == MaterialId::wire;
             out.fold = out.garment ? hit.fold : 0.0f;
             if (transparent_ && hit.material == MaterialId::backdrop) out.foreground = false;
         }

@@ -16,6 +16,7 @@ struct PathSample {
     bool foreground = true;  // false: the camera saw the backdrop or the sky
     bool garment = false;    // the camera ray's first hit is the garment
     bool turning = false;    // ... is the garment or its supports (what a turntable turns)
+    bool metal = false;      // ... is the rod or a wire (a highlight that turns fast with the view)
     V3 albedo = V3::Zero();
     Vec3f normal = Vec3f::Zero();          // interpolated (the normal AOV)
     Vec3f shading_normal = Vec3f::Zero();  // with the weave's bump (guides the denoiser)

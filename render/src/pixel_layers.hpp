@@ -4,7 +4,7 @@
 // means the denoiser is given (light, albedo, normal, depth) are a mixture that no neighbour
 // resembles.  Kept per layer, each part can be denoised as the surface it is
 // (mixed_pixels.hpp).  The first sample's surface is layer 0; a sample joins it when it hit
-// the same kind of surface (garment, support, backdrop or sky) within kLayerDepthTolerance of
+// the same kind of surface (garment, metal, wood, backdrop or sky) within kLayerDepthTolerance of
 // the first sample's depth, else it joins layer 1.  Samples are added in a fixed order, so the
 // split is the same for any thread count.
 #include <cmath>
@@ -21,9 +21,10 @@ constexpr float kLayerDepthTolerance = 0.02f;
 struct LayerSums {
     V3 all = V3::Zero(), albedo = V3::Zero(), normal = V3::Zero();
     float depth = 0.0f;
-    int n = 0;
+    int n = 0, metal = 0;  // metal: samples on the rod or a wire
     void add(const PathSample& s) {
         ++n;
+        metal += s.metal ? 1 : 0;
         all += s.radiance;
         albedo += s.albedo;
         normal += V3(s.shading_normal.x(), s.shading_normal.y(), s.shading_normal.z());
@@ -37,7 +38,12 @@ struct PixelLayers {
     float first_depth = 0.0f;
     int first_kind = -1;  // -1: no sample yet
     LayerSums other;
-    static int kind(const PathSample& s) { return s.depth <= 0.0f ? 0 : s.garment ? 1 : s.turning ? 2 : 3; }
+    static constexpr int kMetal = 2;
+    static int kind(const PathSample& s) {
+        return s.depth <= 0.0f ? 0 : s.garment ? 1 : s.metal ? kMetal : s.turning ? 3 : 4;
+    }
+    // Either layer is mostly metal.
+    bool metal() const { return first_kind == kMetal || 2 * other.metal > other.n; }
     void add(const PathSample& s) {
         const int k = kind(s);
         if (first_kind < 0) first_kind = k, first_depth = s.depth;

@@ -168,6 +168,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     const bool layers_wanted = settings.denoise && !m.transparent;
     if (layers_wanted) {
         features.layer_share.resize(pixel_count);
+        features.layer_metal.resize(pixel_count);
         for (int l = 0; l < 2; ++l) {
             features.layer_colour[l].resize(pixel_count);
             features.layer_albedo[l].resize(pixel_count);
@@ -286,6 +287,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         const LayerSums& o = layers[k].other;
                         const int n0 = p.n - o.n;
                         features.layer_share[i] = static_cast<float>(o.n) * inv;
+                        features.layer_metal[i] = layers[k].metal() ? 1 : 0;
                         const auto keep = [&](int l, const V3& all, const V3& albedo, const V3& normal, float depth,
                                               int n) {
                             const float inv_n = n > 0 ? 1.0f / static_cast<float>(n) : 0.0f;

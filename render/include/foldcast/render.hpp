@@ -195,8 +195,10 @@ struct PixelFeatures {
     // A still's two layers per pixel, its samples split by the surface they hit first
     // (render/src/pixel_layers.hpp): layer 1's share of the samples (0 where the pixel saw one
     // surface), and each layer's mean colour, albedo, unit shading normal and depth.  Empty
-    // where not kept (turntable frames, transparent renders).
+    // where not kept (turntable frames, transparent renders).  layer_metal: 1 where either
+    // layer is mostly the rod's or a wire's metal.
     std::vector<float> layer_share;
+    std::vector<std::uint8_t> layer_metal;
     std::vector<Vec3f> layer_colour[2], layer_albedo[2], layer_normal[2];
     std::vector<float> layer_depth[2];
 };
