@@ -29,8 +29,6 @@ struct Layer {
     V3 albedo = V3::Zero(), normal = V3::Zero(), light = V3::Zero();  // light: demodulated
 };
 
-V3 to_v3(const Vec3f& v) { return V3(v.x(), v.y(), v.z()); }
-
 V3 divisor(const V3& albedo) {
     return V3(demodulation_divisor(albedo.x()), demodulation_divisor(albedo.y()), demodulation_divisor(albedo.z()));
 }
@@ -53,9 +51,9 @@ void rebuild_mixed_pixels(Image& rgba, const PixelFeatures& features, const std:
         Layer out;
         out.share = l == 0 ? 1.0f - features.layer_share[i] : features.layer_share[i];
         out.depth = features.layer_depth[l][i];
-        out.albedo = to_v3(features.layer_albedo[l][i]);
-        out.normal = to_v3(features.layer_normal[l][i]);
-        out.light = to_v3(features.layer_colour[l][i]).cwiseQuotient(divisor(out.albedo));
+        out.albedo = features.layer_albedo[l][i];
+        out.normal = features.layer_normal[l][i];
+        out.light = features.layer_colour[l][i].cwiseQuotient(divisor(out.albedo));
         return out;
     };
     // Two surfaces, neither of them sky (no normal) nor mostly metal.
@@ -82,8 +80,8 @@ void rebuild_mixed_pixels(Image& rgba, const PixelFeatures& features, const std:
                         const float r2 = static_cast<float>((qx - x) * (qx - x) + (qy - y) * (qy - y));
                         const float spatial = std::exp(-r2 / (2.0f * kSpatialSigma * kSpatialSigma));
                         if (features.layer_share[q] == 0.0f) {
-                            const float m = match(self, features.depth[q], to_v3(features.normal[q]),
-                                                  to_v3(features.albedo[q]));
+                            const float m = match(self, features.depth[q], features.normal[q],
+                                                  features.albedo[q]);
                             const float wt = kPureWeight * spatial * m;
                             sum += wt * light[q], weight += wt;
                             continue;
