@@ -13,8 +13,9 @@
 
 namespace foldcast::render {
 
-// Relative depth: a fold's front and back sheets at 320x180 lie 2-10% apart in depth, while
-// one surface's depth changes across a pixel by well under 1% except at grazing angles.
+// Relative depth: where a fold's front sheet hides the back one, the two lie 2-4% apart
+// (default scene at 320x180, seed 1: the quartiles of its cloth-on-cloth pixels), while one
+// sheet's depth changes from one pixel to the next by under 0.5% in 9 pixels of 10.
 constexpr float kLayerDepthTolerance = 0.02f;
 
 // The sums of one layer's samples.
