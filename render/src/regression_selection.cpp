@@ -1,0 +1,146 @@
+#include "regression_selection.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "foldcast/core/colour.hpp"
+
+namespace foldcast::render {
+namespace {
+
+// One regression's setting: the share of the noisy light in what it fits (the rest the
+// passes' result) and, for the cloth, its window's Gaussian sigma as a multiple of the
+// still's (still_spatial_sigma).
+struct Setting {
+    float noisy_share, sigma_scale;
+};
+// The cloth's two: the still's window fitting half the noisy light, and twice that window
+// fitting three quarters of it.  The backdrop's: a quarter of the noisy light (the single
+// setting before, chosen against blotches at 1280x720 with adaptive sampling) and all of it.
+// Chosen on the default scene at 320x180 (docs/benchmarks.md).
+constexpr Setting kCloth[2] = {{0.5f, 1.0f}, {0.75f, 2.0f}};
+constexpr Setting kBackdrop[2] = {{0.25f, 1.0f}, {1.0f, 1.0f}};
+// The windows the fits of alpha sum over (Gaussian sigma, pixels): a fold's width on the
+// cloth; on the smooth backdrop, whose residual error is blotches a few pixels across, wider.
+constexpr float kClothWindowPx = 2.0f;
+constexpr float kBackdropWindowPx = 8.0f;
+// alpha may go half a step beyond the first setting, away from the second: a sharper fit
+// than either (320x180, seeds 1-3: [0, 1] 23.38, [-0.5, 1] 23.30, [-1, 1] 23.32, [-0.5, 1.5]
+// 23.41 before the backdrop's blend).
+constexpr float kMinAlpha = -0.5f, kMaxAlpha = 1.0f;
+
+// `values` summed over each masked pixel's window of masked pixels, with Gaussian weights (a
+// row pass, then a column pass: the weights depend only on the offset and the mask).  Only
+// ratios of two such sums are used, so they are not normalised.
+std::vector<float> window_sum(const std::vector<float>& values, const std::vector<std::int32_t>& mask, int w, int h, float sigma_px) {
+    const int radius = int(std::ceil(3.0f * sigma_px));
+    std::vector<float> g(2 * radius + 1);
+    for (int d = -radius; d <= radius; ++d)
+        g[d + radius] = std::exp(-float(d * d) / (2.0f * sigma_px * sigma_px));
+    std::vector<float> rows(values.size()), out(values.size());
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y < r.end(); ++y)
+            for (int x = 0; x < w; ++x) {
+                float s = 0.0f;
+                for (int d = std::max(-radius, -x); d <= std::min(radius, w - 1 - x); ++d) {
+                    const std::size_t j = std::size_t(y) * w + (x + d);
+                    if (mask[j]) s += g[d + radius] * values[j];
+                }
+                rows[std::size_t(y) * w + x] = s;
+            }
+    });
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y < r.end(); ++y)
+            for (int x = 0; x < w; ++x) {
+                float s = 0.0f;
+                for (int d = std::max(-radius, -y); d <= std::min(radius, h - 1 - y); ++d)
+                    s += g[d + radius] * rows[std::size_t(y + d) * w + x];
+                out[std::size_t(y) * w + x] = s;
+            }
+    });
+    return out;
+}
+
+// A regression run on each buffer under one setting.
+struct Candidate {
+    std::vector<V3> whole, from_a, from_b;
+};
+
+// What `regress` (the cloth's or the backdrop's regression, given the light to fit, its
+// noise and the guide's luminance) makes of buffer `buffer` fitting `share` of its noisy light.
+template <class Regress>
+std::vector<V3> run(const FilteredBuffer& buffer, float share, Regress&& regress) {
+    const std::size_t count = buffer.noisy->size();
+    std::vector<V3> fitted(count), out = *buffer.filtered;
+    std::vector<float> guide(count), fitted_noise(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        fitted[i] = share * (*buffer.noisy)[i] + (1.0f - share) * (*buffer.filtered)[i];
+        guide[i] = luminance((*buffer.filtered)[i]);
+        fitted_noise[i] = share * share * (*buffer.noise)[i];
+    }
+    regress(fitted, fitted_noise, guide, *buffer.variance, out);
+    return out;
+}
+
+template <class Regress>
+Candidate candidate(const SelectionInput& in, float share, Regress&& regress) {
+    return {run(in.whole, share, regress), run(in.half_a, share, regress), run(in.half_b, share, regress)};
+}
+
+// out = f0 + alpha (f1 - f0) on the masked pixels, alpha per pixel the least-squares fit over
+// its window of f0 + alpha (f1 - f0) on either half to the other half's noisy light.
+void blend(const SelectionInput& in, const std::vector<std::int32_t>& mask, const Candidate& f0, const Candidate& f1,
+           float window_px, std::vector<V3>& out) {
+    const std::size_t count = mask.size();
+    const std::vector<V3>& a = *in.half_a.noisy;
+    const std::vector<V3>& b = *in.half_b.noisy;
+    const std::vector<V3>& weight = *in.error_weight;
+    std::vector<float> num(count, 0.0f), den(count, 0.0f);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!mask[i]) continue;
+        const V3 da = f1.from_a[i] - f0.from_a[i], db = f1.from_b[i] - f0.from_b[i];
+        const V3 ra = b[i] - f0.from_a[i], rb = a[i] - f0.from_b[i];
+        num[i] = weight[i].dot(da.cwiseProduct(ra) + db.cwiseProduct(rb));
+        den[i] = weight[i].dot(da.cwiseProduct(da) + db.cwiseProduct(db));
+    }
+    const int w = in.cloth.width, h = in.cloth.height;
+    const std::vector<float> sum_num = window_sum(num, mask, w, h, window_px), sum_den = window_sum(den, mask, w, h, window_px);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!mask[i]) continue;
+        const float alpha = sum_den[i] > 0.0f ? std::clamp(sum_num[i] / sum_den[i], kMinAlpha, kMaxAlpha) : 0.0f;
+        out[i] = f0.whole[i] + alpha * (f1.whole[i] - f0.whole[i]);
+    }
+}
+
+}  // namespace
+
+void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
+    const auto cloth = [&](const Setting& s) {
+        return [&in, s](const std::vector<V3>& light, const std::vector<float>& noise, const std::vector<float>& guide,
+                        const std::vector<float>& variance, std::vector<V3>& result) {
+            ClothRegressionInput c = in.cloth;
+            c.light = &light, c.fitted_variance = &noise, c.guide = &guide, c.variance = &variance;
+            c.spatial_sigma *= s.sigma_scale;
+            regress_cloth(c, result);
+        };
+    };
+    const auto backdrop = [&](const std::vector<V3>& light, const std::vector<float>&, const std::vector<float>& guide,
+                              const std::vector<float>& variance, std::vector<V3>& result) {
+        BackdropRegressionInput b = in.backdrop;
+        b.light = &light, b.guide = &guide, b.variance = &variance;
+        regress_backdrop(b, result);
+    };
+    // Every candidate before any blend: the blends write into `out`, which the whole
+    // buffer's candidates start from.
+    const Candidate cloth0 = candidate(in, kCloth[0].noisy_share, cloth(kCloth[0]));
+    const Candidate cloth1 = candidate(in, kCloth[1].noisy_share, cloth(kCloth[1]));
+    const Candidate backdrop0 = candidate(in, kBackdrop[0].noisy_share, backdrop);
+    const Candidate backdrop1 = candidate(in, kBackdrop[1].noisy_share, backdrop);
+    blend(in, *in.cloth.cloth, cloth0, cloth1, kClothWindowPx, out);
+    blend(in, *in.backdrop.backdrop, backdrop0, backdrop1, kBackdropWindowPx, out);
+}
+
+}  // namespace foldcast::render
