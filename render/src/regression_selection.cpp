@@ -11,18 +11,6 @@
 namespace foldcast::render {
 namespace {
 
-// One regression's setting: the share of the noisy light in what it fits (the rest the
-// passes' result) and, for the cloth, its window's Gaussian sigma as a multiple of the
-// still's (still_spatial_sigma).
-struct Setting {
-    float noisy_share, sigma_scale;
-};
-// The cloth's two: the still's window fitting half the noisy light, and twice that window
-// fitting three quarters of it.  The backdrop's: a quarter of the noisy light (the single
-// setting before, chosen against blotches at 1280x720 with adaptive sampling) and all of it.
-// Chosen on the default scene at 320x180 (docs/benchmarks.md).
-constexpr Setting kCloth[2] = {{0.5f, 1.0f}, {0.75f, 2.0f}};
-constexpr Setting kBackdrop[2] = {{0.25f, 1.0f}, {1.0f, 1.0f}};
 // The windows the fits of alpha sum over (Gaussian sigma, pixels at 320x180, in proportion to
 // the image's size above it): a fold's width on the cloth; on the smooth backdrop, whose
 // residual error is blotches a few pixels across, wider.  At 320x180 a backdrop window of 16
@@ -135,7 +123,7 @@ void blend(const SelectionInput& in, const std::vector<std::int32_t>& mask, cons
 }  // namespace
 
 void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
-    const auto cloth = [&](const Setting& s) {
+    const auto cloth = [&](const RegressionSetting& s) {
         return [&in, s](const std::vector<V3>& light, const std::vector<float>& noise, const std::vector<float>& guide,
                         const std::vector<float>& variance, std::vector<V3>& result) {
             ClothRegressionInput c = in.cloth;
@@ -152,10 +140,10 @@ void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
     };
     // Every candidate before any blend: the blends write into `out`, which the whole
     // buffer's candidates start from.
-    const Candidate cloth0 = candidate(in, kCloth[0].noisy_share, cloth(kCloth[0]));
-    const Candidate cloth1 = candidate(in, kCloth[1].noisy_share, cloth(kCloth[1]));
-    const Candidate backdrop0 = candidate(in, kBackdrop[0].noisy_share, backdrop);
-    const Candidate backdrop1 = candidate(in, kBackdrop[1].noisy_share, backdrop);
+    const Candidate cloth0 = candidate(in, kClothSettings[0].noisy_share, cloth(kClothSettings[0]));
+    const Candidate cloth1 = candidate(in, kClothSettings[1].noisy_share, cloth(kClothSettings[1]));
+    const Candidate backdrop0 = candidate(in, kBackdropSettings[0].noisy_share, backdrop);
+    const Candidate backdrop1 = candidate(in, kBackdropSettings[1].noisy_share, backdrop);
     const float scale = std::max(1.0f, std::sqrt(float(out.size()) / kWindowImagePixels));
     blend(in, *in.cloth.cloth, cloth0, cloth1, scale * kClothWindowPx, out);
     blend(in, *in.backdrop.backdrop, backdrop0, backdrop1, scale * kBackdropWindowPx, out);

@@ -17,6 +17,19 @@
 
 namespace foldcast::render {
 
+// One regression's setting: the share of the noisy light in what it fits (the rest the
+// passes' result) and, for the cloth, its window's Gaussian sigma as a multiple of the
+// still's (still_spatial_sigma).
+struct RegressionSetting {
+    float noisy_share, sigma_scale;
+};
+// The cloth's two: the still's window fitting half the noisy light, and twice that window
+// fitting three quarters of it.  The backdrop's: a quarter of the noisy light (the single
+// setting before, chosen against blotches at 1280x720 with adaptive sampling) and all of it.
+// Chosen on the default scene at 320x180 (docs/benchmarks.md).
+inline constexpr RegressionSetting kClothSettings[2] = {{0.5f, 1.0f}, {0.75f, 2.0f}};
+inline constexpr RegressionSetting kBackdropSettings[2] = {{0.25f, 1.0f}, {1.0f, 1.0f}};
+
 // What the passes made of one buffer (the whole pixel or one half), demodulated, one entry
 // per pixel.
 struct FilteredBuffer {
