@@ -7,7 +7,7 @@
 // independent, so E[(F(A) - B)^2] = MSE(F(A)) + var(B) with var(B) the same for any F, and the
 // blend F0 + alpha (F1 - F0) whose halves come closest to the other half, over a small window
 // (one pixel's difference is mostly noise), is the blend with the least error.  Measured in
-// docs/benchmarks.md ("The regressions' settings chosen per pixel").
+// docs/benchmarks.md ("The regressions' settings blended per pixel by the halves").
 #include <cstdint>
 #include <vector>
 
