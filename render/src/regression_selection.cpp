@@ -58,8 +58,7 @@ std::vector<float> box_sum(const std::vector<float>& values, int w, int h, int r
 // `values` of the masked pixels summed over each pixel's window: three boxes of radius about
 // `sigma_px` in turn, close to a Gaussian of that sigma (a single box of the same variance was
 // worse at 320x180: 22.92, three 22.81, the Gaussian 22.76), at a cost that does not grow with
-// it.  Only ratios
-// of two such sums are used, so they are not normalised.
+// it.  Only ratios of two such sums are used, so they are not normalised.
 std::vector<float> window_sum(const std::vector<float>& values, const std::vector<std::int32_t>& mask, int w, int h,
                               float sigma_px) {
     const int radius = std::max(1, int(std::lround(sigma_px)));
@@ -138,15 +137,18 @@ void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
         b.light = &light, b.guide = &guide, b.variance = &variance;
         regress_backdrop(b, result);
     };
-    // Every candidate before any blend: the blends write into `out`, which the whole
-    // buffer's candidates start from.
-    const Candidate cloth0 = candidate(in, kClothSettings[0].noisy_share, cloth(kClothSettings[0]));
-    const Candidate cloth1 = candidate(in, kClothSettings[1].noisy_share, cloth(kClothSettings[1]));
-    const Candidate backdrop0 = candidate(in, kBackdropSettings[0].noisy_share, backdrop);
-    const Candidate backdrop1 = candidate(in, kBackdropSettings[1].noisy_share, backdrop);
     const float scale = std::max(1.0f, std::sqrt(float(out.size()) / kWindowImagePixels));
-    blend(in, *in.cloth.cloth, cloth0, cloth1, scale * kClothWindowPx, out);
-    blend(in, *in.backdrop.backdrop, backdrop0, backdrop1, scale * kBackdropWindowPx, out);
+    // One regression's pair at a time, so that only six images of candidates are held.  Each
+    // regression reads and writes its own pixels only, so the backdrop's candidates do not see
+    // the cloth's blend, though they start from `out`.
+    {
+        const Candidate f0 = candidate(in, kClothSettings[0].noisy_share, cloth(kClothSettings[0]));
+        const Candidate f1 = candidate(in, kClothSettings[1].noisy_share, cloth(kClothSettings[1]));
+        blend(in, *in.cloth.cloth, f0, f1, scale * kClothWindowPx, out);
+    }
+    const Candidate f0 = candidate(in, kBackdropSettings[0].noisy_share, backdrop);
+    const Candidate f1 = candidate(in, kBackdropSettings[1].noisy_share, backdrop);
+    blend(in, *in.backdrop.backdrop, f0, f1, scale * kBackdropWindowPx, out);
 }
 
 }  // namespace foldcast::render

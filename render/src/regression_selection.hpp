@@ -50,8 +50,8 @@ struct SelectionInput {
     const std::vector<V3>* error_weight = nullptr;
 };
 
-// Writes both regressions' blends into `out` (which holds the whole buffer's passes' result);
-// other pixels keep what it holds.  Each pixel depends only on the inputs: the same floats
+// Writes both regressions' blends into `out` (which holds the whole buffer's passes' result,
+// and may be `in.whole.filtered` itself); other pixels keep what it holds.  Each pixel depends only on the inputs: the same floats
 // for any thread count.
 void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out);
 
