@@ -602,6 +602,8 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
                 std::vector<float> noise(count), noise_a(count), noise_b(count);
                 for (std::size_t i = 0; i < count; ++i) {
                     const float s = features.half_share[i];
+                    // The noisy light's variance (fitted_variance: a quarter of it, squared), each
+                    // half's by its share of the samples.
                     noise[i] = fitted_variance[i] / (kRegressionNoisyShare * kRegressionNoisyShare);
                     noise_a[i] = noise[i] / s, noise_b[i] = noise[i] / (1.0f - s);
                     for (int k = 0; k < 3; ++k) {
