@@ -15,6 +15,8 @@
 
 #include "backdrop_regression.hpp"
 #include "cloth_regression.hpp"
+#include "pixel_sums.hpp"
+#include "regression_selection.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
 #include "mixed_pixels.hpp"
@@ -522,8 +524,14 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         }
 
     Filter filter(w, h, guide, threads);
+    // A still's halves after the cross passes, finished apart for the regressions' choice
+    // of setting (regression_selection.hpp).
+    std::optional<Buffer> half_a, half_b;
     for (int pass = 0; pass < kPasses; ++pass) {
-        if (b && pass == kCrossPasses) merge(a, *b, features.half_share), b.reset();
+        if (b && pass == kCrossPasses) {
+            if (budget == DenoiseBudget::still) half_a.emplace(a), half_b.emplace(*b);
+            merge(a, *b, features.half_share), b.reset();
+        }
         filter.prepare(a);
         if (b) filter.prepare(*b);
         filter.pass(1 << pass, a, b ? &*b : nullptr);
@@ -534,6 +542,15 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         // samples, left, with the relaxed normal weight on cloth of one albedo.
         filter.prepare(a);
         filter.pass(1, a, nullptr, true);
+        for (std::optional<Buffer>* half : {&half_a, &half_b}) {
+            if (!*half) continue;
+            for (int pass = kCrossPasses; pass < kPasses; ++pass) {
+                filter.prepare(**half);
+                filter.pass(1 << pass, **half, nullptr);
+            }
+            filter.prepare(**half);
+            filter.pass(1, **half, nullptr, true);
+        }
     }
     {
         // The cloth's first-order regression (cloth_regression.hpp), its colour weight from
@@ -543,6 +560,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         // cloth of the default 1280x720 render with adaptive sampling; fitted to the passes'
         // result alone, it kept less of its gain (docs/benchmarks.md, "Cloth regression").
         std::vector<float> filtered_lum(count);
+        const std::vector<V3> whole_noisy = half_a ? noisy : std::vector<V3>();
         std::vector<V3>& fitted = noisy;  // blended in place
         for (std::size_t i = 0; i < count; ++i) {
             filtered_lum[i] = luminance(a.light[i]);
@@ -573,10 +591,35 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
             back.width = w, back.height = h;
             back.light = &fitted, back.guide = &filtered_lum, back.variance = &a.variance, back.depth = &guide.depth;
             back.backdrop = &backdrop;
-            filter.execute([&] {
-                regress_backdrop(back, a.light);
-                regress_cloth(in, a.light);
-            });
+            if (!half_a) {
+                filter.execute([&] {
+                    regress_backdrop(back, a.light);
+                    regress_cloth(in, a.light);
+                });
+            } else {
+                SelectionInput select;
+                select.cloth = in, select.backdrop = back;
+                std::vector<V3> noisy_a(count), noisy_b(count), error_weight(count);
+                std::vector<float> noise(count), noise_a(count), noise_b(count);
+                for (std::size_t i = 0; i < count; ++i) {
+                    const float s = features.half_share[i];
+                    // The noisy light's variance (fitted_variance: a quarter of it, squared), each
+                    // half's by its share of the samples.
+                    noise[i] = fitted_variance[i] / (kRegressionNoisyShare * kRegressionNoisyShare);
+                    noise_a[i] = noise[i] / s, noise_b[i] = noise[i] / (1.0f - s);
+                    for (int k = 0; k < 3; ++k) {
+                        noisy_a[i][k] = features.half_a[i][k] / albedo[i][k];
+                        noisy_b[i][k] = features.half_b[i][k] / albedo[i][k];
+                        const float weight = albedo[i][k] * srgb_slope(a.light[i][k] * albedo[i][k]);
+                        error_weight[i][k] = weight * weight;
+                    }
+                }
+                select.whole = {&whole_noisy, &noise, &a.light, &a.variance};
+                select.half_a = {&noisy_a, &noise_a, &half_a->light, &half_a->variance};
+                select.half_b = {&noisy_b, &noise_b, &half_b->light, &half_b->variance};
+                select.error_weight = &error_weight;
+                filter.execute([&] { regress_still_by_halves(select, a.light); });
+            }
         }
     }
     for (std::size_t i = 0; i < count; ++i) {

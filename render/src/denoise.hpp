@@ -16,8 +16,10 @@
 // function of the normal and the position (cloth_regression.hpp), with the passes' result
 // deciding which neighbours lie across a shadow's edge, and, in a still, every backdrop
 // pixel's from the same blend over a wider window as a linear function of the position and
-// the depth (backdrop_regression.hpp).  Each output pixel depends only on the inputs, so the
-// result is the same for any thread count.
+// the depth (backdrop_regression.hpp).  A still with half buffers runs each regression under
+// two settings and blends them per pixel by weights fitted to the halves
+// (regression_selection.hpp).  Each output pixel depends only on the inputs, so the result is
+// the same for any thread count.
 #include <vector>
 
 #include "cloth_bsdf.hpp"
