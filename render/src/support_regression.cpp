@@ -12,15 +12,16 @@
 namespace foldcast::render {
 namespace {
 
-// The line of taps and its Gaussian weights.  Default scene at 320x180, 16 spp + denoise,
-// the rod's squared error (seeds 1-3, x1e-6): radius 8 / 12 / 16 / 20 (sigma half of it) 6.73
-// / 6.66 / 6.50 / 6.47 with the quadratic, 6.73 / 6.66 / 6.86 / - with a straight line
-// (docs/benchmarks.md, "The supports' regression").
+// The line of taps and its Gaussian weights (sigma half the radius).  Default scene at
+// 320x180, 16 spp + denoise, the rod's squared error (seeds 1-3, x1e-6; 7.91 without this
+// stage): a straight line at radius 8 / 12 / 16 6.73 / 6.66 / 6.86, the quadratic at 12 / 16 /
+// 20 6.69 / 6.50 / 6.47 (docs/benchmarks.md, "The supports' regression").
 constexpr int kRadius = 16;
 constexpr float kSigma = 8.0f;
 // At least this many taps on the line (the pixel's own included) must be of the same support
-// and albedo: the clips, five pixels wide, are left to the passes (fitted along their short
-// runs they lost: the garment's box 6.23 -> 6.36).
+// and albedo: the clips, five pixels wide, are left to the passes.  Fitted along their short
+// runs they lost (radius 12, no such test: the garment's box 6.23 -> 6.36, the other edges
+// 0.35 -> 0.44); at least 13 / 20 / 25 of 25 taps: the rod 6.95 / 7.19 / 7.23, the box 6.23.
 constexpr int kMinRun = kRadius + 1;
 constexpr int kRegressors = 3;   // 1, the offset and its square (in units of the radius)
 constexpr double kRidge = 1e-3;  // on the slopes, relative to the weights' sum
@@ -40,8 +41,8 @@ constexpr float kDepthTolerance = 0.01f;
 constexpr float kMaxExponent = 20.0f;
 // How far the fit's residual may go beyond the light's noise before the pixel gives way to the
 // a-trous result, exp(-residual / (kMisfit noise)): a hard cut at 16 / 32 / 64 / 128 left the
-// rod 6.97 / 6.86 / 6.80 / 6.74, the blend at 16 / 64 / 256 6.96 / 6.66 / 6.69 (straight line,
-// radius 12).
+// rod 6.95 / 6.86 / 6.80 / 6.74, the blend at 16 / 64 / 256 6.96 / 6.66 / 6.69 (straight line,
+// radius 12); with the quadratic at radius 16, the blend at 32 / 64 6.68 / 6.50.
 constexpr double kMisfit = 64.0;
 
 struct Sums {
