@@ -17,6 +17,7 @@
 #include "cloth_regression.hpp"
 #include "pixel_sums.hpp"
 #include "regression_selection.hpp"
+#include "support_regression.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
 #include "mixed_pixels.hpp"
@@ -620,6 +621,20 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
                 select.error_weight = &error_weight;
                 filter.execute([&] { regress_still_by_halves(select, a.light); });
             }
+            // And the supports' regression along their axis (support_regression.hpp), on the
+            // same blend: pixels with samples on the rod, a clip or a wire and none on the garment.
+            std::vector<std::int32_t> support(count);
+            for (std::size_t i = 0; i < count; ++i)
+                support[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] > 0.0f &&
+                             (features.cloth.size() != count || features.cloth[i] == 0.0f);
+            SupportRegressionInput supports;
+            supports.width = w, supports.height = h;
+            supports.light = &fitted, supports.guide = &filtered_lum, supports.variance = &a.variance;
+            supports.fitted_variance = &fitted_variance;
+            supports.nx = &guide.nx, supports.ny = &guide.ny, supports.nz = &guide.nz, supports.depth = &guide.depth;
+            supports.ax = &guide.ax, supports.ay = &guide.ay, supports.az = &guide.az;
+            supports.turning = &guide.turning, supports.support = &support;
+            filter.execute([&] { regress_supports(supports, a.light); });
         }
     }
     for (std::size_t i = 0; i < count; ++i) {

@@ -1,0 +1,45 @@
+#pragma once
+// The denoiser's last stage on the garment's supports (the metal rod, the clips, the wires), in
+// stills: each support pixel's light fitted from a line of pixels along the support.  A support
+// is a thin cylinder a few pixels across: across it the normal turns through half a circle in
+// two or three pixels and the rod's glossy highlight changes as fast, so the a-trous passes find
+// few neighbours like a pixel there and keep much of its noise.  Along the axis the surface
+// changes slowly, so each pixel's light is fitted as a quadratic in the offset along whichever
+// image axis the support runs closer to (the one across which the normal and the coverage
+// change less), over taps of the same support, albedo and coverage; where that fit does not
+// follow the passes' result (a highlight's edge crossing the line), the pixel is blended back
+// to it.  A pixel is fitted only where the support runs on along that axis for at least half
+// the window, which leaves out the clips' short runs.  Measured in docs/benchmarks.md ("The
+// supports' regression").
+#include <cstdint>
+#include <vector>
+
+#include "cloth_bsdf.hpp"
+
+namespace foldcast::render {
+
+// One image's inputs, one entry per pixel.
+struct SupportRegressionInput {
+    int width = 0, height = 0;
+    const std::vector<V3>* light = nullptr;               // the light to fit, demodulated
+    const std::vector<float>* guide = nullptr;            // luminance of the a-trous result: the colour weight's
+    const std::vector<float>* variance = nullptr;         // of the guide
+    const std::vector<float>* fitted_variance = nullptr;  // of the light's luminance: its noise
+    const std::vector<float>* nx = nullptr;               // unit shading normal
+    const std::vector<float>* ny = nullptr;
+    const std::vector<float>* nz = nullptr;
+    const std::vector<float>* depth = nullptr;
+    const std::vector<float>* ax = nullptr;  // first-hit albedo
+    const std::vector<float>* ay = nullptr;
+    const std::vector<float>* az = nullptr;
+    const std::vector<float>* turning = nullptr;         // share of samples on the garment or its supports
+    const std::vector<std::int32_t>* support = nullptr;  // 1: some samples hit a support, none the garment
+};
+
+// For every support pixel, the fit blended into `out` (which holds the a-trous result,
+// demodulated) by exp(-the fit's weighted residual variance / (kMisfit times the light's
+// noise)); other pixels, and those whose run along the axis is short or whose fit fails, keep
+// what `out` holds.  Each pixel depends only on the inputs: the same floats for any thread count.
+void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out);
+
+}  // namespace foldcast::render
