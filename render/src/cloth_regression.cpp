@@ -13,6 +13,7 @@
 
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
+#include "tap_weights.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -41,17 +42,6 @@ constexpr float kStillDepthTolerance = 0.01f;
 // The depth regressor's unit, a share of the pixel's depth: the ridge below is on the scale of
 // a unit slope.
 constexpr float kDepthRegressorUnit = 0.01f;
-// Taps of a much different albedo (a print, a trim; the demodulated light of cloth whose
-// sheen and gloss weigh differently against its colour) are left out.  Not tighter: where the
-// weave is resolved (the twill close-up) neighbouring threads differ in albedo, and a tight
-// test left too few taps (twill SSIM 0.9978 at 0.1 and 0.2, 0.9969 at 0.02, 0.9928 at 0.005).
-constexpr float kSameAlbedo = 0.1f;
-// The colour weight on the a-trous result's luminance, which keeps a shadow's edge from being
-// fitted across: exp(-difference^2 / scale^2), scale^2 the sum of (kColourSigma standard
-// deviations of the two guide pixels' noise)^2 and (kColourRelative of the pixel's light)^2.
-// Looser or tighter, the default scene's garment loses (docs/benchmarks.md).
-constexpr float kColourSigma = 5.0f;
-constexpr float kColourRelative = 0.05f;
 constexpr double kRidge = 1e-3;  // on the slopes, so that a flat patch still has a fit
 // A fit whose residual variance is beyond this many times the light's noise does not follow
 // the light (a glossy weave's highlight is not linear in the normal): the pixel keeps the
@@ -134,8 +124,9 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
             const int qx = x + dx;
             if (qx < 0 || qx >= p.w) continue;
             const std::size_t j = std::size_t(qy) * p.w + qx;
-            if (!p.cloth[j] || !(std::abs(p.ax[j] - p.ax[i]) < kSameAlbedo) ||
-                !(std::abs(p.ay[j] - p.ay[i]) < kSameAlbedo) || !(std::abs(p.az[j] - p.az[i]) < kSameAlbedo))
+            if (!p.cloth[j] || !(std::abs(p.ax[j] - p.ax[i]) < kRegressionSameAlbedo) ||
+                !(std::abs(p.ay[j] - p.ay[i]) < kRegressionSameAlbedo) ||
+                !(std::abs(p.az[j] - p.az[i]) < kRegressionSameAlbedo))
                 continue;
             const float difference = p.guide[j] - p.guide[i];
             const float colour =
@@ -181,7 +172,7 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
     const __m128 relative = _mm_mul_ps(_mm_set1_ps(kColourRelative), guide_i);
     const __m128 scale_floor = _mm_add_ps(_mm_mul_ps(relative, relative), _mm_set1_ps(1e-8f));
     const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    const __m128 same_albedo = _mm_set1_ps(kSameAlbedo);
+    const __m128 same_albedo = _mm_set1_ps(kRegressionSameAlbedo);
     const __m128 colour_sigma2 = _mm_set1_ps(kColourSigma * kColourSigma);
     const __m128 sign_bit = _mm_set1_ps(-0.0f);
     __m128 xx[products(kRegressors)], xy[kRegressors][3];

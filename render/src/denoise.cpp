@@ -18,6 +18,7 @@
 #include "pixel_sums.hpp"
 #include "regression_selection.hpp"
 #include "support_regression.hpp"
+#include "tap_weights.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
 #include "mixed_pixels.hpp"
@@ -30,7 +31,6 @@ constexpr int kCrossPasses = 3;  // of them cross-filtered when there are two ha
 static_assert(kCrossPasses < kPasses, "the halves are merged before the last passes");
 constexpr float kSigmaLuminance = 4.0f;  // in standard deviations of the pixel's noise
 constexpr float kSigmaDepth = 1.0f;      // in local depth steps per pixel of distance
-constexpr float kMaxExponent = 20.0f;    // taps weighted below exp(-20) are skipped
 // The normal weight is cos^(2^k): cos^128, and cos^4 in the last pass between two cloth
 // pixels whose albedos agree within kSameAlbedo (the weave not resolved there: their
 // shading normals differ by the bump averaged over a few samples and by the fold's curvature,
@@ -38,13 +38,6 @@ constexpr float kMaxExponent = 20.0f;    // taps weighted below exp(-20) are ski
 constexpr int kNormalSquarings = 7;
 constexpr int kRelaxedNormalSquarings = 2;
 constexpr float kSameAlbedo = 0.005f;
-// A pixel that is partly a thin wire or the rod's or the cloth's edge and partly backdrop
-// (its share of samples on the garment and supports between 0 and 1) is not its neighbours'
-// mixture: taps whose share differs by more than the dead zone (a 16-sample share's noise
-// is about 0.1) are refused, exp(-kMixScale (|difference| - kMixDeadZone)).  Measured in
-// docs/benchmarks.md ("The denoiser's mixture weight").
-constexpr float kMixScale = 16.0f;
-constexpr float kMixDeadZone = 0.2f;
 constexpr float kRegressionNoisyShare = 0.25f;  // of the light the cloth's regression fits (below)
 
 // The guide the passes compare taps by, one array per quantity, so that the pass loads the

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "foldcast/core/colour.hpp"
+#include "tap_weights.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -25,20 +26,8 @@ constexpr float kSigma = 8.0f;
 constexpr int kMinRun = kRadius + 1;
 constexpr int kRegressors = 3;   // 1, the offset and its square (in units of the radius)
 constexpr double kRidge = 1e-3;  // on the slopes, relative to the weights' sum
-// As in cloth_regression.cpp: taps of a much different albedo are another support (a clip's
-// wood, a wire), and the colour weight on the a-trous result, exp(-difference^2 / scale^2),
-// scale^2 the sum of (kColourSigma standard deviations of the two guide pixels' noise)^2 and
-// (kColourRelative of the pixel's light)^2, keeps the fit off the far side of a highlight's edge.
-constexpr float kSameAlbedo = 0.1f;
-constexpr float kColourSigma = 5.0f;
-constexpr float kColourRelative = 0.05f;
-// As in the passes (denoise.cpp): a tap whose share of samples on the supports differs by more
-// than the dead zone is another mixture of support and backdrop.
-constexpr float kMixScale = 16.0f;
-constexpr float kMixDeadZone = 0.2f;
 // A tap's depth may differ by this share of the pixel's depth per pixel of distance (exp(-1)).
 constexpr float kDepthTolerance = 0.01f;
-constexpr float kMaxExponent = 20.0f;
 // How far the fit's residual may go beyond the light's noise before the pixel gives way to the
 // a-trous result, exp(-residual / (kMisfit noise)): a hard cut at 16 / 32 / 64 / 128 left the
 // rod 6.95 / 6.86 / 6.80 / 6.74, the blend at 16 / 64 / 256 6.96 / 6.66 / 6.69 (straight line,
@@ -80,8 +69,9 @@ void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
                     const int qx = along_row ? x + d : x, qy = along_row ? y : y + d;
                     if (qx < 0 || qx >= w || qy < 0 || qy >= h) continue;
                     const std::size_t j = at(qx, qy);
-                    if (!support[j] || std::abs(ax[j] - ax[i]) >= kSameAlbedo ||
-                        std::abs(ay[j] - ay[i]) >= kSameAlbedo || std::abs(az[j] - az[i]) >= kSameAlbedo)
+                    if (!support[j] || std::abs(ax[j] - ax[i]) >= kRegressionSameAlbedo ||
+                        std::abs(ay[j] - ay[i]) >= kRegressionSameAlbedo ||
+                        std::abs(az[j] - az[i]) >= kRegressionSameAlbedo)
                         continue;
                     ++s.run;
                     float e = float(d * d) / (2.0f * kSigma * kSigma);
