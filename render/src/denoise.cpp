@@ -592,19 +592,16 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
             back.width = w, back.height = h;
             back.light = &fitted, back.guide = &filtered_lum, back.variance = &a.variance, back.depth = &guide.depth;
             back.backdrop = &backdrop;
-            // The halves' buffers, also for the supports' blend below.
-            SelectionInput select;
-            std::vector<V3> noisy_a, noisy_b, error_weight;
-            std::vector<float> noise, noise_a, noise_b;
             if (!half_a) {
                 filter.execute([&] {
                     regress_backdrop(back, a.light);
                     regress_cloth(in, a.light);
                 });
             } else {
+                SelectionInput select;
                 select.cloth = in, select.backdrop = back;
-                noisy_a.resize(count), noisy_b.resize(count), error_weight.resize(count);
-                noise.resize(count), noise_a.resize(count), noise_b.resize(count);
+                std::vector<V3> noisy_a(count), noisy_b(count), error_weight(count);
+                std::vector<float> noise(count), noise_a(count), noise_b(count);
                 for (std::size_t i = 0; i < count; ++i) {
                     const float s = features.half_share[i];
                     // The noisy light's variance (fitted_variance: a quarter of it, squared), each
@@ -637,11 +634,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
             supports.nx = &guide.nx, supports.ny = &guide.ny, supports.nz = &guide.nz, supports.depth = &guide.depth;
             supports.ax = &guide.ax, supports.ay = &guide.ay, supports.az = &guide.az;
             supports.turning = &guide.turning, supports.support = &support;
-            if (!half_a) {
-                filter.execute([&] { regress_supports(supports, a.light); });
-            } else {
-                filter.execute([&] { regress_supports_by_halves(select, supports, a.light); });
-            }
+            filter.execute([&] { regress_supports(supports, a.light); });
         }
     }
     for (std::size_t i = 0; i < count; ++i) {

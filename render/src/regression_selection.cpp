@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
 #include "foldcast/core/colour.hpp"
 
@@ -150,74 +149,6 @@ void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
     const Candidate f0 = candidate(in, kBackdropSettings[0].noisy_share, backdrop);
     const Candidate f1 = candidate(in, kBackdropSettings[1].noisy_share, backdrop);
     blend(in, *in.backdrop.backdrop, f0, f1, scale * kBackdropWindowPx, out);
-}
-
-SupportSetting kSupportSettings[2] = {{0.25f, kSupportRadius, true}, {0.25f, 4, false}};
-static float env_f(const char* n, float d) { const char* v = std::getenv(n); return v ? float(std::atof(v)) : d; }
-
-void regress_supports_by_halves(const SelectionInput& in, const SupportRegressionInput& supports, std::vector<V3>& out) {
-    SupportSetting settings[2] = {kSupportSettings[0], kSupportSettings[1]};
-    settings[1].noisy_share = env_f("FC_S1_SHARE", settings[1].noisy_share);
-    settings[1].radius = int(env_f("FC_S1_RADIUS", float(settings[1].radius)));
-    settings[1].quadratic = env_f("FC_S1_QUAD", settings[1].quadratic ? 1.0f : 0.0f) > 0.5f;
-    const int window = int(env_f("FC_S_WINDOW", 4.0f));
-    const bool corr = env_f("FC_S_CORR", 0.0f) > 0.5f;
-    const float clamp_k = env_f("FC_S_CLAMP", 1e30f);
-    const auto regress = [&](const SupportSetting& s, bool second) {
-        return [&supports, s, second](const std::vector<V3>& light, const std::vector<float>& noise,
-                              const std::vector<float>& guide, const std::vector<float>& variance,
-                              std::vector<V3>& result) {
-            SupportRegressionInput r = supports;
-            r.light = &light, r.fitted_variance = &noise, r.guide = &guide, r.variance = &variance;
-            r.radius = s.radius, r.quadratic = s.quadratic;
-            if (second) r.colour_scale = env_f("FC_S1_COLOUR", 1.0f), r.misfit_scale = env_f("FC_S1_MISFIT", 1.0f);
-            regress_supports(r, result);
-        };
-    };
-    const Candidate f0 = candidate(in, settings[0].noisy_share, regress(settings[0], false));
-    const Candidate f1 = candidate(in, settings[1].noisy_share, regress(settings[1], true));
-    const int w = supports.width, h = supports.height;
-    const std::vector<std::int32_t>& mask = *supports.support;
-    const std::size_t count = mask.size();
-    const std::vector<V3>& a = *in.half_a.noisy;
-    const std::vector<V3>& b = *in.half_b.noisy;
-    const std::vector<V3>& weight = *in.error_weight;
-    std::vector<float> num(count, 0.0f), den(count, 0.0f);
-    for (std::size_t i = 0; i < count; ++i) {
-        if (!mask[i]) continue;
-        const V3 da = f1.from_a[i] - f0.from_a[i], db = f1.from_b[i] - f0.from_b[i];
-        const V3 cap = clamp_k * f0.whole[i] + V3::Constant(1e-3f);
-        const V3 ra = b[i].cwiseMin(cap) - f0.from_a[i], rb = a[i].cwiseMin(cap) - f0.from_b[i];
-        num[i] = weight[i].dot(da.cwiseProduct(ra) + db.cwiseProduct(rb));
-        den[i] = weight[i].dot(da.cwiseProduct(da) + db.cwiseProduct(db));
-        if (corr) {
-            const V3 dd = da - db, e0 = f0.from_a[i] - f0.from_b[i];
-            num[i] += 0.5f * weight[i].dot(dd.cwiseProduct(e0));
-            den[i] -= 0.5f * weight[i].dot(dd.cwiseProduct(dd));
-        }
-    }
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y < rows.end(); ++y)
-            for (int x = 0; x < w; ++x) {
-                const std::size_t i = std::size_t(y) * w + x;
-                if (!mask[i]) continue;
-                if ((*supports.turning)[i] < env_f("FC_S_TURN", 0.0f)) {
-                    out[i] = f0.whole[i];
-                    continue;
-                }
-                const bool along_row = support_along_row(supports, x, y);
-                double sn = 0.0, sd = 0.0;
-                for (int d = -window; d <= window; ++d) {
-                    const int qx = along_row ? x + d : x, qy = along_row ? y : y + d;
-                    if (qx < 0 || qx >= w || qy < 0 || qy >= h) continue;
-                    const std::size_t j = std::size_t(qy) * w + qx;
-                    if (!mask[j]) continue;
-                    sn += num[j], sd += den[j];
-                }
-                const float alpha = sd > 0.0 ? std::clamp(float(sn / sd), env_f("FC_S_MINA", kMinAlpha), kMaxAlpha) : 0.0f;
-                out[i] = f0.whole[i] + alpha * (f1.whole[i] - f0.whole[i]);
-            }
-    });
 }
 
 }  // namespace foldcast::render

@@ -14,7 +14,6 @@
 #include "backdrop_regression.hpp"
 #include "cloth_bsdf.hpp"
 #include "cloth_regression.hpp"
-#include "support_regression.hpp"
 
 namespace foldcast::render {
 
@@ -55,18 +54,5 @@ struct SelectionInput {
 // and may be `in.whole.filtered` itself); other pixels keep what it holds.  Each pixel depends only on the inputs: the same floats
 // for any thread count.
 void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out);
-
-// The supports' regression (support_regression.hpp) blended the same way between two
-// settings: kSupportSettings[0], the long quadratic, and [1], a short straight line that
-// follows a highlight's edge along the support; alpha fitted over a window along the
-// support's axis only.  `supports` gives the fit's inputs but for the light, guide and
-// variances, set here from each buffer; `out` as above.
-struct SupportSetting {
-    float noisy_share;
-    int radius;
-    bool quadratic;
-};
-extern SupportSetting kSupportSettings[2];
-void regress_supports_by_halves(const SelectionInput& in, const SupportRegressionInput& supports, std::vector<V3>& out);
 
 }  // namespace foldcast::render

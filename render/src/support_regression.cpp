@@ -16,7 +16,8 @@ namespace {
 // 320x180, 16 spp + denoise, the rod's squared error (seeds 1-3, x1e-6; 7.91 without this
 // stage): a straight line at radius 8 / 12 / 16 6.73 / 6.66 / 6.86, the quadratic at 12 / 16 /
 // 20 6.69 / 6.50 / 6.47 (docs/benchmarks.md, "The supports' regression").
-constexpr int kRadius = kSupportRadius;
+constexpr int kRadius = 16;
+constexpr float kSigma = 8.0f;
 // At least this many taps on the line (the pixel's own included) must be of the same support
 // and albedo: the clips, five pixels wide, are left to the passes.  Fitted along their short
 // runs they lost (radius 12, no such test: the garment's box 6.23 -> 6.36, the other edges
@@ -51,39 +52,29 @@ struct Sums {
     int run = 0;
 };
 
-// How much the normal and the coverage change between two pixels: across the support they
-// turn through the cylinder and from backdrop to support, along it they hardly change.
-float change(const SupportRegressionInput& in, std::size_t i, std::size_t j) {
-    const std::vector<float>&nx = *in.nx, &ny = *in.ny, &nz = *in.nz, &turning = *in.turning;
-    const float a = nx[i] - nx[j], b = ny[i] - ny[j], c = nz[i] - nz[j], t = turning[i] - turning[j];
-    return a * a + b * b + c * c + t * t;
-}
-
 }  // namespace
-
-bool support_along_row(const SupportRegressionInput& in, int x, int y) {
-    const int w = in.width, h = in.height;
-    const auto at = [w](int qx, int qy) { return std::size_t(qy) * w + qx; };
-    return change(in, at(std::max(0, x - 1), y), at(std::min(w - 1, x + 1), y)) <=
-           change(in, at(x, std::max(0, y - 1)), at(x, std::min(h - 1, y + 1)));
-}
 
 void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
     const int w = in.width, h = in.height;
     const std::vector<std::int32_t>& support = *in.support;
-    const std::vector<float>& turning = *in.turning;
+    const std::vector<float>&nx = *in.nx, &ny = *in.ny, &nz = *in.nz, &turning = *in.turning;
     const std::vector<float>&ax = *in.ax, &ay = *in.ay, &az = *in.az, &depth = *in.depth;
     const std::vector<float>&guide = *in.guide, &variance = *in.variance;
     const auto at = [w](int x, int y) { return std::size_t(y) * w + x; };
-    const int radius = std::clamp(in.radius, 1, kRadius);
-    const float sigma = 0.5f * float(radius);
+    // How much the normal and the coverage change between two pixels: across the support they
+    // turn through the cylinder and from backdrop to support, along it they hardly change.
+    const auto change = [&](std::size_t i, std::size_t j) {
+        const float a = nx[i] - nx[j], b = ny[i] - ny[j], c = nz[i] - nz[j], t = turning[i] - turning[j];
+        return a * a + b * b + c * c + t * t;
+    };
     const Eigen::Vector3d to_luminance = Eigen::Map<const Eigen::Vector3f>(kLuminanceWeights).cast<double>();
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y < rows.end(); ++y)
             for (int x = 0; x < w; ++x) {
                 const std::size_t i = at(x, y);
                 if (!support[i]) continue;
-                const bool along_row = support_along_row(in, x, y);
+                const bool along_row = change(at(std::max(0, x - 1), y), at(std::min(w - 1, x + 1), y)) <=
+                                       change(at(x, std::max(0, y - 1)), at(x, std::min(h - 1, y + 1)));
                 Sums s;
                 for (int d = -kRadius; d <= kRadius; ++d) {
                     const int qx = along_row ? x + d : x, qy = along_row ? y : y + d;
@@ -93,18 +84,17 @@ void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
                         std::abs(ay[j] - ay[i]) >= kSameAlbedo || std::abs(az[j] - az[i]) >= kSameAlbedo)
                         continue;
                     ++s.run;
-                    if (std::abs(d) > radius) continue;
-                    float e = float(d * d) / (2.0f * sigma * sigma);
+                    float e = float(d * d) / (2.0f * kSigma * kSigma);
                     const float mix = std::abs(turning[j] - turning[i]);
                     if (mix > kMixDeadZone) e += kMixScale * (mix - kMixDeadZone);
                     if (d != 0) e += std::abs(depth[j] - depth[i]) / (kDepthTolerance * depth[i] * float(std::abs(d)));
                     const float difference = guide[j] - guide[i];
                     const float scale2 = kColourSigma * kColourSigma * (variance[i] + variance[j]) +
                                          kColourRelative * kColourRelative * guide[i] * guide[i] + 1e-12f;
-                    e += in.colour_scale * difference * difference / scale2;
+                    e += difference * difference / scale2;
                     if (e > kMaxExponent) continue;
-                    const double wt = std::exp(-double(e)), u = double(d) / radius;
-                    const Eigen::Vector3d r(1.0, u, in.quadratic ? u * u : 0.0);
+                    const double wt = std::exp(-double(e)), u = double(d) / kRadius;
+                    const Eigen::Vector3d r(1.0, u, u * u);
                     const V3& l = (*in.light)[j];
                     s.xx.noalias() += wt * r * r.transpose();
                     s.xy.noalias() += wt * r * l.cast<double>().transpose();
@@ -121,7 +111,7 @@ void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
                 // The fit's weighted residual variance in luminance, (y^T W y - beta^T X^T W y) / sum W.
                 const double residual =
                     std::max(0.0, s.yy - (beta * to_luminance).dot(s.xy * to_luminance)) / s.xx(0, 0);
-                const float alpha = float(std::exp(-residual / (kMisfit * double(in.misfit_scale) * double((*in.fitted_variance)[i]) + 1e-20)));
+                const float alpha = float(std::exp(-residual / (kMisfit * double((*in.fitted_variance)[i]) + 1e-20)));
                 out[i] = alpha * value + (1.0f - alpha) * out[i];
             }
     });

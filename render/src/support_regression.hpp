@@ -34,20 +34,7 @@ struct SupportRegressionInput {
     const std::vector<float>* az = nullptr;
     const std::vector<float>* turning = nullptr;         // share of samples on the garment or its supports
     const std::vector<std::int32_t>* support = nullptr;  // 1: some samples hit a support, none the garment
-    // The fit's setting: the line's radius (its Gaussian's sigma half of it) and whether the
-    // fit is a quadratic or a straight line.  Which pixels are fitted does not depend on it:
-    // the run along the axis is always counted over kSupportRadius.
-    int radius = 16;
-    bool quadratic = true;
-    float colour_scale = 1.0f;   // multiplies the colour weight's exponent
-    float misfit_scale = 1.0f;   // multiplies kMisfit
 };
-
-// The line along which the run is counted, and the default setting's radius.
-inline constexpr int kSupportRadius = 16;
-
-// Whether pixel (x, y)'s line runs along its row (else along its column).
-bool support_along_row(const SupportRegressionInput& in, int x, int y);
 
 // For every support pixel, the fit blended into `out` (which holds the a-trous result,
 // demodulated) by exp(-the fit's weighted residual variance / (kMisfit times the light's
