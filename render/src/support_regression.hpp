@@ -7,10 +7,11 @@
 // changes slowly, so each pixel's light is fitted as a quadratic in the offset along whichever
 // image axis the support runs closer to (the one across which the normal and the coverage
 // change less), over taps of the same support, albedo and coverage; where that fit does not
-// follow the passes' result (a highlight's edge crossing the line), the pixel is blended back
-// to it.  A pixel is fitted only where the support runs on along that axis for at least half
-// the window, which leaves out the clips' short runs.  Measured in docs/benchmarks.md ("The
-// supports' regression").
+// follow the light (a highlight's edge crossing the line), the pixel is blended back to a
+// straight line over its nearest taps along the axis, which follows a steep rise.  A pixel is
+// fitted only where the support runs on along that axis for at least half the window, which
+// leaves out the clips' short runs.  Measured in docs/benchmarks.md ("The supports'
+// regression").
 #include <cstdint>
 #include <vector>
 
@@ -36,9 +37,9 @@ struct SupportRegressionInput {
     const std::vector<std::int32_t>* support = nullptr;  // 1: some samples hit a support, none the garment
 };
 
-// For every support pixel, the fit blended into `out` (which holds the a-trous result,
-// demodulated) by exp(-the fit's weighted residual variance / (kMisfit times the light's
-// noise)); other pixels, and those whose run along the axis is short or whose fit fails, keep
+// For every support pixel, the fit blended with the short line's (or, where that fails, with
+// what `out` holds: the a-trous result, demodulated) by exp(-the fit's weighted residual
+// variance / (kMisfit times the light's noise)), into `out`; other pixels, and those whose run along the axis is short or whose fit fails, keep
 // what `out` holds.  Each pixel depends only on the inputs: the same floats for any thread count.
 void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out);
 

@@ -123,6 +123,31 @@ TEST(SupportRegression, KeepsAHighlightsEdge) {
         EXPECT_NEAR(out[Scene::at(x, 20)].x(), s.clean[Scene::at(x, 20)].x(), 0.05f) << "x " << x;
 }
 
+// Where the light rises tenfold within a few pixels along the rod (a highlight's edge that
+// the long quadratic cannot follow), the pixel gives way to a short line over its nearest
+// taps along the rod rather than to what the passes kept (here the noisy light itself): the
+// noise there drops by a quarter or more.
+TEST(SupportRegression, GivesWayToAShortLineAtAHighlightsEdge) {
+    Scene s;
+    RandomStream rng(21, 23, 29);
+    const auto light = [](int x) { return 0.15f + 1.35f / (1.0f + std::exp(-float(x - kW / 2) / 1.5f)); };
+    for (int x = 0; x < kW; ++x)
+        for (int across = -1; across <= 1; ++across) s.paint(x, 20 + across, across, true, light(x), 0.05f, rng);
+    // The passes' result as guide is as noisy as the light there: a flat guide, so that the
+    // colour weight does not narrow the long fit to the edge.
+    for (int x = 0; x < kW; ++x)
+        for (int y = 19; y <= 21; ++y) {
+            s.guide[Scene::at(x, y)] = 0.8f;
+            // What the stage fits is a quarter noisy light and three quarters the passes'
+            // result: its noise is well below the light's.
+            s.fitted_variance[Scene::at(x, y)] = 0.25f * 0.25f * 0.05f * 0.05f;
+        }
+    const std::vector<V3> out = regressed(s, s.noisy);
+    const auto edge = [](int x, int y) { return y >= 19 && y <= 21 && std::abs(x - kW / 2) <= 4; };
+    const double before = rmse(s.noisy, s.clean, edge), after = rmse(out, s.clean, edge);
+    EXPECT_LT(after, 0.75 * before) << "before " << before << ", after " << after;
+}
+
 TEST(SupportRegression, SameFloatsForAnyThreadCount) {
     const Scene s = rod_and_wire(0.1f);
     const std::vector<V3> one = regressed(s, s.noisy, 1), three = regressed(s, s.noisy, 3);
