@@ -461,6 +461,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
     Guide guide(count);
     std::vector<V3> albedo(count);
     std::vector<float> fitted_variance(count);
+    std::vector<float> noisy_variance(count);  // of the demodulated light's luminance
     std::vector<V3> noisy(count);  // the pixel's light, demodulated: what the regression fits (in part)
     Buffer a(count);
     std::optional<Buffer> b;
@@ -481,6 +482,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
         const float al = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
         const float variance = features.variance[i] / (al * al);
+        noisy_variance[i] = variance;
         // What the regression's light carries of it (a quarter of the noisy light's).
         fitted_variance[i] = kRegressionNoisyShare * kRegressionNoisyShare * variance;
         for (int k = 0; k < 3; ++k) noisy[i][k] = c[k] / albedo[i][k];
@@ -517,35 +519,40 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
             guide.inv_depth_tolerance[i] = 1.0f / (kSigmaDepth * depth_step);
         }
 
+    // A still's halves as the passes start (their noisy light and its variance), for the
+    // regressions' choice of setting (regression_selection.hpp).
+    std::vector<V3> noisy_a, noisy_b;
+    std::vector<float> noise_a, noise_b;
+    if (b && budget == DenoiseBudget::still)
+        noisy_a = a.light, noise_a = a.variance, noisy_b = b->light, noise_b = b->variance;
     Filter filter(w, h, guide, threads);
-    // A still's halves after the cross passes, finished apart for the regressions' choice
-    // of setting (regression_selection.hpp).
-    std::optional<Buffer> half_a, half_b;
-    for (int pass = 0; pass < kPasses; ++pass) {
-        if (b && pass == kCrossPasses) {
-            if (budget == DenoiseBudget::still) half_a.emplace(a), half_b.emplace(*b);
-            merge(a, *b, features.half_share), b.reset();
+    // The passes after the cross passes and, with halves, one more at step 1 guided by the
+    // merged light, whose noise is half either half's: it takes out the pixel-scale noise the
+    // halves' weights, each from fewer samples, left, with the relaxed normal weight on cloth
+    // of one albedo.
+    const auto finish = [&](Buffer& buffer) {
+        for (int pass = kCrossPasses; pass < kPasses; ++pass) {
+            filter.prepare(buffer);
+            filter.pass(1 << pass, buffer, nullptr);
         }
+        if (!halves) return;
+        filter.prepare(buffer);
+        filter.pass(1, buffer, nullptr, true);
+    };
+    for (int pass = 0; pass < kCrossPasses; ++pass) {
         filter.prepare(a);
         if (b) filter.prepare(*b);
         filter.pass(1 << pass, a, b ? &*b : nullptr);
     }
-    if (halves) {
-        // One more pass at step 1 guided by the merged light, whose noise is half either
-        // half's: it takes out the pixel-scale noise the halves' weights, each from fewer
-        // samples, left, with the relaxed normal weight on cloth of one albedo.
-        filter.prepare(a);
-        filter.pass(1, a, nullptr, true);
-        for (std::optional<Buffer>* half : {&half_a, &half_b}) {
-            if (!*half) continue;
-            for (int pass = kCrossPasses; pass < kPasses; ++pass) {
-                filter.prepare(**half);
-                filter.pass(1 << pass, **half, nullptr);
-            }
-            filter.prepare(**half);
-            filter.pass(1, **half, nullptr, true);
-        }
+    // A still's halves after the cross passes, finished apart for the regressions' choice
+    // of setting (regression_selection.hpp).
+    std::optional<Buffer> half_a, half_b;
+    if (b) {
+        if (budget == DenoiseBudget::still) half_a.emplace(a), half_b.emplace(*b);
+        merge(a, *b, features.half_share), b.reset();
     }
+    finish(a);
+    if (half_a) finish(*half_a), finish(*half_b);
     {
         // The cloth's first-order regression (cloth_regression.hpp), its colour weight from
         // what the passes made of the light.  It fits kRegressionNoisyShare of the noisy light
@@ -593,22 +600,13 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
             } else {
                 SelectionInput select;
                 select.cloth = in, select.backdrop = back;
-                std::vector<V3> noisy_a(count), noisy_b(count), error_weight(count);
-                std::vector<float> noise(count), noise_a(count), noise_b(count);
-                for (std::size_t i = 0; i < count; ++i) {
-                    const float s = features.half_share[i];
-                    // The noisy light's variance (fitted_variance: a quarter of it, squared), each
-                    // half's by its share of the samples.
-                    noise[i] = fitted_variance[i] / (kRegressionNoisyShare * kRegressionNoisyShare);
-                    noise_a[i] = noise[i] / s, noise_b[i] = noise[i] / (1.0f - s);
+                std::vector<V3> error_weight(count);
+                for (std::size_t i = 0; i < count; ++i)
                     for (int k = 0; k < 3; ++k) {
-                        noisy_a[i][k] = features.half_a[i][k] / albedo[i][k];
-                        noisy_b[i][k] = features.half_b[i][k] / albedo[i][k];
                         const float weight = albedo[i][k] * srgb_slope(a.light[i][k] * albedo[i][k]);
                         error_weight[i][k] = weight * weight;
                     }
-                }
-                select.whole = {&whole_noisy, &noise, &a.light, &a.variance};
+                select.whole = {&whole_noisy, &noisy_variance, &a.light, &a.variance};
                 select.half_a = {&noisy_a, &noise_a, &half_a->light, &half_a->variance};
                 select.half_b = {&noisy_b, &noise_b, &half_b->light, &half_b->variance};
                 select.error_weight = &error_weight;
