@@ -1,5 +1,6 @@
 #include "regression_selection.hpp"
 
+#include <opencv2/imgproc.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -25,20 +26,14 @@ constexpr float kWindowImagePixels = 320.0f * 180.0f;
 // 23.41 before the backdrop's blend).
 constexpr float kMinAlpha = -0.5f, kMaxAlpha = 1.0f;
 
-// `values` summed over a box of (2 radius + 1)^2 pixels about each pixel, from prefix sums
-// (the cost does not grow with the box; in double, so that the differences of large sums
-// keep the small ones' digits).
+// `values` summed over a box of (2 radius + 1)^2 pixels about each pixel, from the image's
+// integral (the cost does not grow with the box; in double, so that the differences of large
+// sums keep the small ones' digits).
 std::vector<float> box_sum(const std::vector<float>& values, int w, int h, int radius) {
     const std::size_t stride = std::size_t(w) + 1;
-    // Each row's prefix sums, then those summed down the columns.
-    std::vector<double> prefix(stride * (std::size_t(h) + 1), 0.0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& r) {
-        for (int y = r.begin(); y < r.end(); ++y) {
-            double* row = &prefix[(std::size_t(y) + 1) * stride];
-            for (int x = 0; x < w; ++x) row[x + 1] = row[x] + double(values[std::size_t(y) * w + x]);
-        }
-    });
-    for (std::size_t i = stride; i < prefix.size(); ++i) prefix[i] += prefix[i - stride];
+    cv::Mat_<double> integral;
+    cv::integral(cv::Mat_<float>(h, w, const_cast<float*>(values.data())), integral, CV_64F);
+    const double* const prefix = integral[0];
     std::vector<float> out(values.size());
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y < r.end(); ++y) {
