@@ -14,23 +14,12 @@
 #include <vector>
 
 #include "cloth_bsdf.hpp"
+#include "regression_input.hpp"
 
 namespace foldcast::render {
 
 // One image's inputs to the regression, one entry per pixel.
-struct ClothRegressionInput {
-    int width = 0, height = 0;
-    const std::vector<V3>* light = nullptr;        // the light to fit, demodulated (colour / albedo)
-    const std::vector<float>* guide = nullptr;     // luminance of the a-trous result: the colour weight's
-    const std::vector<float>* variance = nullptr;  // of the guide's luminance
-    const std::vector<float>* fitted_variance = nullptr;  // of the light's luminance: its noise
-    const std::vector<float>* nx = nullptr;        // unit shading normal
-    const std::vector<float>* ny = nullptr;
-    const std::vector<float>* nz = nullptr;
-    const std::vector<float>* depth = nullptr;
-    const std::vector<float>* ax = nullptr;  // first-hit albedo
-    const std::vector<float>* ay = nullptr;
-    const std::vector<float>* az = nullptr;
+struct ClothRegressionInput : RegressionInput {
     const std::vector<std::int32_t>* cloth = nullptr;  // 1: most of the pixel's samples hit the garment
     // The depth's change as a seventh regressor, and a looser depth weight (stills: 28
     // products a tap instead of 21, which turntable frames do not spend).

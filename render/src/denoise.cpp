@@ -619,11 +619,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
                 support[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] > 0.0f &&
                              (features.cloth.size() != count || features.cloth[i] == 0.0f);
             SupportRegressionInput supports;
-            supports.width = w, supports.height = h;
-            supports.light = &fitted, supports.guide = &filtered_lum, supports.variance = &a.variance;
-            supports.fitted_variance = &fitted_variance;
-            supports.nx = &guide.nx, supports.ny = &guide.ny, supports.nz = &guide.nz, supports.depth = &guide.depth;
-            supports.ax = &guide.ax, supports.ay = &guide.ay, supports.az = &guide.az;
+            static_cast<RegressionInput&>(supports) = in;  // the same light, guide and surface
             supports.turning = &guide.turning, supports.support = &support;
             filter.execute([&] { regress_supports(supports, a.light); });
         }

@@ -16,23 +16,12 @@
 #include <vector>
 
 #include "cloth_bsdf.hpp"
+#include "regression_input.hpp"
 
 namespace foldcast::render {
 
 // One image's inputs, one entry per pixel.
-struct SupportRegressionInput {
-    int width = 0, height = 0;
-    const std::vector<V3>* light = nullptr;               // the light to fit, demodulated
-    const std::vector<float>* guide = nullptr;            // luminance of the a-trous result: the colour weight's
-    const std::vector<float>* variance = nullptr;         // of the guide
-    const std::vector<float>* fitted_variance = nullptr;  // of the light's luminance: its noise
-    const std::vector<float>* nx = nullptr;               // unit shading normal
-    const std::vector<float>* ny = nullptr;
-    const std::vector<float>* nz = nullptr;
-    const std::vector<float>* depth = nullptr;
-    const std::vector<float>* ax = nullptr;  // first-hit albedo
-    const std::vector<float>* ay = nullptr;
-    const std::vector<float>* az = nullptr;
+struct SupportRegressionInput : RegressionInput {
     const std::vector<float>* turning = nullptr;         // share of samples on the garment or its supports
     const std::vector<std::int32_t>* support = nullptr;  // 1: some samples hit a support, none the garment
 };
