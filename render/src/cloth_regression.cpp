@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
@@ -77,15 +78,38 @@ struct Planes {
     const float *guide, *variance, *fitted_variance, *nx, *ny, *nz, *depth, *ax, *ay, *az;
     const std::int32_t* cloth;
     std::vector<float> red, green, blue;
+    // Each pixel's fitted coefficients (kStillRegressors x 3, regressor-major), or NaN where its
+    // fit failed or did not fit; null when the fits are not averaged (average_fits).
+    float* betas = nullptr;
 };
+
+constexpr int kBetaFloats = kStillRegressors * 3;
+
+// The exponent of tap j's weight in the fit about pixel i, apart from the spatial weight:
+// the depth's difference beyond the tolerance per pixel of distance, and the colour weight.
+inline float tap_exponent(const Planes& p, std::size_t i, std::size_t j, float inv_distance) {
+    const float inv_tolerance = 1.0f / (p.depth_tolerance * p.depth[i] + 1e-6f);
+    const float relative = kColourRelative * p.guide[i];
+    const float difference = p.guide[j] - p.guide[i];
+    const float scale_floor = relative * relative + 1e-8f;
+    const float colour =
+        difference * difference / (kColourSigma * kColourSigma * (p.variance[i] + p.variance[j]) + scale_floor);
+    return std::abs(p.depth[j] - p.depth[i]) * inv_tolerance * inv_distance + colour;
+}
+
+// Whether tap j may enter pixel i's fit: cloth of about the same albedo.
+inline bool alike(const Planes& p, std::size_t i, std::size_t j) {
+    return p.cloth[j] && std::abs(p.ax[j] - p.ax[i]) < kRegressionSameAlbedo &&
+           std::abs(p.ay[j] - p.ay[i]) < kRegressionSameAlbedo && std::abs(p.az[j] - p.az[i]) < kRegressionSameAlbedo;
+}
 
 // The regression's value from its weighted sums (xx: X^T W X's upper triangle, row by row;
 // xy: X^T W y; yy: the weighted sum of the light's squared luminance), written to `out` when
 // the fit is sound and fits: its residual within kMisfit times `noise`, the variance of the
 // light's luminance at the pixel.
 template <int kRegressors>
-void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegressors][3], float yy, float noise,
-           V3& out) {
+void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegressors][3], float yy, float noise, V3& out,
+           float* beta_out) {
     Eigen::Matrix<double, kRegressors, kRegressors> m;
     int k = 0;
     for (int a = 0; a < kRegressors; ++a)
@@ -103,7 +127,11 @@ void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegresso
     const Eigen::Matrix<double, kRegressors, 1> beta_luminance = beta * to_luminance;
     const double residual = std::max(0.0, double(yy) - beta_luminance.dot(rhs * to_luminance)) / double(xx[0]);
     if (!(residual <= kMisfit * double(noise))) return;
-    if (value.allFinite() && value.minCoeff() >= 0.0f) out = value;
+    if (!value.allFinite() || value.minCoeff() < 0.0f) return;
+    out = value;
+    if (beta_out)
+        for (int a = 0; a < kRegressors; ++a)
+            for (int c = 0; c < 3; ++c) beta_out[3 * a + c] = float(beta(a, c));
 }
 
 // Pixel i's fit at (x, y), a tap at a time.
@@ -113,10 +141,7 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
     float xx[products(kRegressors)] = {};
     float xy[kRegressors][3] = {};
     float yy = 0.0f;
-    const float inv_tolerance = 1.0f / (p.depth_tolerance * p.depth[i] + 1e-6f);
     const float inv_depth_unit = 1.0f / (kDepthRegressorUnit * p.depth[i] + 1e-6f);
-    const float relative = kColourRelative * p.guide[i];
-    const float scale_floor = relative * relative + 1e-8f;
     for (int dy = -kRadius; dy <= kRadius; ++dy) {
         const int qy = y + dy;
         if (qy < 0 || qy >= p.h) continue;
@@ -124,16 +149,9 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
             const int qx = x + dx;
             if (qx < 0 || qx >= p.w) continue;
             const std::size_t j = std::size_t(qy) * p.w + qx;
-            if (!p.cloth[j] || !(std::abs(p.ax[j] - p.ax[i]) < kRegressionSameAlbedo) ||
-                !(std::abs(p.ay[j] - p.ay[i]) < kRegressionSameAlbedo) ||
-                !(std::abs(p.az[j] - p.az[i]) < kRegressionSameAlbedo))
-                continue;
-            const float difference = p.guide[j] - p.guide[i];
-            const float colour =
-                difference * difference / (kColourSigma * kColourSigma * (p.variance[i] + p.variance[j]) + scale_floor);
-            const float exponent =
-                std::abs(p.depth[j] - p.depth[i]) * inv_tolerance * o.inv_distance[dy + kRadius][dx + kRadius] + colour;
-            const float weight = o.spatial[dy + kRadius][dx + kRadius] * fast_exp(-exponent);
+            if (!alike(p, i, j)) continue;
+            const float weight = o.spatial[dy + kRadius][dx + kRadius] *
+                                 fast_exp(-tap_exponent(p, i, j, o.inv_distance[dy + kRadius][dx + kRadius]));
             float r[kStillRegressors] = {1.0f,
                                          p.nx[j] - p.nx[i],
                                          p.ny[j] - p.ny[i],
@@ -152,7 +170,7 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
             yy += weight * lum * lum;
         }
     }
-    solve<kRegressors>(xx, xy, yy, p.fitted_variance[i], out);
+    solve<kRegressors>(xx, xy, yy, p.fitted_variance[i], out, p.betas ? p.betas + kBetaFloats * i : nullptr);
 }
 
 #if defined(__SSE2__)
@@ -235,7 +253,9 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
         for (int k = 0; k < products(kRegressors); ++k) sums_xx[k] = lanes_xx[k][lane];
         for (int a = 0; a < kRegressors; ++a)
             for (int c = 0; c < 3; ++c) sums_xy[a][c] = lanes_xy[a][c][lane];
-        solve<kRegressors>(sums_xx, sums_xy, lanes_yy[lane], p.fitted_variance[i + std::size_t(lane)], out[lane]);
+        const std::size_t pixel = i + std::size_t(lane);
+        solve<kRegressors>(sums_xx, sums_xy, lanes_yy[lane], p.fitted_variance[pixel], out[lane],
+                           p.betas ? p.betas + kBetaFloats * pixel : nullptr);
     }
 }
 #endif
@@ -262,6 +282,52 @@ void regress_rows(const Planes& p, const Offsets& offsets, std::vector<V3>& out)
         }
     });
 }
+// Each pixel whose own fit fits, the weighted mean of the fits about it and its neighbours,
+// each evaluated at the pixel with the weight that fit gave the pixel as a tap (Bitterli et
+// al. 2016's averaging of overlapping windows): one fit's noise is shared by the neighbours
+// whose windows overlap it, the mean of many is less noisy.  A neighbour whose fit failed adds
+// nothing.
+void average_fits(const Planes& p, const Offsets& o, std::vector<V3>& out) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, p.h), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y)
+            for (int x = 0; x < p.w; ++x) {
+                const std::size_t i = std::size_t(y) * p.w + x;
+                if (!p.cloth[i] || std::isnan(p.betas[kBetaFloats * i])) continue;
+                double sum[3] = {0.0, 0.0, 0.0}, weights = 0.0;
+                for (int dy = -kRadius; dy <= kRadius; ++dy) {
+                    const int qy = y + dy;
+                    if (qy < 0 || qy >= p.h) continue;
+                    for (int dx = -kRadius; dx <= kRadius; ++dx) {
+                        const int qx = x + dx;
+                        if (qx < 0 || qx >= p.w) continue;
+                        const std::size_t j = std::size_t(qy) * p.w + qx;
+                        const float* const beta = p.betas + kBetaFloats * j;
+                        if (std::isnan(beta[0]) || !alike(p, j, i)) continue;
+                        // Pixel i as a tap of j's fit: its weight there, its regressors about j.
+                        const float weight =
+                            o.spatial[dy + kRadius][dx + kRadius] *
+                            fast_exp(-tap_exponent(p, j, i, o.inv_distance[dy + kRadius][dx + kRadius]));
+                        const float inv_depth_unit = 1.0f / (kDepthRegressorUnit * p.depth[j] + 1e-6f);
+                        const float r[kStillRegressors] = {1.0f,
+                                                           p.nx[i] - p.nx[j],
+                                                           p.ny[i] - p.ny[j],
+                                                           p.nz[i] - p.nz[j],
+                                                           o.regressor[kRadius - dx],
+                                                           o.regressor[kRadius - dy],
+                                                           (p.depth[i] - p.depth[j]) * inv_depth_unit};
+                        for (int c = 0; c < 3; ++c) {
+                            float value = 0.0f;
+                            for (int a = 0; a < kStillRegressors; ++a) value += r[a] * beta[3 * a + c];
+                            sum[c] += double(weight) * value;
+                        }
+                        weights += weight;
+                    }
+                }
+                const V3 mean(float(sum[0] / weights), float(sum[1] / weights), float(sum[2] / weights));
+                if (mean.allFinite() && mean.minCoeff() >= 0.0f) out[i] = mean;
+            }
+    });
+}
 }  // namespace
 
 void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
@@ -276,9 +342,15 @@ void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
     for (std::size_t i = 0; i < light.size(); ++i)
         p.red[i] = light[i].x(), p.green[i] = light[i].y(), p.blue[i] = light[i].z();
     const Offsets offsets(in.spatial_sigma);
-    if (in.depth_regressor)
+    std::vector<float> betas;
+    if (in.depth_regressor && in.average_fits) {
+        betas.assign(light.size() * kBetaFloats, std::numeric_limits<float>::quiet_NaN());
+        p.betas = betas.data();
+    }
+    if (in.depth_regressor) {
         regress_rows<kStillRegressors>(p, offsets, out);
-    else
+        if (p.betas) average_fits(p, offsets, out);
+    } else
         regress_rows<kFrameRegressors>(p, offsets, out);
 }
 

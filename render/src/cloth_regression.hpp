@@ -24,6 +24,9 @@ struct ClothRegressionInput : RegressionInput {
     // The depth's change as a seventh regressor, and a looser depth weight (stills: 28
     // products a tap instead of 21, which turntable frames do not spend).
     bool depth_regressor = false;
+    // With the depth regressor: each pixel the mean of its own and its neighbours' fits
+    // evaluated at it, not its own fit alone (stills: a second sweep of the window).
+    bool average_fits = false;
     // The window's Gaussian weights, in pixels (3 for turntable frames; a still's from
     // still_spatial_sigma below).
     float spatial_sigma = 3.0f;

@@ -575,7 +575,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         if (budget == DenoiseBudget::frame) {
             filter.execute([&] { regress_cloth(in, a.light); });
         } else {
-            in.depth_regressor = true;
+            in.depth_regressor = true, in.average_fits = true;
             std::size_t cloth_pixels = 0;
             for (std::size_t i = 0; i < count; ++i) cloth_pixels += guide.cloth[i] != 0;
             in.spatial_sigma = still_spatial_sigma(cloth_pixels);
