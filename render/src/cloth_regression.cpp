@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
@@ -50,6 +51,11 @@ constexpr double kRidge = 1e-3;  // on the slopes, so that a flat patch still ha
 // charmeuse 0.0077 / 0.0079 / 0.0082 / 0.0093, the default scene 14.7 / 14.5 / 14.6 / 14.6
 // (docs/benchmarks.md, "Every look, measured").
 constexpr double kMisfit = 16.0;
+// The fits averaged at a pixel (average_fits): those about it and its neighbours within this
+// many pixels on either axis.  Default scene, 16 spp + denoise, seeds 1-3, squared error at
+// 320x180 / 640x360 with 1: 18.89 / 10.28, 2: 18.85 / 10.30, 4 (the whole window, three times
+// the cost): 18.85 / 10.35 (docs/benchmarks.md, "The cloth's fits averaged").
+constexpr int kAverageRadius = 2;
 
 // What a tap at offset (dx, dy) brings whatever the pixel: its spatial weight, 1 / its
 // distance, and its offset regressors.
@@ -78,23 +84,32 @@ struct Planes {
     const float *guide, *variance, *fitted_variance, *nx, *ny, *nz, *depth, *ax, *ay, *az;
     const std::int32_t* cloth;
     std::vector<float> red, green, blue;
-    // Each pixel's fitted coefficients (kStillRegressors x 3, regressor-major), or NaN where its
-    // fit failed or did not fit; null when the fits are not averaged (average_fits).
+    // Each cloth pixel's fitted coefficients (kStillRegressors x 3, regressor-major), the first
+    // NaN where its fit failed or did not fit; other pixels' are not written (nor their memory
+    // touched).  Null when the fits are not averaged (average_fits).
     float* betas = nullptr;
 };
 
 constexpr int kBetaFloats = kStillRegressors * 3;
 
-// The exponent of tap j's weight in the fit about pixel i, apart from the spatial weight:
-// the depth's difference beyond the tolerance per pixel of distance, and the colour weight.
-inline float tap_exponent(const Planes& p, std::size_t i, std::size_t j, float inv_distance) {
-    const float inv_tolerance = 1.0f / (p.depth_tolerance * p.depth[i] + 1e-6f);
+// What the weights and regressors of a fit about pixel i take from the pixel itself.
+struct Centre {
+    float inv_tolerance, scale_floor, inv_depth_unit;
+};
+inline Centre centre(const Planes& p, std::size_t i) {
     const float relative = kColourRelative * p.guide[i];
+    return {1.0f / (p.depth_tolerance * p.depth[i] + 1e-6f), relative * relative + 1e-8f,
+            1.0f / (kDepthRegressorUnit * p.depth[i] + 1e-6f)};
+}
+
+// The exponent of tap j's weight in the fit about pixel i (c: centre(p, i)), apart from the
+// spatial weight: the depth's difference beyond the tolerance per pixel of distance, and the
+// colour weight.
+inline float tap_exponent(const Planes& p, const Centre& c, std::size_t i, std::size_t j, float inv_distance) {
     const float difference = p.guide[j] - p.guide[i];
-    const float scale_floor = relative * relative + 1e-8f;
     const float colour =
-        difference * difference / (kColourSigma * kColourSigma * (p.variance[i] + p.variance[j]) + scale_floor);
-    return std::abs(p.depth[j] - p.depth[i]) * inv_tolerance * inv_distance + colour;
+        difference * difference / (kColourSigma * kColourSigma * (p.variance[i] + p.variance[j]) + c.scale_floor);
+    return std::abs(p.depth[j] - p.depth[i]) * c.inv_tolerance * inv_distance + colour;
 }
 
 // Whether tap j may enter pixel i's fit: cloth of about the same albedo.
@@ -110,6 +125,7 @@ inline bool alike(const Planes& p, std::size_t i, std::size_t j) {
 template <int kRegressors>
 void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegressors][3], float yy, float noise, V3& out,
            float* beta_out) {
+    if (beta_out) beta_out[0] = std::numeric_limits<float>::quiet_NaN();
     Eigen::Matrix<double, kRegressors, kRegressors> m;
     int k = 0;
     for (int a = 0; a < kRegressors; ++a)
@@ -141,7 +157,7 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
     float xx[products(kRegressors)] = {};
     float xy[kRegressors][3] = {};
     float yy = 0.0f;
-    const float inv_depth_unit = 1.0f / (kDepthRegressorUnit * p.depth[i] + 1e-6f);
+    const Centre at = centre(p, i);
     for (int dy = -kRadius; dy <= kRadius; ++dy) {
         const int qy = y + dy;
         if (qy < 0 || qy >= p.h) continue;
@@ -151,14 +167,14 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
             const std::size_t j = std::size_t(qy) * p.w + qx;
             if (!alike(p, i, j)) continue;
             const float weight = o.spatial[dy + kRadius][dx + kRadius] *
-                                 fast_exp(-tap_exponent(p, i, j, o.inv_distance[dy + kRadius][dx + kRadius]));
+                                 fast_exp(-tap_exponent(p, at, i, j, o.inv_distance[dy + kRadius][dx + kRadius]));
             float r[kStillRegressors] = {1.0f,
                                          p.nx[j] - p.nx[i],
                                          p.ny[j] - p.ny[i],
                                          p.nz[j] - p.nz[i],
                                          o.regressor[dx + kRadius],
                                          o.regressor[dy + kRadius],
-                                         (p.depth[j] - p.depth[i]) * inv_depth_unit};
+                                         (p.depth[j] - p.depth[i]) * at.inv_depth_unit};
             const float l[3] = {p.red[j], p.green[j], p.blue[j]};
             int k = 0;
             for (int a = 0; a < kRegressors; ++a) {
@@ -288,33 +304,38 @@ void regress_rows(const Planes& p, const Offsets& offsets, std::vector<V3>& out)
 // whose windows overlap it, the mean of many is less noisy.  A neighbour whose fit failed adds
 // nothing.
 void average_fits(const Planes& p, const Offsets& o, std::vector<V3>& out) {
+    const auto centres = std::make_unique_for_overwrite<Centre[]>(out.size());  // cloth pixels' only
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t j = r.begin(); j < r.end(); ++j)
+            if (p.cloth[j]) centres[j] = centre(p, j);
+    });
     tbb::parallel_for(tbb::blocked_range<int>(0, p.h), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y < rows.end(); ++y)
             for (int x = 0; x < p.w; ++x) {
                 const std::size_t i = std::size_t(y) * p.w + x;
                 if (!p.cloth[i] || std::isnan(p.betas[kBetaFloats * i])) continue;
                 double sum[3] = {0.0, 0.0, 0.0}, weights = 0.0;
-                for (int dy = -kRadius; dy <= kRadius; ++dy) {
+                for (int dy = -kAverageRadius; dy <= kAverageRadius; ++dy) {
                     const int qy = y + dy;
                     if (qy < 0 || qy >= p.h) continue;
-                    for (int dx = -kRadius; dx <= kRadius; ++dx) {
+                    for (int dx = -kAverageRadius; dx <= kAverageRadius; ++dx) {
                         const int qx = x + dx;
                         if (qx < 0 || qx >= p.w) continue;
                         const std::size_t j = std::size_t(qy) * p.w + qx;
                         const float* const beta = p.betas + kBetaFloats * j;
-                        if (std::isnan(beta[0]) || !alike(p, j, i)) continue;
+                        if (!p.cloth[j] || !alike(p, j, i) || std::isnan(beta[0])) continue;
                         // Pixel i as a tap of j's fit: its weight there, its regressors about j.
+                        const Centre& at = centres[j];
                         const float weight =
                             o.spatial[dy + kRadius][dx + kRadius] *
-                            fast_exp(-tap_exponent(p, j, i, o.inv_distance[dy + kRadius][dx + kRadius]));
-                        const float inv_depth_unit = 1.0f / (kDepthRegressorUnit * p.depth[j] + 1e-6f);
+                            fast_exp(-tap_exponent(p, at, j, i, o.inv_distance[dy + kRadius][dx + kRadius]));
                         const float r[kStillRegressors] = {1.0f,
                                                            p.nx[i] - p.nx[j],
                                                            p.ny[i] - p.ny[j],
                                                            p.nz[i] - p.nz[j],
                                                            o.regressor[kRadius - dx],
                                                            o.regressor[kRadius - dy],
-                                                           (p.depth[i] - p.depth[j]) * inv_depth_unit};
+                                                           (p.depth[i] - p.depth[j]) * at.inv_depth_unit};
                         for (int c = 0; c < 3; ++c) {
                             float value = 0.0f;
                             for (int a = 0; a < kStillRegressors; ++a) value += r[a] * beta[3 * a + c];
@@ -342,10 +363,10 @@ void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
     for (std::size_t i = 0; i < light.size(); ++i)
         p.red[i] = light[i].x(), p.green[i] = light[i].y(), p.blue[i] = light[i].z();
     const Offsets offsets(in.spatial_sigma);
-    std::vector<float> betas;
+    std::unique_ptr<float[]> betas;
     if (in.depth_regressor && in.average_fits) {
-        betas.assign(light.size() * kBetaFloats, std::numeric_limits<float>::quiet_NaN());
-        p.betas = betas.data();
+        betas = std::make_unique_for_overwrite<float[]>(light.size() * kBetaFloats);
+        p.betas = betas.get();
     }
     if (in.depth_regressor) {
         regress_rows<kStillRegressors>(p, offsets, out);
