@@ -42,7 +42,8 @@ inline float still_spatial_sigma(std::size_t cloth_pixels) {
     return std::clamp(std::sqrt(float(cloth_pixels)) / 44.0f, 1.5f, 3.0f);
 }
 
-// For every cloth pixel, the regression's value at the pixel written to `out` (demodulated);
+// For every cloth pixel, the regression's value at the pixel (with average_fits, the mean of
+// its and its neighbours' fits there) written to `out` (demodulated);
 // other pixels, and pixels whose fit fails or does not fit (its residual far beyond the
 // light's noise: a highlight that is not linear in the normal), keep what `out` holds.  Each pixel depends only on
 // the inputs: the same floats for any thread count.
