@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -126,7 +127,8 @@ TEST(SupportRegression, KeepsAHighlightsEdge) {
 // Where the light rises tenfold within a few pixels along the rod (a highlight's edge that
 // the long quadratic cannot follow), the pixel gives way to a short line over its nearest
 // taps along the rod rather than to what the passes kept (here the noisy light itself): the
-// noise there drops by a quarter or more.
+// error there drops by a fifth or more (a line of sigma 0.7 px took off a quarter; sigma 1.4
+// bends less at this sigmoid's shoulders, and the next test shows what it gains on a rise).
 TEST(SupportRegression, GivesWayToAShortLineAtAHighlightsEdge) {
     Scene s;
     RandomStream rng(21, 23, 29);
@@ -145,7 +147,24 @@ TEST(SupportRegression, GivesWayToAShortLineAtAHighlightsEdge) {
     const std::vector<V3> out = regressed(s, s.noisy);
     const auto edge = [](int x, int y) { return y >= 19 && y <= 21 && std::abs(x - kW / 2) <= 4; };
     const double before = rmse(s.noisy, s.clean, edge), after = rmse(out, s.clean, edge);
-    EXPECT_LT(after, 0.75 * before) << "before " << before << ", after " << after;
+    EXPECT_LT(after, 0.8 * before) << "before " << before << ", after " << after;
+}
+
+// Inside a highlight's steep rise (the light climbing tenfold, straight, over 8 pixels) the
+// short line follows the rise and averages about four taps: the noise there drops by half or
+// more (a line of sigma 0.7 px averaged three and left 0.55 of it).
+TEST(SupportRegression, AveragesFourTapsInsideAHighlightsRise) {
+    Scene s;
+    RandomStream rng(31, 37, 41);
+    const auto light = [](int x) { return 0.15f + 1.35f * std::clamp(float(x - kW / 2 + 4) / 8.0f, 0.0f, 1.0f); };
+    for (int x = 0; x < kW; ++x)
+        for (int across = -1; across <= 1; ++across) s.paint(x, 20 + across, across, true, light(x), 0.05f, rng);
+    for (int x = 0; x < kW; ++x)
+        for (int y = 19; y <= 21; ++y) s.guide[Scene::at(x, y)] = 0.8f, s.fitted_variance[Scene::at(x, y)] = 1e-6f;
+    const std::vector<V3> out = regressed(s, s.noisy);
+    const auto rise = [](int x, int y) { return y >= 19 && y <= 21 && std::abs(x - kW / 2) <= 2; };
+    const double before = rmse(s.noisy, s.clean, rise), after = rmse(out, s.clean, rise);
+    EXPECT_LT(after, 0.5 * before) << "before " << before << ", after " << after;
 }
 
 TEST(SupportRegression, SameFloatsForAnyThreadCount) {
