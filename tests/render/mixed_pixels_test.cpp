@@ -153,13 +153,30 @@ TEST(MixedPixels, ALayersLightFollowsItsSlopeTowardsTheEdge) {
     EXPECT_LT(std::abs(bias), 0.005) << "the silhouette column's mean error";
 }
 
-TEST(MixedPixels, OnlyTheMixedPixelsOfAStillChange) {
+TEST(MixedPixels, TheGarmentsPixelsBesideTheEdgeAreRefitted) {
+    // The passes take the brighter light from farther inside into the cloth's column beside
+    // the silhouette; refitted with the edge's layers, it keeps less of that.
+    const Scene s = make_scene(0.05f);
+    const Image with = denoised(s, s.features, 2, DenoiseBudget::still);
+    const Image without = denoised(s, without_layers(s.features), 2, DenoiseBudget::still);
+    double with_error = 0.0, without_error = 0.0;
+    for (int y = 0; y < kH; ++y)
+        for (int k = 0; k < 3; ++k) {
+            with_error += std::pow(double(with.at(kEdge - 1, y)[k]) - s.clean.at(kEdge - 1, y)[k], 2.0);
+            without_error += std::pow(double(without.at(kEdge - 1, y)[k]) - s.clean.at(kEdge - 1, y)[k], 2.0);
+        }
+    // Measured: RMS 0.026 against 0.032.
+    EXPECT_LT(with_error, 0.8 * without_error) << "squared errors";
+}
+
+// Not the backdrop's pixels beside the silhouette: they are left as the passes made them.
+TEST(MixedPixels, OnlyTheMixedPixelsOfAStillAndTheGarmentBesideThemChange) {
     const Scene s = make_scene();
     const Image with = denoised(s, s.features, 2, DenoiseBudget::still);
     const Image without = denoised(s, without_layers(s.features), 2, DenoiseBudget::still);
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x)
-            if (x != kEdge) {
+            if (x != kEdge && x != kEdge - 1) {
                 EXPECT_EQ(0, std::memcmp(with.at(x, y), without.at(x, y), 4 * sizeof(float))) << x << "," << y;
             }
     // A turntable's frame (DenoiseBudget::frame) does not take the stage.
