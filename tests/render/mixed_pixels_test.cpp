@@ -31,8 +31,9 @@ struct Scene {
 
 // Cloth on the left, facing the camera, in front of a backdrop on the right that faces a
 // little upwards; the column between them is partly each, with the noise of its two
-// layers' fewer samples.
-Scene make_scene() {
+// layers' fewer samples.  `cloth_slope`: how much the cloth's light grows per pixel away from
+// the silhouette (as a fold's back sheet comes out of the front sheet's shadow).
+Scene make_scene(float cloth_slope = 0.0f) {
     Scene s;
     s.noisy = s.clean = Image{kW, kH, 4, std::vector<float>(kW * kH * 4, 1.0f)};
     const std::size_t n = static_cast<std::size_t>(kW) * kH;
@@ -54,7 +55,8 @@ Scene make_scene() {
         for (int x = 0; x < kW; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * kW + x;
             const float share = x < kEdge ? 0.0f : x > kEdge ? 1.0f : kEdgeShares[y % 4];
-            const V3 cloth = kClothAlbedo * kClothLight, backdrop = kBackdropAlbedo * kBackdropLight;
+            const float cloth_light = kClothLight + cloth_slope * static_cast<float>(std::max(0, kEdge - x));
+            const V3 cloth = kClothAlbedo * cloth_light, backdrop = kBackdropAlbedo * kBackdropLight;
             const V3 clean = (1.0f - share) * cloth + share * backdrop;
             f.albedo[i] = (1.0f - share) * kClothAlbedo + share * kBackdropAlbedo;
             f.normal[i] = ((1.0f - share) * cloth_normal + share * backdrop_normal).normalized();
@@ -63,7 +65,7 @@ Scene make_scene() {
             f.variance[i] = kSigma * kSigma;
             V3 noisy;
             if (share == 0.0f || share == 1.0f) {
-                noisy = clean * (1.0f + kSigma * gauss() / (share == 0.0f ? kClothLight : kBackdropLight));
+                noisy = clean * (1.0f + kSigma * gauss() / (share == 0.0f ? cloth_light : kBackdropLight));
             } else {
                 // Layer 0 the cloth (the first sample's), layer 1 the backdrop, each as noisy
                 // as its share of the samples makes it.
@@ -93,6 +95,15 @@ double edge_rmse(const Image& a, const Image& clean) {
     for (int y = 0; y < kH; ++y)
         for (int k = 0; k < 3; ++k) sum += std::pow(double(a.at(kEdge, y)[k]) - clean.at(kEdge, y)[k], 2.0);
     return std::sqrt(sum / (3 * kH));
+}
+
+// The silhouette column's mean error against the clean image: its bias, which the noise of
+// its rows averages out of.
+double edge_bias(const Image& a, const Image& clean) {
+    double sum = 0.0;
+    for (int y = 0; y < kH; ++y)
+        for (int k = 0; k < 3; ++k) sum += double(a.at(kEdge, y)[k]) - clean.at(kEdge, y)[k];
+    return sum / (3 * kH);
 }
 
 PixelFeatures without_layers(PixelFeatures f) {
@@ -132,13 +143,40 @@ TEST(MixedPixels, AStillsSilhouetteIsRebuiltFromItsTwoLayers) {
     EXPECT_LT(after, 0.8 * before) << "without layers " << before << ", with them " << after;
 }
 
-TEST(MixedPixels, OnlyTheMixedPixelsOfAStillChange) {
+TEST(MixedPixels, ALayersLightFollowsItsSlopeTowardsTheEdge) {
+    // The cloth's light falls towards the silhouette, so the mean of its pixels' light is
+    // brighter than the edge's, while its first-order fit over their offsets is not.
+    const Scene s = make_scene(0.05f);
+    const double bias = edge_bias(denoised(s, s.features, 2, DenoiseBudget::still), s.clean);
+    // Measured: 0.0032 (the column's noise, 0.034 RMS, averaged over its rows); the mean of
+    // the 5 x 5 window's candidates that the fit replaced, 0.0101.
+    EXPECT_LT(std::abs(bias), 0.005) << "the silhouette column's mean error";
+}
+
+TEST(MixedPixels, TheGarmentsPixelsBesideTheEdgeAreRefitted) {
+    // The passes take the brighter light from farther inside into the cloth's column beside
+    // the silhouette; refitted with the edge's layers, it keeps less of that.
+    const Scene s = make_scene(0.05f);
+    const Image with = denoised(s, s.features, 2, DenoiseBudget::still);
+    const Image without = denoised(s, without_layers(s.features), 2, DenoiseBudget::still);
+    double with_error = 0.0, without_error = 0.0;
+    for (int y = 0; y < kH; ++y)
+        for (int k = 0; k < 3; ++k) {
+            with_error += std::pow(double(with.at(kEdge - 1, y)[k]) - s.clean.at(kEdge - 1, y)[k], 2.0);
+            without_error += std::pow(double(without.at(kEdge - 1, y)[k]) - s.clean.at(kEdge - 1, y)[k], 2.0);
+        }
+    // Measured: RMS 0.026 against 0.032.
+    EXPECT_LT(with_error, 0.8 * without_error) << "squared errors";
+}
+
+// Not the backdrop's pixels beside the silhouette: they are left as the passes made them.
+TEST(MixedPixels, OnlyTheMixedPixelsOfAStillAndTheGarmentBesideThemChange) {
     const Scene s = make_scene();
     const Image with = denoised(s, s.features, 2, DenoiseBudget::still);
     const Image without = denoised(s, without_layers(s.features), 2, DenoiseBudget::still);
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x)
-            if (x != kEdge) {
+            if (x != kEdge && x != kEdge - 1) {
                 EXPECT_EQ(0, std::memcmp(with.at(x, y), without.at(x, y), 4 * sizeof(float))) << x << "," << y;
             }
     // A turntable's frame (DenoiseBudget::frame) does not take the stage.
