@@ -21,8 +21,9 @@ namespace foldcast::render {
 // One image's inputs to the regression, one entry per pixel.
 struct ClothRegressionInput : RegressionInput {
     const std::vector<std::int32_t>* cloth = nullptr;  // 1: most of the pixel's samples hit the garment
-    // The depth's change as a seventh regressor, and a looser depth weight (stills: 28
-    // products a tap instead of 21, which turntable frames do not spend).
+    // The depth's change and the offset's squares and product as further regressors, and a
+    // looser depth weight (stills: 55 products a tap instead of 21, which turntable frames do
+    // not spend).
     bool depth_regressor = false;
     // With the depth regressor: each pixel the mean of its own and its neighbours' fits
     // evaluated at it, not its own fit alone (stills: a second sweep of the window).

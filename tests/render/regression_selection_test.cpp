@@ -19,9 +19,9 @@ constexpr std::size_t kCount = std::size_t(kW) * kH;
 constexpr float kHalfNoise = 0.1f;  // each half's standard deviation
 constexpr float kStillSigma = 1.5f;  // the still's window (a small garment's)
 
-// Flat cloth facing the camera, its left half shaded in stripes a few pixels wide (which the
-// wide window smooths away) and its right half evenly lit (where the wide window averages
-// more of the noise), traced as two halves of independent noise.  The passes' result is
+// Flat cloth facing the camera, its left half shaded in stripes 7.5 pixels a period (which the
+// wide window smooths away; a still's fit, quadratic in the offset, follows 9.4 with it) and its right half evenly lit
+// (where the wide window averages more of the noise), traced as two halves of independent noise.  The passes' result is
 // stood in for by each buffer's 3 x 3 mean.
 struct Scene {
     std::vector<V3> clean, noisy_a, noisy_b, noisy, filtered_a, filtered_b, filtered, weight;
@@ -45,7 +45,7 @@ struct Scene {
         for (int y = 0; y < kH; ++y)
             for (int x = 0; x < kW; ++x) {
                 const std::size_t i = std::size_t(y) * kW + x;
-                const float l = x < kW / 2 ? 0.5f + 0.2f * std::sin(float(x) / 1.5f) : 0.5f;
+                const float l = x < kW / 2 ? 0.5f + 0.2f * std::sin(float(x) / 1.2f) : 0.5f;
                 clean[i] = V3::Constant(l);
                 noisy_a[i] = V3::Constant(l + kHalfNoise * gaussian());
                 noisy_b[i] = V3::Constant(l + kHalfNoise * gaussian());
