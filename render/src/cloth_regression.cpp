@@ -125,6 +125,21 @@ inline bool alike(const Planes& p, std::size_t i, std::size_t j) {
            std::abs(p.ay[j] - p.ay[i]) < kRegressionSameAlbedo && std::abs(p.az[j] - p.az[i]) < kRegressionSameAlbedo;
 }
 
+// Tap j of the fit about pixel i (c: centre(p, i)), at (dx, dy) from i: its weight (the
+// spatial one times the depth and colour weights) and its regressors.  The fit and the
+// averaging of fits (average_fits) both take their taps from here.
+struct Tap {
+    float weight;
+    float r[kStillRegressors];
+};
+inline Tap tap(const Planes& p, const Offsets& o, const Centre& c, std::size_t i, std::size_t j, int dx, int dy) {
+    const int ox = dx + kRadius, oy = dy + kRadius;
+    return {
+        o.spatial[oy][ox] * fast_exp(-tap_exponent(p, c, i, j, o.inv_distance[oy][ox])),
+        {1.0f, p.nx[j] - p.nx[i], p.ny[j] - p.ny[i], p.nz[j] - p.nz[i], o.regressor[ox], o.regressor[oy],
+         (p.depth[j] - p.depth[i]) * c.inv_depth_unit, o.square[ox], o.square[oy], o.regressor[ox] * o.regressor[oy]}};
+}
+
 // The regression's value from its weighted sums (xx: X^T W X's upper triangle, row by row;
 // xy: X^T W y; yy: the weighted sum of the light's squared luminance), written to `out` when
 // the fit is sound and fits: its residual within kMisfit times `noise`, the variance of the
@@ -173,27 +188,16 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
             if (qx < 0 || qx >= p.w) continue;
             const std::size_t j = std::size_t(qy) * p.w + qx;
             if (!alike(p, i, j)) continue;
-            const float weight = o.spatial[dy + kRadius][dx + kRadius] *
-                                 fast_exp(-tap_exponent(p, at, i, j, o.inv_distance[dy + kRadius][dx + kRadius]));
-            float r[kStillRegressors] = {1.0f,
-                                         p.nx[j] - p.nx[i],
-                                         p.ny[j] - p.ny[i],
-                                         p.nz[j] - p.nz[i],
-                                         o.regressor[dx + kRadius],
-                                         o.regressor[dy + kRadius],
-                                         (p.depth[j] - p.depth[i]) * at.inv_depth_unit,
-                                         o.square[dx + kRadius],
-                                         o.square[dy + kRadius],
-                                         o.regressor[dx + kRadius] * o.regressor[dy + kRadius]};
+            const Tap t = tap(p, o, at, i, j, dx, dy);
             const float l[3] = {p.red[j], p.green[j], p.blue[j]};
             int k = 0;
             for (int a = 0; a < kRegressors; ++a) {
-                const float wa = weight * r[a];
-                for (int b = a; b < kRegressors; ++b) xx[k++] += wa * r[b];
+                const float wa = t.weight * t.r[a];
+                for (int b = a; b < kRegressors; ++b) xx[k++] += wa * t.r[b];
                 for (int c = 0; c < 3; ++c) xy[a][c] += wa * l[c];
             }
             const float lum = luminance(V3(l[0], l[1], l[2]));
-            yy += weight * lum * lum;
+            yy += t.weight * lum * lum;
         }
     }
     solve<kRegressors>(xx, xy, yy, p.fitted_variance[i], out, p.betas ? p.betas + kBetaFloats * i : nullptr);
@@ -337,28 +341,14 @@ void average_fits(const Planes& p, const Offsets& o, std::vector<V3>& out) {
                         const std::size_t j = std::size_t(qy) * p.w + qx;
                         const float* const beta = p.betas + kBetaFloats * j;
                         if (!p.cloth[j] || !alike(p, j, i) || std::isnan(beta[0])) continue;
-                        // Pixel i as a tap of j's fit: its weight there, its regressors about j (at (-dx,
-                        // -dy) from j: the same squares and product).
-                        const Centre& at = centres[j];
-                        const float weight =
-                            o.spatial[dy + kRadius][dx + kRadius] *
-                            fast_exp(-tap_exponent(p, at, j, i, o.inv_distance[dy + kRadius][dx + kRadius]));
-                        const float r[kStillRegressors] = {1.0f,
-                                                           p.nx[i] - p.nx[j],
-                                                           p.ny[i] - p.ny[j],
-                                                           p.nz[i] - p.nz[j],
-                                                           o.regressor[kRadius - dx],
-                                                           o.regressor[kRadius - dy],
-                                                           (p.depth[i] - p.depth[j]) * at.inv_depth_unit,
-                                                           o.square[dx + kRadius],
-                                                           o.square[dy + kRadius],
-                                                           o.regressor[dx + kRadius] * o.regressor[dy + kRadius]};
+                        // Pixel i as a tap of j's fit, at (-dx, -dy) from j.
+                        const Tap t = tap(p, o, centres[j], j, i, -dx, -dy);
                         for (int c = 0; c < 3; ++c) {
                             float value = 0.0f;
-                            for (int a = 0; a < kStillRegressors; ++a) value += r[a] * beta[3 * a + c];
-                            sum[c] += double(weight) * value;
+                            for (int k = 0; k < kStillRegressors; ++k) value += t.r[k] * beta[3 * k + c];
+                            sum[c] += double(t.weight) * value;
                         }
-                        weights += weight;
+                        weights += t.weight;
                     }
                 }
                 const V3 mean(float(sum[0] / weights), float(sum[1] / weights), float(sum[2] / weights));
