@@ -13,4 +13,16 @@ std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const Hit& 
     return DirectLight{f_cos, ls.radiance, power_heuristic(ls.pdf, pdf_bsdf) / ls.pdf};
 }
 
+V3 bsdf_light_hit(const EmbreeScene& scene, const LightSampler& lights, const Hit& hit, const LightChoice& choice,
+                  const LightSample* drawn, const Vec3f& wi, const V3& f_cos, float pdf, std::uint64_t& rays) {
+    if (!(pdf > 0.0f) || !(f_cos.maxCoeff() > 0.0f) || wi.dot(hit.ng) <= 0.0f) return V3::Zero();
+    const Vec3f origin = offset_origin(hit.p, hit.ng, wi);
+    RTCRayHit rh;
+    const float t_surface = scene.intersect(origin, wi, rh, rays) ? rh.ray.tfar : kInf;
+    const LightHit lh = lights.hit(origin, wi, t_surface);
+    if (lh.index < 0) return V3::Zero();
+    const float pdf_light = lights.pdf(choice, lh.index, hit.p, origin + lh.t * wi, drawn);
+    return (f_cos / pdf).cwiseProduct(lights.radiance(lh.index)) * power_heuristic(pdf, pdf_light);
+}
+
 }  // namespace foldcast::render

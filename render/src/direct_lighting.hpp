@@ -27,4 +27,12 @@ struct DirectLight {
 std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const Hit& hit, const LightSample& ls,
                                            const V3& f_cos, float pdf_bsdf, std::uint64_t& rays);
 
+// The other half of the vertex's MIS pair for one more BSDF direction wi (world, f_cos and
+// pdf its BSDF value and sampling pdf): the radiance of the area light the ray reaches
+// first, times f_cos / pdf and the power-heuristic weight against the vertex's light choice
+// (`drawn`: its light sample, if any), as the path's own BSDF sample gets it at the next
+// vertex.  Zero when the ray meets the scene or the sky first (the sky is left to the path).
+V3 bsdf_light_hit(const EmbreeScene& scene, const LightSampler& lights, const Hit& hit, const LightChoice& choice,
+                  const LightSample* drawn, const Vec3f& wi, const V3& f_cos, float pdf, std::uint64_t& rays);
+
 }  // namespace foldcast::render

@@ -119,6 +119,18 @@ public:
     // the ones after keep their numbers.
     void skip2d() { ++dimension_; }
 
+    // Sample k of n that this sample splits into, on dimensions of their own: the n samples of
+    // every sample of the pixel are one padded Sobol' sequence of n times as many points, so
+    // the pixel's 16 n points are stratified together (a (0,2)-net in each pair when n and the
+    // sample count are powers of two).
+    PixelSampler split(std::uint32_t k, std::uint32_t n) const {
+        PixelSampler s(*this);
+        s.key_ = mix64(key_ ^ 0x5851f42d4c957f2dULL);
+        s.reversed_sample_ = reverse_bits(reverse_bits(reversed_sample_) * n + k);
+        s.dimension_ = 0;
+        return s;
+    }
+
 private:
     std::uint64_t next_hash() { return mix64(key_ + 0x9e3779b97f4a7c15ULL * ++dimension_); }
     // owen_scramble(sample, seed).

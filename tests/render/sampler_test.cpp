@@ -47,6 +47,27 @@ TEST(PixelSampler, FirstPowerOfTwoSamplesAreStratifiedInEveryPair) {
         }
 }
 
+TEST(PixelSampler, SplitSamplesAreStratifiedTogether) {
+    // The path integrator splits a sample into n at the rod's first hit: the pixel's 16 x 4
+    // split samples are one net of 64 in every pair, and a split's values are its own.
+    for (const std::uint64_t pixel : {0ull, 777ull, 123456ull}) {
+        std::vector<Eigen::Vector2f> first, second;
+        for (std::uint32_t s = 0; s < 16; ++s) {
+            const PixelSampler sampler(3, pixel, s);
+            for (std::uint32_t k = 0; k < 4; ++k) {
+                PixelSampler split = sampler.split(k, 4);
+                first.push_back(split.get2d());
+                (void)split.get1d();
+                second.push_back(split.get2d());
+            }
+        }
+        EXPECT_TRUE(is_net(first, 6)) << "pixel " << pixel;
+        EXPECT_TRUE(is_net(second, 6)) << "pixel " << pixel;
+        PixelSampler plain(3, pixel, 0), split = PixelSampler(3, pixel, 0).split(0, 1);
+        EXPECT_NE(plain.get2d(), split.get2d());
+    }
+}
+
 TEST(PixelSampler, HashedPointsWouldNotPass) {
     // The check above can fail: 64 independent uniform points are almost never a (0,6,2)-net.
     std::vector<Eigen::Vector2f> pts;
