@@ -29,7 +29,7 @@ constexpr float kMinAlpha = -0.5f, kMaxAlpha = 1.0f;
 // halves as the settings are, over the same window: the averaging lowers the noise of the
 // flat cloth and biases a glossy sheen lobe, which a neighbour's fit extrapolated to the pixel
 // misses.  The share of the own fit may go up to a step beyond it, away from the averaged:
-// sharper than either.  Looks bench, seeds 1-3 (before the averaging backed off by
+// sharper than either.  The default scene in each look, seeds 1-3 (before the averaging backed off by
 // agreement), upper bound 1 / 1.5 / 2 / 3: silk charmeuse 53.53 / 52.94 / 52.77 / 52.69, the
 // default scene 18.13 / 18.12 / 18.12 / 18.12; the window at 1 / 3 pixels with the bound 2:
 // silk 52.10 / 53.17, the default scene 18.20 / 18.10 (docs/benchmarks.md, "Glossy looks: the
