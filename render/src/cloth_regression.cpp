@@ -62,6 +62,15 @@ constexpr double kMisfit = 16.0;
 // 320x180 / 640x360 with 1: 18.89 / 10.28, 2: 18.85 / 10.30, 4 (the whole window, three times
 // the cost): 18.85 / 10.35 (docs/benchmarks.md, "The cloth's fits averaged").
 constexpr int kAverageRadius = 2;
+// A neighbour's fit whose luminance at the pixel differs from the pixel's own fit's by d
+// weighs exp(-d^2 / (this x the fitted light's noise variance)) of its tap weight: on glossy
+// cloth a sheen lobe turns faster than a fit linear (or quadratic) in the normal follows, a
+// neighbour's fit extrapolated to the pixel is biased there, and the mean backs off to the
+// pixel's own.  The default scene in each look, seeds 1-3, silk charmeuse with the own fits' blend
+// (regression_selection.cpp): 52.77 without, 52.38 / 52.19 at 3 / 1; the default scene 18.12
+// / 18.13 / 18.13; alone (without that blend) 0.1 / 0.3 / 1: silk 52.99 / 53.40 / 54.27, the
+// default scene 18.17 / 18.13 / 18.11 (docs/benchmarks.md, "Glossy looks: the averaging backs off").
+constexpr float kAgreement = 1.0f;
 
 // What a tap at offset (dx, dy) brings whatever the pixel: its spatial weight, 1 / its
 // distance, and its offset regressors (and their squares).
@@ -319,7 +328,8 @@ void regress_rows(const Planes& p, const Offsets& offsets, std::vector<V3>& out)
 // each evaluated at the pixel with the weight that fit gave the pixel as a tap (Bitterli et
 // al. 2016's averaging of overlapping windows): one fit's noise is shared by the neighbours
 // whose windows overlap it, the mean of many is less noisy.  A neighbour whose fit failed adds
-// nothing.
+// nothing, one whose value at the pixel disagrees with the pixel's own fit little
+// (kAgreement).
 void average_fits(const Planes& p, const Offsets& o, std::vector<V3>& out) {
     const auto centres = std::make_unique_for_overwrite<Centre[]>(out.size());  // cloth pixels' only
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.size()), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -332,6 +342,8 @@ void average_fits(const Planes& p, const Offsets& o, std::vector<V3>& out) {
                 const std::size_t i = std::size_t(y) * p.w + x;
                 if (!p.cloth[i] || std::isnan(p.betas[kBetaFloats * i])) continue;
                 double sum[3] = {0.0, 0.0, 0.0}, weights = 0.0;
+                const float* const own = p.betas + kBetaFloats * i;
+                const float own_luminance = luminance(V3(own[0], own[1], own[2]));
                 for (int dy = -kAverageRadius; dy <= kAverageRadius; ++dy) {
                     const int qy = y + dy;
                     if (qy < 0 || qy >= p.h) continue;
@@ -343,12 +355,16 @@ void average_fits(const Planes& p, const Offsets& o, std::vector<V3>& out) {
                         if (!p.cloth[j] || !alike(p, j, i) || std::isnan(beta[0])) continue;
                         // Pixel i as a tap of j's fit, at (-dx, -dy) from j.
                         const Tap t = tap(p, o, centres[j], j, i, -dx, -dy);
+                        float values[3];
                         for (int c = 0; c < 3; ++c) {
                             float value = 0.0f;
                             for (int k = 0; k < kStillRegressors; ++k) value += t.r[k] * beta[3 * k + c];
-                            sum[c] += double(t.weight) * value;
+                            values[c] = value;
                         }
-                        weights += t.weight;
+                        const float d = luminance(V3(values[0], values[1], values[2])) - own_luminance;
+                        const float weight = t.weight * std::exp(-d * d / (kAgreement * p.fitted_variance[i] + 1e-12f));
+                        for (int c = 0; c < 3; ++c) sum[c] += double(weight) * values[c];
+                        weights += weight;
                     }
                 }
                 const V3 mean(float(sum[0] / weights), float(sum[1] / weights), float(sum[2] / weights));
@@ -377,6 +393,9 @@ void regress_cloth(const ClothRegressionInput& in, std::vector<V3>& out) {
     }
     if (in.depth_regressor) {
         regress_rows<kStillRegressors>(p, offsets, out);
+        if (in.own_fits)
+            for (std::size_t i = 0; i < out.size(); ++i)
+                if (p.cloth[i]) (*in.own_fits)[i] = out[i];
         if (p.betas) average_fits(p, offsets, out);
     } else
         regress_rows<kFrameRegressors>(p, offsets, out);

@@ -28,6 +28,10 @@ struct ClothRegressionInput : RegressionInput {
     // With the depth regressor: each pixel the mean of its own and its neighbours' fits
     // evaluated at it, not its own fit alone (stills: a second sweep of the window).
     bool average_fits = false;
+    // With the depth regressor: where to write each cloth pixel's own fit as well (with
+    // average_fits the halves' blend chooses between the two, regression_selection.hpp); null
+    // for none.  Pixels whose own fit fails or does not fit keep what it holds.
+    std::vector<V3>* own_fits = nullptr;
     // The window's Gaussian weights, in pixels (3 for turntable frames; a still's from
     // still_spatial_sigma below).
     float spatial_sigma = 3.0f;

@@ -25,6 +25,16 @@ constexpr float kWindowImagePixels = 320.0f * 180.0f;
 // than either (320x180, seeds 1-3: [0, 1] 23.38, [-0.5, 1] 23.30, [-1, 1] 23.32, [-0.5, 1.5]
 // 23.41 before the backdrop's blend).
 constexpr float kMinAlpha = -0.5f, kMaxAlpha = 1.0f;
+// The cloth's averaged fits (cloth_regression.hpp) blended with each pixel's own fit by the
+// halves as the settings are, over the same window: the averaging lowers the noise of the
+// flat cloth and biases a glossy sheen lobe, which a neighbour's fit extrapolated to the pixel
+// misses.  The share of the own fit may go up to a step beyond it, away from the averaged:
+// sharper than either.  The default scene in each look, seeds 1-3 (before the averaging backed off by
+// agreement), upper bound 1 / 1.5 / 2 / 3: silk charmeuse 53.53 / 52.94 / 52.77 / 52.69, the
+// default scene 18.13 / 18.12 / 18.12 / 18.12; the window at 1 / 3 pixels with the bound 2:
+// silk 52.10 / 53.17, the default scene 18.20 / 18.10 (docs/benchmarks.md, "Glossy looks: the
+// averaging backs off").
+constexpr float kMaxOwnShare = 2.0f;
 
 // `values` summed over a box of (2 radius + 1)^2 pixels about each pixel, from the image's
 // integral (the cost does not grow with the box; in double, so that the differences of large
@@ -89,10 +99,10 @@ Candidate candidate(const SelectionInput& in, float share, Regress&& regress) {
     return {run(in.whole, share, regress), run(in.half_a, share, regress), run(in.half_b, share, regress)};
 }
 
-// out = f0 + alpha (f1 - f0) on the masked pixels, alpha per pixel the least-squares fit over
-// its window of f0 + alpha (f1 - f0) on either half to the other half's noisy light.
-void blend(const SelectionInput& in, const std::vector<std::int32_t>& mask, const Candidate& f0, const Candidate& f1,
-           float window_px, std::vector<V3>& out) {
+// alpha per masked pixel: the least-squares fit over its window of f0 + alpha (f1 - f0) on
+// either half to the other half's noisy light, clamped to [lo, hi].
+std::vector<float> fit_alpha(const SelectionInput& in, const std::vector<std::int32_t>& mask, const Candidate& f0,
+                             const Candidate& f1, float window_px, float lo, float hi) {
     const std::size_t count = mask.size();
     const std::vector<V3>& a = *in.half_a.noisy;
     const std::vector<V3>& b = *in.half_b.noisy;
@@ -107,21 +117,43 @@ void blend(const SelectionInput& in, const std::vector<std::int32_t>& mask, cons
     }
     const int w = in.cloth.width, h = in.cloth.height;
     const std::vector<float> sum_num = window_sum(num, mask, w, h, window_px), sum_den = window_sum(den, mask, w, h, window_px);
-    for (std::size_t i = 0; i < count; ++i) {
+    std::vector<float> alpha(count, 0.0f);
+    for (std::size_t i = 0; i < count; ++i)
+        if (mask[i] && sum_den[i] > 0.0f) alpha[i] = std::clamp(sum_num[i] / sum_den[i], lo, hi);
+    return alpha;
+}
+
+// f0 + alpha (f1 - f0) on the masked pixels of each buffer (f0's elsewhere).
+Candidate mix(const std::vector<std::int32_t>& mask, const Candidate& f0, const Candidate& f1,
+              const std::vector<float>& alpha) {
+    Candidate out = f0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
         if (!mask[i]) continue;
-        const float alpha = sum_den[i] > 0.0f ? std::clamp(sum_num[i] / sum_den[i], kMinAlpha, kMaxAlpha) : 0.0f;
-        out[i] = f0.whole[i] + alpha * (f1.whole[i] - f0.whole[i]);
+        out.whole[i] += alpha[i] * (f1.whole[i] - f0.whole[i]);
+        out.from_a[i] += alpha[i] * (f1.from_a[i] - f0.from_a[i]);
+        out.from_b[i] += alpha[i] * (f1.from_b[i] - f0.from_b[i]);
     }
+    return out;
+}
+
+// out = f0 + alpha (f1 - f0) on the masked pixels, alpha from fit_alpha.
+void blend(const SelectionInput& in, const std::vector<std::int32_t>& mask, const Candidate& f0, const Candidate& f1,
+           float window_px, float lo, float hi, std::vector<V3>& out) {
+    const std::vector<float> alpha = fit_alpha(in, mask, f0, f1, window_px, lo, hi);
+    for (std::size_t i = 0; i < mask.size(); ++i)
+        if (mask[i]) out[i] = f0.whole[i] + alpha[i] * (f1.whole[i] - f0.whole[i]);
 }
 
 }  // namespace
 
 void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
-    const auto cloth = [&](const RegressionSetting& s) {
-        return [&in, s](const std::vector<V3>& light, const std::vector<float>& noise, const std::vector<float>& guide,
-                        const std::vector<float>& variance, std::vector<V3>& result) {
+    const auto cloth = [&](const RegressionSetting& s, std::vector<V3>* own_fits) {
+        return [&in, s, own_fits](const std::vector<V3>& light, const std::vector<float>& noise,
+                                  const std::vector<float>& guide, const std::vector<float>& variance,
+                                  std::vector<V3>& result) {
             ClothRegressionInput c = in.cloth;
             c.light = &light, c.fitted_variance = &noise, c.guide = &guide, c.variance = &variance;
+            c.own_fits = own_fits;
             c.spatial_sigma *= s.sigma_scale;
             regress_cloth(c, result);
         };
@@ -133,17 +165,35 @@ void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
         regress_backdrop(b, result);
     };
     const float scale = std::max(1.0f, std::sqrt(float(out.size()) / kWindowImagePixels));
-    // One regression's pair at a time, so that only six images of candidates are held.  Each
-    // regression reads and writes its own pixels only, so the backdrop's candidates do not see
-    // the cloth's blend, though they start from `out`.
+    // One regression's candidates at a time (the cloth's, averaged and own, twelve images with
+    // their two blends; then the backdrop's six).  Each regression reads and writes its own
+    // pixels only, so the backdrop's candidates do not see the cloth's blend, though they
+    // start from `out`.
     {
-        const Candidate f0 = candidate(in, kClothSettings[0].noisy_share, cloth(kClothSettings[0]));
-        const Candidate f1 = candidate(in, kClothSettings[1].noisy_share, cloth(kClothSettings[1]));
-        blend(in, *in.cloth.cloth, f0, f1, scale * kClothWindowPx, out);
+        // Each cloth setting's averaged fits and, from the same regression, each pixel's own fit.
+        const std::vector<std::int32_t>& mask = *in.cloth.cloth;
+        const auto both = [&](const RegressionSetting& s, Candidate& averaged, Candidate& own) {
+            const auto one = [&](const FilteredBuffer& buffer, std::vector<V3>& mean, std::vector<V3>& own_fit) {
+                own_fit = *buffer.filtered;
+                mean = run(buffer, s.noisy_share, cloth(s, &own_fit));
+            };
+            one(in.whole, averaged.whole, own.whole);
+            one(in.half_a, averaged.from_a, own.from_a);
+            one(in.half_b, averaged.from_b, own.from_b);
+        };
+        Candidate averaged0, own0, averaged1, own1;
+        both(kClothSettings[0], averaged0, own0);
+        both(kClothSettings[1], averaged1, own1);
+        // The settings' blend chosen on the averaged fits, then the same blend of the own fits,
+        // and between the two a second blend by the halves (kMaxOwnShare).
+        const std::vector<float> alpha =
+            fit_alpha(in, mask, averaged0, averaged1, scale * kClothWindowPx, kMinAlpha, kMaxAlpha);
+        const Candidate averaged = mix(mask, averaged0, averaged1, alpha), own = mix(mask, own0, own1, alpha);
+        blend(in, mask, averaged, own, scale * kClothWindowPx, 0.0f, kMaxOwnShare, out);
     }
     const Candidate f0 = candidate(in, kBackdropSettings[0].noisy_share, backdrop);
     const Candidate f1 = candidate(in, kBackdropSettings[1].noisy_share, backdrop);
-    blend(in, *in.backdrop.backdrop, f0, f1, scale * kBackdropWindowPx, out);
+    blend(in, *in.backdrop.backdrop, f0, f1, scale * kBackdropWindowPx, kMinAlpha, kMaxAlpha, out);
 }
 
 }  // namespace foldcast::render

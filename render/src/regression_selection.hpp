@@ -6,7 +6,9 @@
 // and blur folds.  Each setting is also run on either half alone; the halves' noise is
 // independent, so E[(F(A) - B)^2] = MSE(F(A)) + var(B) with var(B) the same for any F, and the
 // blend F0 + alpha (F1 - F0) whose halves come closest to the other half, over a small window
-// (one pixel's difference is mostly noise), is the blend with the least error.  Measured in
+// (one pixel's difference is mostly noise), is the blend with the least error.  The cloth's
+// blend of the two settings' averaged fits is blended again, the same way, with the same blend
+// of each pixel's own fits (cloth_regression.hpp's average_fits and own_fits).  Measured in
 // docs/benchmarks.md ("The regressions' settings blended per pixel by the halves").
 #include <cstdint>
 #include <vector>

@@ -27,8 +27,10 @@ struct Scene {
     std::vector<V3> clean, noisy_a, noisy_b, noisy, filtered_a, filtered_b, filtered, weight;
     std::vector<float> noise_half, noise, variance_half, variance, guide, nx, ny, nz, depth, ax, ay, az;
     std::vector<std::int32_t> cloth, backdrop;
+    bool average_fits = false;  // the cloth's fits averaged, as a still's are
 
-    Scene() {
+    // light(x): the clean light by column (by default the stripes and the flat half).
+    explicit Scene(float (*light)(int) = nullptr) {
         clean.resize(kCount), noisy_a.resize(kCount), noisy_b.resize(kCount), noisy.resize(kCount);
         weight.assign(kCount, V3::Ones());
         noise_half.assign(kCount, kHalfNoise * kHalfNoise), noise.assign(kCount, kHalfNoise * kHalfNoise / 2.0f);
@@ -45,7 +47,7 @@ struct Scene {
         for (int y = 0; y < kH; ++y)
             for (int x = 0; x < kW; ++x) {
                 const std::size_t i = std::size_t(y) * kW + x;
-                const float l = x < kW / 2 ? 0.5f + 0.2f * std::sin(float(x) / 1.2f) : 0.5f;
+                const float l = light ? light(x) : x < kW / 2 ? 0.5f + 0.2f * std::sin(float(x) / 1.2f) : 0.5f;
                 clean[i] = V3::Constant(l);
                 noisy_a[i] = V3::Constant(l + kHalfNoise * gaussian());
                 noisy_b[i] = V3::Constant(l + kHalfNoise * gaussian());
@@ -78,7 +80,7 @@ struct Scene {
         in.width = kW, in.height = kH;
         in.nx = &nx, in.ny = &ny, in.nz = &nz, in.depth = &depth;
         in.ax = &ax, in.ay = &ay, in.az = &az, in.cloth = &cloth;
-        in.depth_regressor = true;
+        in.depth_regressor = true, in.average_fits = average_fits;
         in.spatial_sigma = kStillSigma;
         return in;
     }
@@ -146,6 +148,26 @@ TEST(RegressionSelection, TakesEachSettingWhereItIsBetter) {
     EXPECT_LT(blend_stripes + blend_flat, 0.9 * std::min(narrow_stripes + narrow_flat, wide_stripes + wide_flat))
         << "stripes: narrow " << narrow_stripes << ", wide " << wide_stripes << ", blend " << blend_stripes
         << "; flat: narrow " << narrow_flat << ", wide " << wide_flat << ", blend " << blend_flat;
+}
+
+// Narrow highlights (a sheen lobe seen small, 2 pixels across, every 8) on cloth whose fits
+// are averaged: each pixel's own fit follows a crest closer than the mean of the overlapping
+// fits, whose neighbours' extrapolation misses it, and the halves take the own fit there.
+// (Squared error, crests and all, when written: 2.05 and 13.5; the averaged fits alone 8.29
+// and 18.6; the averaging backing off by agreement without this blend 5.95 and 20.7.)
+float sheen(int x) {
+    const float d = float(x % 8) - 4.0f;
+    return 0.3f + 0.5f * std::exp(-d * d / 1.28f);
+}
+TEST(RegressionSelection, TakesThePixelsOwnFitOnANarrowHighlight) {
+    Scene s(sheen);
+    s.average_fits = true;
+    const std::vector<V3> blend = s.blended(2);
+    double crests = 0.0;
+    for (int x = 4; x < kW; x += 8) crests += squared_error(blend, s, x, x + 1);
+    const double all = squared_error(blend, s, 0, kW);
+    EXPECT_LT(crests, 3.5) << "all " << all;
+    EXPECT_LT(all, 16.0) << "crests " << crests;
 }
 
 TEST(RegressionSelection, SameFloatsForAnyThreadCount) {
