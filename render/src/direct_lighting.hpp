@@ -11,6 +11,8 @@
 
 namespace foldcast::render {
 
+struct PathRecord;
+
 inline float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
 
 // An unoccluded light sample's estimate, f_cos * radiance * weight_over_pdf.
@@ -24,7 +26,9 @@ struct DirectLight {
 // surface), whose BSDF value f_cos and pdf were evaluated beforehand (with the vertex's BSDF
 // sample, ClothBsdf::eval2): nothing when the BSDF is black there or the shadow ray is
 // blocked.
+// `record`, if any, is told the shadow ray and whether it was blocked.
 std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const Hit& hit, const LightSample& ls,
-                                           const V3& f_cos, float pdf_bsdf, std::uint64_t& rays);
+                                           const V3& f_cos, float pdf_bsdf, std::uint64_t& rays,
+                                           PathRecord* record = nullptr);
 
 }  // namespace foldcast::render

@@ -15,6 +15,10 @@ struct FrameGeometry {
     std::vector<StudioMesh> studio;
 };
 
+// Paths a turntable carries from frame to frame (render/src/path_reuse.hpp).
+class PathReuse;
+std::shared_ptr<PathReuse> make_path_reuse();
+
 struct TraceSettings {
     int width = 0, height = 0, spp = 1;
     std::uint64_t seed = 1;
@@ -28,6 +32,10 @@ struct TraceSettings {
     // The image will be denoised after the render (the temporal filter does it): adaptive
     // sampling judges packets as it does for `denoise`, but the tracer leaves the image raw.
     bool denoised_later = false;
+    // A turntable's frames, rendered one after another with one camera, seed and settings:
+    // paths that missed the turning garment and supports are kept for the next frame and
+    // taken there where the turned meshes still miss them (the same bytes as tracing them).
+    std::shared_ptr<PathReuse> reuse;
 };
 // The settings a still or turntable frame renders with: the options over the scene's.
 TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& options);
