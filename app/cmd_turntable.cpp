@@ -83,8 +83,10 @@ Command turntable_command(CLI::App& app) {
     sub->add_flag("--preview", args->preview,
                   "Rasterise the frames with OpenGL through EGL (fast preview) instead of path tracing")
         ->excludes("--temporal");
-    sub->add_flag("--json", args->json,
-                  "Print frames, width, height, spp, mean_spp, seconds, rays, rays_per_second as JSON");
+    sub->add_flag(
+        "--json", args->json,
+        "Print frames, width, height, spp, mean_spp, seconds, rays, rays_per_second, reused_paths (camera paths "
+        "taken from the previous frame) as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
     return {sub, [args] {
                 const render::SceneSpec scene = render::load_scene(args->scene);
@@ -114,9 +116,10 @@ Command turntable_command(CLI::App& app) {
                 if (args->json) {
                     std::printf(
                         "{\"frames\": %d, \"width\": %d, \"height\": %d, \"spp\": %d, \"mean_spp\": %.3f, "
-                        "\"seconds\": %.3f, \"rays\": %llu, \"rays_per_second\": %.0f}\n",
+                        "\"seconds\": %.3f, \"rays\": %llu, \"rays_per_second\": %.0f, \"reused_paths\": %llu}\n",
                         result.frames_rendered, s.width, s.height, s.spp, s.mean_spp, s.seconds,
-                        static_cast<unsigned long long>(s.rays), s.rays_per_second());
+                        static_cast<unsigned long long>(s.rays), s.rays_per_second(),
+                        static_cast<unsigned long long>(s.reused_paths));
                 } else if (!args->quiet) {
                     std::fprintf(stderr, "rendered %d frames (%dx%d, %d spp) in %.1f s; last written: %s\n",
                                  result.frames_rendered, s.width, s.height, s.spp, s.seconds,

@@ -11,6 +11,8 @@
 
 namespace foldcast::render {
 
+struct PathRecord;
+
 inline float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
 
 // An unoccluded light sample's estimate, f_cos * radiance * weight_over_pdf.
@@ -24,15 +26,19 @@ struct DirectLight {
 // surface), whose BSDF value f_cos and pdf were evaluated beforehand (with the vertex's BSDF
 // sample, ClothBsdf::eval2): nothing when the BSDF is black there or the shadow ray is
 // blocked.
+// `record`, if any, is told the shadow ray and whether it was blocked.
 std::optional<DirectLight> direct_lighting(const EmbreeScene& scene, const Hit& hit, const LightSample& ls,
-                                           const V3& f_cos, float pdf_bsdf, std::uint64_t& rays);
+                                           const V3& f_cos, float pdf_bsdf, std::uint64_t& rays,
+                                           PathRecord* record = nullptr);
 
 // The other half of the vertex's MIS pair for one more BSDF direction wi (world, f_cos and
 // pdf its BSDF value and sampling pdf): the radiance of the area light the ray reaches
 // first, times f_cos / pdf and the power-heuristic weight against the vertex's light choice
 // (`drawn`: its light sample, if any), as the path's own BSDF sample gets it at the next
 // vertex.  Zero when the ray meets the scene or the sky first (the sky is left to the path).
+// The ray is recorded in `record` (path_reuse.hpp) when there is one.
 V3 bsdf_light_hit(const EmbreeScene& scene, const LightSampler& lights, const Hit& hit, const LightChoice& choice,
-                  const LightSample* drawn, const Vec3f& wi, const V3& f_cos, float pdf, std::uint64_t& rays);
+                  const LightSample* drawn, const Vec3f& wi, const V3& f_cos, float pdf, std::uint64_t& rays,
+                  PathRecord* record = nullptr);
 
 }  // namespace foldcast::render

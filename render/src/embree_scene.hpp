@@ -96,6 +96,8 @@ public:
     // Anything along o + t d, t in [0, tmax); counts the ray.
     bool occluded(const Vec3f& o, const Vec3f& d, float tmax, std::uint64_t& rays) const;
     Hit surface(const RTCRay& ray, const RTCHit& h) const;
+    // The meshes as added (Embree's geometry IDs are their indices).
+    const std::vector<GeometryData>& geometries() const { return geoms_; }
 
 private:
     // Embree reports errors to a handler, not by return values: the first one is kept here

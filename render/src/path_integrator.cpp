@@ -5,6 +5,7 @@
 #include "foldcast/core/colour.hpp"
 
 #include "direct_lighting.hpp"
+#include "path_reuse.hpp"
 
 namespace foldcast::render {
 namespace {
@@ -36,8 +37,8 @@ void add(V3& radiance, const V3& contribution, int depth) {
 }  // namespace
 
 PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0,
-                                 const RTCHit& hit0, float pixel_angle, PixelSampler& sampler,
-                                 std::uint64_t& rays) const {
+                                 const RTCHit& hit0, float pixel_angle, PixelSampler& sampler, std::uint64_t& rays,
+                                 PathRecord* record) const {
     PathSample out;
     V3 beta = V3::Ones();
     Vec3f o = cam_o, d = cam_d;
@@ -52,6 +53,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
     Vec3f prev_n = Vec3f::UnitY(), prev_p = Vec3f::Zero();
     float cone = 0.0f, spread = pixel_angle;
     float light_hit_share = 1.0f;  // of the light the first hit's BSDF sample reaches (split at metal)
+    if (record) record->hit(cam_o, cam_d, first_hit, ray0.tfar, hit0.geomID);
     for (int depth = 0;; ++depth) {
         // Emission seen along the ray: lights (not for camera rays) and the environment.
         const float t_surface = have_hit ? cur_ray.tfar : kInf;
@@ -140,7 +142,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         else if (wi_local)
             f_bsdf = bsdf.eval(*wi_local, &pdf_bsdf);
         if (light_above)
-            if (const auto direct = direct_lighting(scene_, hit, *ls, f_light, pdf_light, rays))
+            if (const auto direct = direct_lighting(scene_, hit, *ls, f_light, pdf_light, rays, record))
                 add(out.radiance,
                     beta.cwiseProduct(direct->f_cos).cwiseProduct(direct->radiance) * direct->weight_over_pdf,
                     depth + 1);
@@ -153,7 +155,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
                     float pdf_k = 0.0f;
                     const V3 f_k = bsdf.eval(*wk, &pdf_k);
                     more += bsdf_light_hit(scene_, lights_, hit, choice, ls ? &*ls : nullptr, frame.to_world(*wk), f_k,
-                                           pdf_k, rays);
+                                           pdf_k, rays, record);
                 }
             add(out.radiance, beta.cwiseProduct(more) * light_hit_share, depth + 1);
         }
@@ -179,6 +181,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         o = offset_origin(hit.p, hit.ng, wi);
         d = wi;
         have_hit = scene_.intersect(o, d, rh, rays);
+        if (record) record->hit(o, d, have_hit, rh.ray.tfar, rh.hit.geomID);
         cur_ray = rh.ray;
         cur_hit = rh.hit;
     }

@@ -11,6 +11,8 @@
 
 namespace foldcast::render {
 
+struct PathRecord;
+
 struct PathSample {
     V3 radiance = V3::Zero();
     bool foreground = true;  // false: the camera saw the backdrop or the sky
@@ -33,7 +35,7 @@ public:
     // `first_hit`: whether the camera ray (ray0, hit0) hit anything; pixel_angle: the
     // camera's cone spread per pixel, for texture footprints.
     PathSample trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0, const RTCHit& hit0,
-                     float pixel_angle, PixelSampler& sampler, std::uint64_t& rays) const;
+                     float pixel_angle, PixelSampler& sampler, std::uint64_t& rays, PathRecord* record = nullptr) const;
 
 private:
     const EmbreeScene& scene_;

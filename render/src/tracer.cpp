@@ -22,6 +22,7 @@
 #include "foldcast/core/error.hpp"
 #include "light_sampler.hpp"
 #include "path_integrator.hpp"
+#include "path_reuse.hpp"
 #include "pixel_layers.hpp"
 #include "pixel_sums.hpp"
 #include "sobol_sampler.hpp"
@@ -182,12 +183,47 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     std::atomic<std::uint64_t> total_rays{0}, total_samples{0};
     std::atomic<std::uint64_t> garment_pixels{0}, garment_samples{0};
     std::atomic<int> tiles_done{0};
+    std::atomic<std::uint64_t> reused_paths{0};
+
+    // Paths kept by the previous turntable frame (path_reuse.hpp): taken only when this frame
+    // is rendered alike, with the same still meshes; within the reuse's memory budget, shared
+    // evenly by the tiles so that what is kept does not depend on the threads' order.
+    const int slots_per_tile = (kTile / kBlock) * (kTile / kBlock) * spp * 16;
+    const std::size_t slot_bytes = std::size_t(tile_count) * std::size_t(slots_per_tile) * sizeof(std::uint32_t);
+    PathReuse* const reuse =
+        settings.reuse && slot_bytes <= settings.reuse->budget_bytes() / 4 ? settings.reuse.get() : nullptr;
+    const std::size_t tile_budget_bytes = reuse ? (reuse->budget_bytes() - slot_bytes) / std::size_t(tile_count) : 0;
+    std::optional<TurningMeshes> turning;
+    if (reuse) {
+        turning.emplace(m.scene);
+        Fingerprint f;
+        f.value(width), f.value(height), f.value(spp), f.value(settings.seed), f.value(threshold), f.value(gain);
+        f.value(settings.denoise || settings.denoised_later), f.value(m.transparent);
+        for (const float x : {0.5f, static_cast<float>(width) - 0.5f})
+            for (const float y : {0.5f, static_cast<float>(height) - 0.5f}) {
+                Vec3f o, d;
+                cam.ray(x, y, 0.25f, 0.75f, &o, &d);
+                f.value(o), f.value(d);
+            }
+        turning->fingerprint_still(m.scene, f);
+        reuse->begin_frame(f.h, tile_count);
+    }
 
     auto render_tile = [&](int tile) {
         set_ftz_daz();
         const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
         const int x1 = std::min(width, x0 + kTile), y1 = std::min(height, y0 + kTile);
-        std::uint64_t rays = 0, samples = 0, tile_garment_pixels = 0, tile_garment_samples = 0;
+        std::uint64_t rays = 0, samples = 0, tile_garment_pixels = 0, tile_garment_samples = 0, tile_reused = 0;
+        KeptTile* const kept = reuse ? &reuse->tile(tile) : nullptr;
+        KeptTile fresh;  // what this frame keeps for the next
+        PathRecord record;
+        if (turning) record.turning = &turning->flags;
+        if (kept) {
+            fresh.slot.assign(slots_per_tile, KeptTile::kNone);
+            // About as many as the last frame kept: no growing by copies.
+            fresh.paths.reserve(kept->paths.size() + kept->paths.size() / 8 + 64);
+            fresh.rays.reserve(kept->rays.size() + kept->rays.size() / 8 + 256);
+        }
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -233,8 +269,41 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         RTCRay r;
                         RTCHit h;
                         unpack_lane(packet, k, &r, &h);
-                        const PathSample sample = m.integrator.trace(
-                            origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h, pixel_angle, *sampler[k], rays);
+                        PathSample sample;
+                        bool taken = false;
+                        std::size_t slot = 0;
+                        if (kept) {
+                            const int block = ((by - y0) / kBlock) * (kTile / kBlock) + (bx - x0) / kBlock;
+                            slot = (static_cast<std::size_t>(block) * spp + s) * 16 + k;
+                            const std::uint32_t index = kept->slot.empty() ? KeptTile::kNone : kept->slot[slot];
+                            if (index != KeptTile::kNone) {
+                                const KeptTile::Path& p = kept->paths[index];
+                                const KeptRay* const path_rays = kept->rays.data() + p.first_ray;
+                                if (turning->still_clear(path_rays, p.ray_count)) {
+                                    sample = p.sample;
+                                    taken = true;
+                                    ++tile_reused;
+                                    if (fresh.fits(p.ray_count, tile_budget_bytes)) {
+                                        fresh.slot[slot] = static_cast<std::uint32_t>(fresh.paths.size());
+                                        fresh.paths.push_back(
+                                            {p.sample, static_cast<std::uint32_t>(fresh.rays.size()), p.ray_count});
+                                        fresh.rays.insert(fresh.rays.end(), path_rays, path_rays + p.ray_count);
+                                    }
+                                }
+                            }
+                        }
+                        if (!taken) {
+                            record.clear();
+                            sample = m.integrator.trace(origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h,
+                                                        pixel_angle, *sampler[k], rays, kept ? &record : nullptr);
+                            if (kept && record.keep &&
+                                fresh.fits(static_cast<std::uint32_t>(record.rays.size()), tile_budget_bytes)) {
+                                fresh.slot[slot] = static_cast<std::uint32_t>(fresh.paths.size());
+                                fresh.paths.push_back({sample, static_cast<std::uint32_t>(fresh.rays.size()),
+                                                       static_cast<std::uint32_t>(record.rays.size())});
+                                fresh.rays.insert(fresh.rays.end(), record.rays.begin(), record.rays.end());
+                            }
+                        }
                         sums[k].add(sample);
                         if (layers_wanted) layers[k].add(sample);
                     }
@@ -325,6 +394,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     }
                 }
             }
+        if (kept) *kept = std::move(fresh);
+        reused_paths += tile_reused;
         total_rays += rays;
         total_samples += samples;
         garment_pixels += tile_garment_pixels;
@@ -357,6 +428,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     result.stats.backdrop_mean_spp =
         mean(total_samples.load() - garment_samples.load(), pixel_count - garment_pixels.load());
     result.stats.rays = total_rays.load();
+    result.stats.reused_paths = reused_paths.load();
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

@@ -173,6 +173,7 @@ struct RenderStats {
     double garment_mean_spp = 0.0, backdrop_mean_spp = 0.0;
     double seconds = 0.0;
     std::uint64_t rays = 0;  // every ray traced: camera, bounce and shadow
+    std::uint64_t reused_paths = 0;  // camera paths taken from the previous turntable frame
     double rays_per_second() const { return seconds > 0.0 ? static_cast<double>(rays) / seconds : 0.0; }
 };
 

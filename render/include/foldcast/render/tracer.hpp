@@ -15,6 +15,15 @@ struct FrameGeometry {
     std::vector<StudioMesh> studio;
 };
 
+// Paths a turntable carries from frame to frame (render/src/path_reuse.hpp), in at most
+// `budget_bytes` of memory: the default keeps every clear path of a 640x640 turntable at
+// 16 spp (about 0.4 GB); larger or many-sample frames keep what fits, tile by tile, and a
+// frame whose table of sample slots alone would take a quarter of it keeps none.  Only the
+// speed depends on it, never the frames' bytes.
+class PathReuse;
+inline constexpr std::size_t kPathReuseBudgetBytes = std::size_t(1) << 30;
+std::shared_ptr<PathReuse> make_path_reuse(std::size_t budget_bytes = kPathReuseBudgetBytes);
+
 struct TraceSettings {
     int width = 0, height = 0, spp = 1;
     std::uint64_t seed = 1;
@@ -28,6 +37,10 @@ struct TraceSettings {
     // The image will be denoised after the render (the temporal filter does it): adaptive
     // sampling judges packets as it does for `denoise`, but the tracer leaves the image raw.
     bool denoised_later = false;
+    // A turntable's frames, rendered one after another with one camera, seed and settings:
+    // paths that missed the turning garment and supports are kept for the next frame and
+    // taken there where the turned meshes still miss them (the same bytes as tracing them).
+    std::shared_ptr<PathReuse> reuse;
 };
 // The settings a still or turntable frame renders with: the options over the scene's.
 TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& options);
