@@ -147,7 +147,15 @@ double time_for(const std::vector<Point>& pts, double target, double Seconds::*c
 
 }  // namespace
 
-int main(int argc, char** argv) {
+constexpr const char* kUsage =
+    "usage: bench_cycles [SCENE.toml] [--width 320] [--height 180] [--spp 4,16,64,256]\n"
+    "                    [--ref-spp 2048] [--threads 2] [--out bench-cycles/]\n"
+    "       bench_cycles --rmse REF.exr TEST.exr...\n"
+    "Renders the scene with foldcast and Blender's Cycles (`blender` on PATH) at each --spp and\n"
+    "prints each one's RMSE against its own --ref-spp reference and the time each needs to reach\n"
+    "the same RMSE (docs/benchmarks.md, \"foldcast vs Cycles\").  References are kept in --out.\n";
+
+int run(int argc, char** argv) {
     if (argc >= 4 && std::string(argv[1]) == "--rmse") {
         for (int i = 3; i < argc; ++i) std::printf("%s %.6f\n", argv[i], rmse(argv[2], argv[i]));
         return 0;
@@ -155,8 +163,14 @@ int main(int argc, char** argv) {
     Args args;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        auto next = [&] { return std::string(argv[++i]); };
-        if (a == "--width")
+        auto next = [&] {
+            if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+            return std::string(argv[++i]);
+        };
+        if (a == "--help" || a == "-h") {
+            std::fputs(kUsage, stdout);
+            return 0;
+        } else if (a == "--width")
             args.width = std::stoi(next());
         else if (a == "--height")
             args.height = std::stoi(next());
@@ -170,7 +184,9 @@ int main(int argc, char** argv) {
             args.spp.clear();
             std::stringstream ss(next());
             for (std::string t; std::getline(ss, t, ',');) args.spp.push_back(std::stoi(t));
-        } else
+        } else if (a.rfind("-", 0) == 0)
+            throw std::runtime_error("unknown option " + a + " (--help lists them)");
+        else
             args.scene = a;
     }
     fs::create_directories(args.out);
@@ -232,4 +248,13 @@ int main(int argc, char** argv) {
         }
     }
     return 0;
+}
+
+int main(int argc, char** argv) {
+    try {
+        return run(argc, argv);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_cycles: %s\n", e.what());
+        return 2;
+    }
 }
