@@ -28,8 +28,8 @@ V3 bsdf_light_hit(const EmbreeScene& scene, const LightSampler& lights, const Hi
     const float t_surface = any ? rh.ray.tfar : kInf;
     const LightHit lh = lights.hit(origin, wi, t_surface);
     if (lh.index < 0) return V3::Zero();
-    const float pdf_light = lights.pdf(choice, lh.index, hit.p, origin + lh.t * wi, drawn);
-    return (f_cos / pdf).cwiseProduct(lights.radiance(lh.index)) * power_heuristic(pdf, pdf_light);
+    return (f_cos / pdf).cwiseProduct(lights.radiance(lh.index)) *
+           bsdf_hit_weight(lights, choice, drawn, hit.p, origin, wi, lh, pdf);
 }
 
 }  // namespace foldcast::render

@@ -15,6 +15,14 @@ struct PathRecord;
 
 inline float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
 
+// The MIS weight of a BSDF-sampled ray o + t d, drawn with pdf_bsdf at vertex p, that reaches
+// the area light `lh`: against the light sampling that could have drawn the same point there
+// (the vertex's light choice, and `drawn`, its light sample, if any).
+inline float bsdf_hit_weight(const LightSampler& lights, const LightChoice& choice, const LightSample* drawn,
+                             const Vec3f& p, const Vec3f& o, const Vec3f& d, const LightHit& lh, float pdf_bsdf) {
+    return power_heuristic(pdf_bsdf, lights.pdf(choice, lh.index, p, o + lh.t * d, drawn));
+}
+
 // An unoccluded light sample's estimate, f_cos * radiance * weight_over_pdf.
 struct DirectLight {
     V3 f_cos;

@@ -60,8 +60,9 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         if (depth > 0 && !lights_.empty()) {
             const LightHit lh = lights_.hit(o, d, t_surface);
             if (lh.index >= 0) {
-                const float pdf_light = lights_.pdf(prev_choice, lh.index, prev_p, o + lh.t * d, &prev_drawn);
-                float w = prev_specular_only ? 1.0f : power_heuristic(prev_bsdf_pdf, pdf_light);
+                float w = prev_specular_only
+                              ? 1.0f
+                              : bsdf_hit_weight(lights_, prev_choice, &prev_drawn, prev_p, o, d, lh, prev_bsdf_pdf);
                 if (depth == 1) w *= light_hit_share;
                 add(out.radiance, beta.cwiseProduct(lights_.radiance(lh.index)) * w, depth);
                 break;

@@ -35,8 +35,9 @@ struct PathRecord {
         rays.clear();
         keep = true;
     }
+    // Rays are only collected while the path may still be kept.
     void add(const Vec3f& o, const Vec3f& d, float tmax) {
-        rays.push_back({{o.x(), o.y(), o.z()}, {d.x(), d.y(), d.z()}, tmax});
+        if (keep) rays.push_back({{o.x(), o.y(), o.z()}, {d.x(), d.y(), d.z()}, tmax});
     }
     // A closest-hit query's outcome: kept as a ray up to its hit, and the path not kept
     // when that hit is on a turning mesh.
@@ -66,9 +67,20 @@ struct KeptTile {
     std::vector<std::uint32_t> slot;
     std::vector<Path> paths;
     std::vector<KeptRay> rays;
-    // Whether one more path of `ray_count` rays keeps the tile's paths within `budget_bytes`.
-    bool fits(std::uint32_t ray_count, std::size_t budget_bytes) const {
-        return (paths.size() + 1) * sizeof(Path) + (rays.size() + ray_count) * sizeof(KeptRay) <= budget_bytes;
+    // The path kept for `slot`, or null.
+    const Path* find(std::size_t slot_index) const {
+        const std::uint32_t index = slot.empty() ? kNone : slot[slot_index];
+        return index == kNone ? nullptr : &paths[index];
+    }
+    const KeptRay* rays_of(const Path& p) const { return rays.data() + p.first_ray; }
+    // Keeps `sample` and its `count` rays for `slot`, unless the tile's paths would then pass
+    // `budget_bytes`.
+    void keep(std::size_t slot_index, const PathSample& sample, const KeptRay* path_rays, std::uint32_t count,
+              std::size_t budget_bytes) {
+        if ((paths.size() + 1) * sizeof(Path) + (rays.size() + count) * sizeof(KeptRay) > budget_bytes) return;
+        slot[slot_index] = static_cast<std::uint32_t>(paths.size());
+        paths.push_back({sample, static_cast<std::uint32_t>(rays.size()), count});
+        rays.insert(rays.end(), path_rays, path_rays + count);
     }
 };
 

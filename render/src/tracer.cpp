@@ -275,34 +275,21 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         if (kept) {
                             const int block = ((by - y0) / kBlock) * (kTile / kBlock) + (bx - x0) / kBlock;
                             slot = (static_cast<std::size_t>(block) * spp + s) * 16 + k;
-                            const std::uint32_t index = kept->slot.empty() ? KeptTile::kNone : kept->slot[slot];
-                            if (index != KeptTile::kNone) {
-                                const KeptTile::Path& p = kept->paths[index];
-                                const KeptRay* const path_rays = kept->rays.data() + p.first_ray;
-                                if (turning->still_clear(path_rays, p.ray_count)) {
-                                    sample = p.sample;
-                                    taken = true;
-                                    ++tile_reused;
-                                    if (fresh.fits(p.ray_count, tile_budget_bytes)) {
-                                        fresh.slot[slot] = static_cast<std::uint32_t>(fresh.paths.size());
-                                        fresh.paths.push_back(
-                                            {p.sample, static_cast<std::uint32_t>(fresh.rays.size()), p.ray_count});
-                                        fresh.rays.insert(fresh.rays.end(), path_rays, path_rays + p.ray_count);
-                                    }
-                                }
+                            const KeptTile::Path* const p = kept->find(slot);
+                            if (p && turning->still_clear(kept->rays_of(*p), p->ray_count)) {
+                                sample = p->sample;
+                                taken = true;
+                                ++tile_reused;
+                                fresh.keep(slot, p->sample, kept->rays_of(*p), p->ray_count, tile_budget_bytes);
                             }
                         }
                         if (!taken) {
                             record.clear();
                             sample = m.integrator.trace(origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h,
                                                         pixel_angle, *sampler[k], rays, kept ? &record : nullptr);
-                            if (kept && record.keep &&
-                                fresh.fits(static_cast<std::uint32_t>(record.rays.size()), tile_budget_bytes)) {
-                                fresh.slot[slot] = static_cast<std::uint32_t>(fresh.paths.size());
-                                fresh.paths.push_back({sample, static_cast<std::uint32_t>(fresh.rays.size()),
-                                                       static_cast<std::uint32_t>(record.rays.size())});
-                                fresh.rays.insert(fresh.rays.end(), record.rays.begin(), record.rays.end());
-                            }
+                            if (kept && record.keep)
+                                fresh.keep(slot, sample, record.rays.data(),
+                                           static_cast<std::uint32_t>(record.rays.size()), tile_budget_bytes);
                         }
                         sums[k].add(sample);
                         if (layers_wanted) layers[k].add(sample);
