@@ -4,12 +4,11 @@
 //            sRGB-encoded RGB against a --ref-spp reference;
 //   twill:   a 5 cm close-up of denim's 3/1 twill (bench/scenes/twill_closeup.toml), SSIM
 //            of the luma and RMSE against the reference for plain 256 spp and 16 spp + denoise;
-//   flicker: frames 0-7 of the default scene's 36-frame turntable at 96x96: RMSE against
+//   flicker: frames 0-7 of the default scene's 36-frame turntable at 96x96 (--size N: NxN): RMSE against
 //            reference frames, and flicker = RMS over pixels and frame pairs of the change
 //            from frame to frame minus the reference's change (0 = the noise does not move),
-//            without and with the temporal filter; the reference's own share of the flicker
-//            is estimated from the plain rows (flicker^2 = 2 var(test) + 2 var(ref) where the
-//            noise changes, var(test) falling as 1/spp);
+//            without and with the temporal filter; a second reference (another seed) measures
+//            the reference's own share, and "own" is each row's flicker without it;
 //   adaptive: the default scene at 640x360 with --noise-threshold, plain and denoised: time,
 //            mean spp, where the samples went (garment vs backdrop) and RMSE;
 //   looks:   every shipped look in the default scene at 320x180, 16 spp + denoise against
@@ -17,7 +16,7 @@
 //            gloss the denoiser mishandles shows as a denoised error far above plain 256 spp's.
 // References are rendered once and kept in --out.  Timed figures are wall clock on whatever
 // load the machine has; never asserts anything.
-//   bench_render_quality [rmse|twill|flicker|adaptive|looks|all] [--out DIR] [--threads N] [--ref-spp N]
+//   bench_render_quality [rmse|twill|flicker|adaptive|looks|all] [--out DIR] [--threads N] [--ref-spp N] [--size N]
 #include <OpenEXR/ImfArray.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
@@ -45,6 +44,7 @@ struct Args {
     fs::path out = "bench-quality";
     int threads = 2;
     int ref_spp = 2048;
+    int flicker_size = 96;  // the flicker part's frame side in pixels
 };
 
 std::string source(const std::string& relative) { return std::string(FOLDCAST_SOURCE_DIR) + "/" + relative; }
@@ -172,24 +172,65 @@ void part_twill(const Args& args) {
     }
 }
 
+// Flicker of `test` against `ref` (RMS over pixels and frame pairs of the change from frame
+// to frame minus the reference's change), whole and split: edge pixels (the reference
+// differs from a 4-neighbour by more than 0.08 in either frame of the pair: silhouettes, the
+// rod, the wires) apart from the rest, where what flickers is the noise of shading.
+struct Flicker {
+    double whole = 0.0, interior = 0.0, edges = 0.0, edge_share = 0.0;
+};
+Flicker flicker(const std::vector<compare::Image>& test, const std::vector<compare::Image>& ref) {
+    const int w = ref[0].width, h = ref[0].height;
+    double sum = 0.0, edge_sum = 0.0;
+    std::size_t n = 0, edge_n = 0;
+    for (std::size_t f = 0; f + 1 < test.size(); ++f)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float contrast = 0.0f;
+                for (const compare::Image* r : {&ref[f], &ref[f + 1]})
+                    for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                        const int qx = x + dx, qy = y + dy;
+                        if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                        for (int c = 0; c < 3; ++c)
+                            contrast = std::max(contrast, std::abs(r->at(x, y, c) - r->at(qx, qy, c)));
+                    }
+                const bool edge = contrast > 0.08f;
+                for (int c = 0; c < 3; ++c) {
+                    const double d =
+                        (test[f + 1].at(x, y, c) - test[f].at(x, y, c)) - (ref[f + 1].at(x, y, c) - ref[f].at(x, y, c));
+                    (edge ? edge_sum : sum) += d * d;
+                    ++(edge ? edge_n : n);
+                }
+            }
+    Flicker out;
+    out.interior = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, n)));
+    out.edges = std::sqrt(edge_sum / static_cast<double>(std::max<std::size_t>(1, edge_n)));
+    out.edge_share = static_cast<double>(edge_n) / static_cast<double>(n + edge_n);
+    out.whole = std::sqrt((sum + edge_sum) / static_cast<double>(n + edge_n));
+    return out;
+}
+
 void part_flicker(const Args& args) {
     const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
-    constexpr int kFirst = 0, kLast = 8, kSize = 96;
-    auto frames = [&](const std::string& name, int spp, bool denoise, bool temporal) {
-        const fs::path dir = args.out / ("turntable_" + name);
+    constexpr int kFirst = 0, kLast = 8;
+    const int size = args.flicker_size;
+    const std::string size_tag = size == 96 ? "" : "_" + std::to_string(size);
+    // Reference frames (named ref*) are kept in --out and rendered once; test rows every run.
+    auto frames = [&](const std::string& name, int spp, bool denoise, bool temporal, double threshold,
+                      std::optional<std::uint64_t> seed) {
+        const fs::path dir = args.out / ("turntable_" + name + size_tag);
         bool cached = true;
         for (int f = kFirst; f < kLast; ++f) cached = cached && fs::exists(batch::turntable_frame_path(dir, f));
         double seconds = 0.0;
         if (!cached || name.rfind("ref", 0) != 0) {
             batch::TurntableOptions o;
-            o.render.width = o.render.height = kSize;
+            o.render.width = o.render.height = size;
             o.render.spp = spp;
             o.render.threads = args.threads;
             o.render.denoise = denoise;
+            o.render.noise_threshold = threshold;
+            o.render.seed = seed;
             o.temporal = temporal;
-            // The reference with its own samples: one sharing the test's would understate
-            // both figures (a 16-spp test is the first 16 of its samples).
-            if (name.rfind("ref", 0) == 0) o.render.seed = 7;
             o.total_frames = 36;
             o.first_frame = kFirst;
             o.last_frame = kLast;
@@ -199,64 +240,46 @@ void part_flicker(const Args& args) {
         for (int f = kFirst; f < kLast; ++f) out.push_back(compare::read_image(batch::turntable_frame_path(dir, f)));
         return std::make_pair(out, seconds);
     };
-    const auto ref = frames("ref" + std::to_string(args.ref_spp) + "_seed7", args.ref_spp, false, false).first;
-    std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames\n%-18s %8s %10s %10s %10s %10s\n", kFirst,
-                kLast - 1, kSize, kSize, args.ref_spp, "frames", "seconds", "RMSE", "flicker", "interior", "edges");
-    double edge_share = 0.0;
+    // The references with their own samples: one sharing the test's would understate both
+    // figures (a 16-spp test is the first 16 of its samples).  Two of them, seeds 7 and 8:
+    // their flicker against each other is twice the square of what one reference's own noise
+    // adds to every row's figure, so each row's own flicker is measured, not extrapolated.
+    const std::string ref_name = "ref" + std::to_string(args.ref_spp) + "_seed";
+    const auto ref = frames(ref_name + "7", args.ref_spp, false, false, 0.0, 7).first;
+    const auto ref_b = frames(ref_name + "8", args.ref_spp, false, false, 0.0, 8).first;
+    const Flicker between = flicker(ref_b, ref);
+    const auto own = [](double measured, double reference_pair) {
+        return std::sqrt(std::max(0.0, measured * measured - 0.5 * reference_pair * reference_pair));
+    };
+    std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames; edge pixels %.1f %%\n", kFirst, kLast - 1,
+                size, size, args.ref_spp, 100.0 * between.edge_share);
+    std::printf(
+        "the reference's own flicker (whole / interior / edges): %.4f / %.4f / %.4f; \"own\": a row's flicker "
+        "with it taken out\n",
+        between.whole / std::sqrt(2.0), between.interior / std::sqrt(2.0), between.edges / std::sqrt(2.0));
+    std::printf("%-18s %8s %8s %8s %8s %8s %8s %8s %8s\n", "frames", "seconds", "RMSE", "flicker", "interior", "edges",
+                "own", "own int", "own edge");
     struct Row {
         const char* name;
         int spp;
         bool denoise, temporal;
+        double threshold = 0.0;
     };
-    double plain_flicker[2] = {0.0, 0.0};
-    for (const Row row : {Row{"plain_16", 16, false, false}, Row{"plain_64", 64, false, false},
-                          Row{"denoise_4", 4, true, false}, Row{"denoise_8", 8, true, false},
-                          Row{"denoise_16", 16, true, false}, Row{"temporal_4", 4, true, true},
-                          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true}}) {
-        const auto [test, seconds] = frames(row.name, row.spp, row.denoise, row.temporal);
-        double err = 0.0, flick = 0.0;
+    // denoise_16_t02 is the README's turntable: adaptive sampling at --noise-threshold 0.02.
+    for (const Row row :
+         {Row{"plain_16", 16, false, false}, Row{"plain_64", 64, false, false}, Row{"denoise_4", 4, true, false},
+          Row{"denoise_8", 8, true, false}, Row{"denoise_16", 16, true, false},
+          Row{"denoise_16_t02", 16, true, false, 0.02}, Row{"temporal_4", 4, true, true},
+          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true}}) {
+        const auto [test, seconds] = frames(row.name, row.spp, row.denoise, row.temporal, row.threshold, std::nullopt);
+        double err = 0.0;
         for (std::size_t f = 0; f < test.size(); ++f) err += rmse(ref[f], test[f]) / test.size();
-        // Edge pixels (the reference differs from a 4-neighbour by more than 0.08 in either
-        // frame of the pair: silhouettes, the rod, the wires) apart from the rest, where
-        // what flickers is the noise of shading.
-        double sum = 0.0, edge_sum = 0.0;
-        std::size_t n = 0, edge_n = 0;
-        for (std::size_t f = 0; f + 1 < test.size(); ++f)
-            for (int y = 0; y < kSize; ++y)
-                for (int x = 0; x < kSize; ++x) {
-                    float contrast = 0.0f;
-                    for (const compare::Image* r : {&ref[f], &ref[f + 1]})
-                        for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-                            const int qx = x + dx, qy = y + dy;
-                            if (qx < 0 || qy < 0 || qx >= kSize || qy >= kSize) continue;
-                            for (int c = 0; c < 3; ++c)
-                                contrast = std::max(contrast, std::abs(r->at(x, y, c) - r->at(qx, qy, c)));
-                        }
-                    const bool edge = contrast > 0.08f;
-                    for (int c = 0; c < 3; ++c) {
-                        const double d = (test[f + 1].at(x, y, c) - test[f].at(x, y, c)) -
-                                         (ref[f + 1].at(x, y, c) - ref[f].at(x, y, c));
-                        (edge ? edge_sum : sum) += d * d;
-                        ++(edge ? edge_n : n);
-                    }
-                }
-        const double interior = std::sqrt(sum / static_cast<double>(n));
-        const double edges = std::sqrt(edge_sum / static_cast<double>(std::max<std::size_t>(1, edge_n)));
-        edge_share = static_cast<double>(edge_n) / static_cast<double>(n + edge_n);
-        sum += edge_sum;
-        n += edge_n;
-        flick = std::sqrt(sum / static_cast<double>(n));
-        std::printf("%-18s %8.2f %10.4f %10.4f %10.4f %10.4f\n", row.name, seconds, err, flick, interior, edges);
+        const Flicker fl = flicker(test, ref);
+        std::printf("%-18s %8.2f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n", row.name, seconds, err, fl.whole,
+                    fl.interior, fl.edges, own(fl.whole, between.whole), own(fl.interior, between.interior),
+                    own(fl.edges, between.edges));
         std::fflush(stdout);
-        if (row.spp == 16 && !row.denoise && !row.temporal) plain_flicker[0] = flick;
-        if (row.spp == 64 && !row.denoise && !row.temporal) plain_flicker[1] = flick;
     }
-    // F16^2 = a/16 + R and F64^2 = a/64 + R: R is the reference's share (its noise, which
-    // changes where the test's does).
-    const double r = (4.0 * plain_flicker[1] * plain_flicker[1] - plain_flicker[0] * plain_flicker[0]) / 3.0;
-    std::printf("edge pixels: %.1f %% of the pixels; the reference's own share of every flicker figure (from the "
-                "plain rows): about %.4f\n",
-                100.0 * edge_share, std::sqrt(std::max(0.0, r)));
 }
 
 void part_adaptive(const Args& args) {
@@ -319,6 +342,8 @@ int main(int argc, char** argv) {
             args.threads = std::stoi(argv[++i]);
         else if (a == "--ref-spp" && i + 1 < argc)
             args.ref_spp = std::stoi(argv[++i]);
+        else if (a == "--size" && i + 1 < argc)
+            args.flicker_size = std::stoi(argv[++i]);
         else
             args.part = a;
     }

@@ -45,6 +45,10 @@ struct PixelLayers {
     }
     // Either layer is mostly metal.
     bool metal() const { return first_kind == kMetal || 2 * other.metal > other.n; }
+    // The samples saw two surfaces.
+    bool mixed() const { return other.n > 0; }
+    // Some sample saw the rod or a wire.
+    bool any_metal() const { return first_kind == kMetal || other.metal > 0; }
     void add(const PathSample& s) {
         const int k = kind(s);
         if (first_kind < 0) first_kind = k, first_depth = s.depth;

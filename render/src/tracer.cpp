@@ -35,6 +35,13 @@ namespace {
 
 constexpr int kTile = 32;  // tile side in pixels (16-32 px: no false sharing between tiles)
 constexpr int kBlock = 4;  // 4x4 pixel packets for camera rays
+// In a denoised still, a pixel whose first spp samples saw two surfaces (a silhouette, a
+// fold's front sheet over the back one, a wire: pixel_layers.hpp) or the rod's and wires'
+// metal takes this many times the samples.  The denoiser averages a surface's light with its
+// neighbours' but not a mixed pixel's coverage or a thin highlight, so those pixels kept most
+// of a denoised still's error.  Turntable frames do not: their time budget (docs/benchmarks.md,
+// "Mixed pixels sampled more", measures both).
+constexpr int kMixedSppFactor = 4;
 GeometryData garment_geometry(FrameGeometry& geometry) {
     GeometryData garment;
     garment.material = MaterialId::garment;
@@ -167,6 +174,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     }
     // A still's layers, for the denoiser's mixed pixels (pixel_layers.hpp).
     const bool layers_wanted = settings.denoise && !m.transparent;
+    // The pixels the layers find mixed (or on metal) take kMixedSppFactor x spp samples.
+    const int most_spp = layers_wanted ? spp * kMixedSppFactor : spp;
     if (layers_wanted) {
         features.layer_share.resize(pixel_count);
         features.layer_metal.resize(pixel_count);
@@ -232,8 +241,13 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                 std::array<PixelSums, 16> sums{};
                 std::array<PixelLayers, 16> layers{};
                 std::array<bool, 16> inside{};
+                std::array<int, 16> limit{};  // the samples each pixel takes
+                limit.fill(spp);
                 for (int k = 0; k < 16; ++k) inside[k] = bx + k % kBlock < x1 && by + k / kBlock < y1;
-                for (int s = 0; s < spp; ++s) {
+                for (int s = 0; s < most_spp; ++s) {
+                    if (s == spp)
+                        for (int k = 0; k < 16; ++k)
+                            if (layers[k].mixed() || layers[k].any_metal()) limit[k] = most_spp;
                     alignas(64) RTCRayHit16 packet;
                     alignas(64) int valid[16];
                     std::array<Vec3f, 16> origin, dir;
@@ -241,7 +255,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     bool any = false;
                     for (int k = 0; k < 16; ++k) {
                         const int x = bx + k % kBlock, y = by + k / kBlock;
-                        valid[k] = inside[k] && !sums[k].done ? -1 : 0;
+                        valid[k] = inside[k] && !sums[k].done && s < limit[k] ? -1 : 0;
                         Vec3f o = Vec3f::Zero(), d = Vec3f::UnitZ();
                         if (valid[k]) {
                             any = true;
@@ -272,7 +286,9 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         PathSample sample;
                         bool taken = false;
                         std::size_t slot = 0;
-                        if (kept) {
+                        // The slots hold the first spp samples (a mixed pixel's more are not kept).
+                        const bool keepable = kept && s < spp;
+                        if (keepable) {
                             const int block = ((by - y0) / kBlock) * (kTile / kBlock) + (bx - x0) / kBlock;
                             slot = (static_cast<std::size_t>(block) * spp + s) * 16 + k;
                             const KeptTile::Path* const p = kept->find(slot);
@@ -286,8 +302,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         if (!taken) {
                             record.clear();
                             sample = m.integrator.trace(origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h,
-                                                        pixel_angle, *sampler[k], rays, kept ? &record : nullptr);
-                            if (kept && record.keep)
+                                                        pixel_angle, *sampler[k], rays, keepable ? &record : nullptr);
+                            if (keepable && record.keep)
                                 fresh.keep(slot, sample, record.rays.data(),
                                            static_cast<std::uint32_t>(record.rays.size()), tile_budget_bytes);
                         }
@@ -295,7 +311,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         if (layers_wanted) layers[k].add(sample);
                     }
                     const int taken = s + 1;
-                    if (threshold > 0.0f && (taken & (taken - 1)) == 0) {
+                    // Adaptive sampling decides within the first spp samples.
+                    if (threshold > 0.0f && taken <= spp && (taken & (taken - 1)) == 0) {
                         if (taken >= kMinAdaptiveSpp && packet_error_below(sums, inside, gain, threshold,
                                                                            settings.denoise || settings.denoised_later))
                             for (PixelSums& p : sums) p.done = true;
