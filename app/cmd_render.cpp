@@ -43,7 +43,8 @@ Command render_command(CLI::App& app) {
     sub->add_option("--noise-threshold", args->noise_threshold,
                     "Adaptive sampling: from 4 samples on, each 4x4 block of pixels stops once its estimated error "
                     "(in sRGB display units; with --denoise, the error left after denoising) is below this, e.g. 0.02; "
-                    "--spp is then the most a pixel takes")
+                    "--spp is then the most a pixel takes (with --denoise, 4x --spp for pixels on two surfaces "
+                    "or on metal)")
         ->check(finite_in(0.0, 1.0));
     sub->add_flag("--json", args->json,
                   "Print width, height, spp, mean_spp (also garment_mean_spp, backdrop_mean_spp), seconds, rays, "
