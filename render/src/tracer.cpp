@@ -199,8 +199,10 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
     // evenly by the tiles so that what is kept does not depend on the threads' order.
     const int slots_per_tile = (kTile / kBlock) * (kTile / kBlock) * spp * 16;
     const std::size_t slot_bytes = std::size_t(tile_count) * std::size_t(slots_per_tile) * sizeof(std::uint32_t);
-    PathReuse* const reuse =
-        settings.reuse && slot_bytes <= settings.reuse->budget_bytes() / 4 ? settings.reuse.get() : nullptr;
+    // The slots are for spp samples a pixel: a frame whose mixed pixels take more keeps none.
+    PathReuse* const reuse = settings.reuse && most_spp == spp && slot_bytes <= settings.reuse->budget_bytes() / 4
+                                 ? settings.reuse.get()
+                                 : nullptr;
     const std::size_t tile_budget_bytes = reuse ? (reuse->budget_bytes() - slot_bytes) / std::size_t(tile_count) : 0;
     std::optional<TurningMeshes> turning;
     if (reuse) {
@@ -240,14 +242,11 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
             for (int bx = x0; bx < x1; bx += kBlock) {
                 std::array<PixelSums, 16> sums{};
                 std::array<PixelLayers, 16> layers{};
-                std::array<bool, 16> inside{};
-                std::array<int, 16> limit{};  // the samples each pixel takes
-                limit.fill(spp);
+                std::array<bool, 16> inside{}, more{};  // more: the pixel takes most_spp samples
                 for (int k = 0; k < 16; ++k) inside[k] = bx + k % kBlock < x1 && by + k / kBlock < y1;
                 for (int s = 0; s < most_spp; ++s) {
                     if (s == spp)
-                        for (int k = 0; k < 16; ++k)
-                            if (layers[k].mixed() || layers[k].any_metal()) limit[k] = most_spp;
+                        for (int k = 0; k < 16; ++k) more[k] = layers[k].mixed() || layers[k].any_metal();
                     alignas(64) RTCRayHit16 packet;
                     alignas(64) int valid[16];
                     std::array<Vec3f, 16> origin, dir;
@@ -255,7 +254,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                     bool any = false;
                     for (int k = 0; k < 16; ++k) {
                         const int x = bx + k % kBlock, y = by + k / kBlock;
-                        valid[k] = inside[k] && !sums[k].done && s < limit[k] ? -1 : 0;
+                        valid[k] = inside[k] && !sums[k].done && (s < spp || more[k]) ? -1 : 0;
                         Vec3f o = Vec3f::Zero(), d = Vec3f::UnitZ();
                         if (valid[k]) {
                             any = true;
@@ -286,9 +285,7 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         PathSample sample;
                         bool taken = false;
                         std::size_t slot = 0;
-                        // The slots hold the first spp samples (a mixed pixel's more are not kept).
-                        const bool keepable = kept && s < spp;
-                        if (keepable) {
+                        if (kept) {
                             const int block = ((by - y0) / kBlock) * (kTile / kBlock) + (bx - x0) / kBlock;
                             slot = (static_cast<std::size_t>(block) * spp + s) * 16 + k;
                             const KeptTile::Path* const p = kept->find(slot);
@@ -302,8 +299,8 @@ RenderResult Tracer::render(const Camera& camera, const TraceSettings& settings,
                         if (!taken) {
                             record.clear();
                             sample = m.integrator.trace(origin[k], dir[k], h.geomID != RTC_INVALID_GEOMETRY_ID, r, h,
-                                                        pixel_angle, *sampler[k], rays, keepable ? &record : nullptr);
-                            if (keepable && record.keep)
+                                                        pixel_angle, *sampler[k], rays, kept ? &record : nullptr);
+                            if (kept && record.keep)
                                 fresh.keep(slot, sample, record.rays.data(),
                                            static_cast<std::uint32_t>(record.rays.size()), tile_budget_bytes);
                         }
