@@ -1,31 +1,18 @@
-#include <bit>
 #include <cmath>
-#include <cstring>
 #include <string>
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh_io.hpp"
+#include "little_endian.hpp"
 
 namespace foldcast {
 namespace fs = std::filesystem;
-
-static_assert(std::endian::native == std::endian::little, "PC2 I/O assumes a little-endian host");
 
 namespace {
 constexpr char kSignature[12] = {'P', 'O', 'I', 'N', 'T', 'C', 'A', 'C', 'H', 'E', '2', '\0'};
 constexpr std::size_t kHeaderBytes = 12 + 4 + 4 + 4 + 4 + 4;
 
-template <typename T>
-void put(std::ostream& out, T value) {
-    out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-template <typename T>
-T get(const char* bytes) {
-    T value;
-    std::memcpy(&value, bytes, sizeof(T));
-    return value;
-}
 }  // namespace
 
 void write_pc2(const fs::path& path, const std::vector<std::vector<Vec3f>>& frames, Pc2Info info) {
@@ -40,11 +27,11 @@ void write_pc2(const fs::path& path, const std::vector<std::vector<Vec3f>>& fram
 void write_pc2(std::ostream& out, const std::vector<std::vector<Vec3f>>& frames, Pc2Info info) {
     const std::size_t n = frames.empty() ? 0 : frames.front().size();
     out.write(kSignature, sizeof kSignature);
-    put<std::int32_t>(out, 1);
-    put<std::int32_t>(out, static_cast<std::int32_t>(n));
-    put<float>(out, info.start_frame);
-    put<float>(out, info.sampling);
-    put<std::int32_t>(out, static_cast<std::int32_t>(frames.size()));
+    little_endian::put<std::int32_t>(out, 1);
+    little_endian::put<std::int32_t>(out, static_cast<std::int32_t>(n));
+    little_endian::put<float>(out, info.start_frame);
+    little_endian::put<float>(out, info.sampling);
+    little_endian::put<std::int32_t>(out, static_cast<std::int32_t>(frames.size()));
     for (const auto& f : frames)
         out.write(reinterpret_cast<const char*>(f.data()), static_cast<std::streamsize>(n * sizeof(Vec3f)));
 }
@@ -62,11 +49,11 @@ std::vector<std::vector<Vec3f>> read_pc2(const fs::path& path, Pc2Info* info) {
         throw InputError("'" + name + "' is not a PC2 file: shorter than its 32-byte header");
     if (std::memcmp(header, kSignature, sizeof kSignature) != 0)
         throw InputError("'" + name + "' is not a PC2 file: it does not start with POINTCACHE2");
-    const auto version = get<std::int32_t>(header + 12);
-    const auto n = get<std::int32_t>(header + 16);
-    const auto start = get<float>(header + 20);
-    const auto sampling = get<float>(header + 24);
-    const auto t = get<std::int32_t>(header + 28);
+    const auto version = little_endian::get<std::int32_t>(header + 12);
+    const auto n = little_endian::get<std::int32_t>(header + 16);
+    const auto start = little_endian::get<float>(header + 20);
+    const auto sampling = little_endian::get<float>(header + 24);
+    const auto t = little_endian::get<std::int32_t>(header + 28);
     if (version != 1) throw InputError("'" + name + "': PC2 version " + std::to_string(version) + " (only 1 is known)");
     if (n <= 0 || t <= 0)
         throw InputError("'" + name + "': PC2 header says " + std::to_string(n) + " vertices and " + std::to_string(t) +

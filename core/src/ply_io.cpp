@@ -1,19 +1,8 @@
-#include <cstring>
-
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/mesh_io.hpp"
+#include "little_endian.hpp"
 
 namespace foldcast {
-
-namespace {
-template <typename T>
-void put(std::ofstream& out, T value) {
-    static_assert(std::endian::native == std::endian::little, "PLY writer assumes little-endian");
-    char bytes[sizeof(T)];
-    std::memcpy(bytes, &value, sizeof(T));
-    out.write(bytes, sizeof(T));
-}
-}  // namespace
 
 void write_ply(const std::filesystem::path& path, const Mesh& mesh) {
     validate(mesh, path.string());
@@ -29,15 +18,15 @@ void write_ply(const std::filesystem::path& path, const Mesh& mesh) {
     out << "element face " << mesh.topology.triangles.size() << "\n"
         << "property list uchar uint vertex_indices\nend_header\n";
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        for (int k = 0; k < 3; ++k) put(out, mesh.positions[i][k]);
+        for (int k = 0; k < 3; ++k) little_endian::put(out, mesh.positions[i][k]);
         if (has_n)
-            for (int k = 0; k < 3; ++k) put(out, mesh.normals[i][k]);
+            for (int k = 0; k < 3; ++k) little_endian::put(out, mesh.normals[i][k]);
         if (has_uv)
-            for (int k = 0; k < 2; ++k) put(out, mesh.topology.uvs[i][k]);
+            for (int k = 0; k < 2; ++k) little_endian::put(out, mesh.topology.uvs[i][k]);
     }
     for (const Triangle& t : mesh.topology.triangles) {
-        put<std::uint8_t>(out, 3);
-        for (std::uint32_t v : t) put(out, v);
+        little_endian::put<std::uint8_t>(out, 3);
+        for (std::uint32_t v : t) little_endian::put(out, v);
     }
     file.commit();
 }

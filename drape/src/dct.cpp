@@ -17,7 +17,9 @@
 #include <vector>
 
 namespace foldcast::drape::detail {
-namespace {
+// Named, not anonymous: GridDct::Impl holds its types (an anonymous namespace's in a
+// class of the detail namespace would be a linkage error once the unity build joins files).
+namespace fftw_lines {
 
 // FFTW's planner is not thread-safe; executing a plan on other arrays is.
 std::mutex& planner_lock() {
@@ -163,18 +165,18 @@ struct Lines {
     }
 };
 
-}  // namespace
+}  // namespace fftw_lines
 
 struct GridDct::Impl {
     GridSize grid;
-    std::unique_ptr<Lines> rows, columns;  // lengths nu and nv
+    std::unique_ptr<fftw_lines::Lines> rows, columns;  // lengths nu and nv
 
     // This thread's block scratch, large enough for either length.
-    BlockScratch& scratch() const {
+    fftw_lines::BlockScratch& scratch() const {
         const std::size_t most = std::size_t(std::max(grid.nu, grid.nv)) + 2;
-        return block_scratch(most * kBlock, (most / 2 + 1) * kBlock);
+        return fftw_lines::block_scratch(most * fftw_lines::kBlock, (most / 2 + 1) * fftw_lines::kBlock);
     }
-    static int blocks(int lines) { return (lines + kBlock - 1) / kBlock; }
+    static int blocks(int lines) { return (lines + fftw_lines::kBlock - 1) / fftw_lines::kBlock; }
 
     // Every line is transformed where it lies contiguously: the rows' results go out
     // transposed (a block of rows is a few neighbours in every row of the output), so that
@@ -185,8 +187,8 @@ struct GridDct::Impl {
     void forward(const T* in, T* out) const {
         const int nu = grid.nu, nv = grid.nv;
         tbb::parallel_for(0, blocks(nv), [&](int block) {
-            const int first = block * kBlock, count = std::min(kBlock, nv - first);
-            BlockScratch& s = scratch();
+            const int first = block * fftw_lines::kBlock, count = std::min(fftw_lines::kBlock, nv - first);
+            fftw_lines::BlockScratch& s = scratch();
             double* const v = s.v->data;
             rows->forward(count, in + std::ptrdiff_t(first) * nu, v, s);
             for (int p = 0; p < nu; ++p) {
@@ -195,9 +197,9 @@ struct GridDct::Impl {
             }
         });
         tbb::parallel_for(0, blocks(nu), [&](int block) {
-            const int first = block * kBlock;
+            const int first = block * fftw_lines::kBlock;
             T* const lines = out + std::ptrdiff_t(first) * nv;
-            columns->forward(std::min(kBlock, nu - first), lines, lines, scratch());
+            columns->forward(std::min(fftw_lines::kBlock, nu - first), lines, lines, scratch());
         });
     }
 
@@ -205,14 +207,14 @@ struct GridDct::Impl {
     void inverse(T* in, T* out, const T* scale) const {
         const int nu = grid.nu, nv = grid.nv;
         tbb::parallel_for(0, blocks(nu), [&](int block) {
-            const int first = block * kBlock;
+            const int first = block * fftw_lines::kBlock;
             T* const lines = in + std::ptrdiff_t(first) * nv;
-            columns->inverse(std::min(kBlock, nu - first), lines, lines,
+            columns->inverse(std::min(fftw_lines::kBlock, nu - first), lines, lines,
                              scale ? scale + std::ptrdiff_t(first) * nv : nullptr, scratch());
         });
         tbb::parallel_for(0, blocks(nv), [&](int block) {
-            const int first = block * kBlock, count = std::min(kBlock, nv - first);
-            BlockScratch& s = scratch();
+            const int first = block * fftw_lines::kBlock, count = std::min(fftw_lines::kBlock, nv - first);
+            fftw_lines::BlockScratch& s = scratch();
             double* const v = s.v->data;
             for (int p = 0; p < nu; ++p) {
                 const T* const from = in + std::ptrdiff_t(p) * nv + first;
@@ -225,8 +227,8 @@ struct GridDct::Impl {
 
 GridDct::GridDct(GridSize grid) : impl_(std::make_unique<Impl>()) {
     impl_->grid = grid;
-    impl_->rows = std::make_unique<Lines>(grid.nu, grid.nv);
-    impl_->columns = std::make_unique<Lines>(grid.nv, grid.nu);
+    impl_->rows = std::make_unique<fftw_lines::Lines>(grid.nu, grid.nv);
+    impl_->columns = std::make_unique<fftw_lines::Lines>(grid.nv, grid.nu);
 }
 
 GridDct::~GridDct() = default;

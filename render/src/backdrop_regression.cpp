@@ -16,13 +16,13 @@ namespace {
 // The window and its Gaussian weights: at 320x180 radius 10 and 12 (sigma half of it) did
 // alike and 8 worse; a box window was as good by the score but left faint streaks along the
 // rows and columns (docs/benchmarks.md).
-constexpr int kRadius = 10;
-constexpr float kSigma = 5.0f;
+constexpr int kBackdropRadius = 10;
+constexpr float kBackdropSigma = 5.0f;
 // How far the guide's residual may go beyond its noise before the fit gives way to the
-// a-trous result (exp(-residual / (kMisfit noise))): 8 / 32 / 128 at 320x180, 26.1 / 25.9 /
+// a-trous result (exp(-residual / (kBackdropMisfit noise))): 8 / 32 / 128 at 320x180, 26.1 / 25.9 /
 // 26.2 (docs/benchmarks.md); a hard cut was no better than the blend.
-constexpr float kMisfit = 32.0f;
-constexpr float kRidge = 1e-6f;  // on the slopes, relative to the weights' sum
+constexpr float kBackdropMisfit = 32.0f;
+constexpr float kBackdropRidge = 1e-6f;  // on the slopes, relative to the weights' sum
 
 // The regressors are 1, u, v (the offset in units of the radius) and z (the depth relative to
 // the backdrop's mean).  The sums of their products and of the light's and the guide's with
@@ -76,13 +76,14 @@ constexpr int row_pass_of(const Sum& s) {
     return -1;
 }
 
-// g(d) (d / kRadius)^k for k = 0, 1, 2 and d = 0 .. kRadius: even in d for k = 0 and 2, odd
+// g(d) (d / kBackdropRadius)^k for k = 0, 1, 2 and d = 0 .. kBackdropRadius: even in d for k = 0 and 2, odd
 // for k = 1, so each pass adds a tap pair's sum or difference times one weight.
 struct Kernels {
-    float k[3][kRadius + 1];
+    float k[3][kBackdropRadius + 1];
     Kernels() {
-        for (int d = 0; d <= kRadius; ++d) {
-            const float u = float(d) / kRadius, g = std::exp(-float(d * d) / (2.0f * kSigma * kSigma));
+        for (int d = 0; d <= kBackdropRadius; ++d) {
+            const float u = float(d) / kBackdropRadius,
+                        g = std::exp(-float(d * d) / (2.0f * kBackdropSigma * kBackdropSigma));
             k[0][d] = g, k[1][d] = g * u, k[2][d] = g * u * u;
         }
     }
@@ -97,7 +98,7 @@ void convolve(const Kernels& kernels, int power, int n, float* dst, Tap&& at) {
         const float* const centre = at(0);
         for (int x = 0; x < n; ++x) dst[x] = power == 0 ? k[0] * centre[x] : 0.0f;
     }
-    for (int d = 1; d <= kRadius; ++d) {
+    for (int d = 1; d <= kBackdropRadius; ++d) {
         const float* const plus = at(d);
         const float* const minus = at(-d);
         const float kd = k[d];
@@ -159,9 +160,9 @@ void regress_backdrop(const BackdropRegressionInput& in, std::vector<V3>& out) {
     const std::unique_ptr<float[]> rows(new float[std::size_t(kRowPasses) * count]);
     const auto row_plane = [&](int p) { return rows.get() + std::size_t(p) * count; };
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& r) {
-        // The row's fields (zero off the backdrop and for kRadius pixels beyond each end),
+        // The row's fields (zero off the backdrop and for kBackdropRadius pixels beyond each end),
         // field by field.
-        const std::size_t stride = std::size_t(w) + 2 * kRadius;
+        const std::size_t stride = std::size_t(w) + 2 * kBackdropRadius;
         std::vector<float> field(std::size_t(kFields) * stride, 0.0f);
         for (int y = r.begin(); y < r.end(); ++y) {
             for (int x = 0; x < w; ++x) {
@@ -171,10 +172,10 @@ void regress_backdrop(const BackdropRegressionInput& in, std::vector<V3>& out) {
                 const float values[kFields] = {1.0f,      z,         z * z,     l.x(), l.y(), l.z(),
                                                z * l.x(), z * l.y(), z * l.z(), g,     z * g, g * g};
                 for (int f = 0; f < kFields; ++f)
-                    field[std::size_t(f) * stride + kRadius + x] = backdrop[i] ? values[f] : 0.0f;
+                    field[std::size_t(f) * stride + kBackdropRadius + x] = backdrop[i] ? values[f] : 0.0f;
             }
             for (int p = 0; p < kRowPasses; ++p) {
-                const float* const src = field.data() + std::size_t(kRowPass[p].field) * stride + kRadius;
+                const float* const src = field.data() + std::size_t(kRowPass[p].field) * stride + kBackdropRadius;
                 convolve(kernels, kRowPass[p].power, w, row_plane(p) + std::size_t(y) * w,
                          [&](int d) { return src + d; });
             }
@@ -193,7 +194,7 @@ void regress_backdrop(const BackdropRegressionInput& in, std::vector<V3>& out) {
                 const std::size_t i = std::size_t(y) * w + x;
                 if (!backdrop[i]) continue;
                 const auto s = [&](int k) { return sums[std::size_t(k) * w + x]; };
-                const float ridge = kRidge * s(0);
+                const float ridge = kBackdropRidge * s(0);
                 const float m[10] = {s(0), s(1), s(2),         s(3), s(4) + ridge,
                                      s(5), s(6), s(7) + ridge, s(8), s(9) + ridge};
                 float l[10];
@@ -218,7 +219,7 @@ void regress_backdrop(const BackdropRegressionInput& in, std::vector<V3>& out) {
                 forward4(l, {s(kGuideSums), s(kGuideSums + 1), s(kGuideSums + 2), s(kGuideSums + 3)}, yg);
                 const float explained = yg[0] * yg[0] + yg[1] * yg[1] + yg[2] * yg[2] + yg[3] * yg[3];
                 const float residual = std::max(0.0f, s(kGuideSquare) - explained) / s(0);
-                const float alpha = std::exp(-residual / (kMisfit * (*in.variance)[i] + 1e-20f));
+                const float alpha = std::exp(-residual / (kBackdropMisfit * (*in.variance)[i] + 1e-20f));
                 out[i] = alpha * value + (1.0f - alpha) * out[i];
             }
         }

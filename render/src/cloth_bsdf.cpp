@@ -65,12 +65,12 @@ constexpr int kN = 32;
 float node_mu(int i) { return std::max(0.02f, static_cast<float>(i) / (kN - 1)); }
 float node_rough(int j) { return static_cast<float>(j) / (kN - 1); }
 
-struct Tables {
+struct AlbedoTables {
     std::array<float, kN * kN> spec_a{};  // E = f0 * A + B
     std::array<float, kN * kN> spec_b{};
     std::array<float, kN * kN> sheen{};
 
-    Tables() {
+    AlbedoTables() {
         constexpr int kStrata = 48;  // kStrata^2 stratified samples per entry
         for (int i = 0; i < kN; ++i) {
             const float mu = node_mu(i);
@@ -131,20 +131,20 @@ struct Tables {
     }
 };
 
-const Tables& tables() {
-    static const Tables t;  // thread-safe static init, ~0.1 s once per process
+const AlbedoTables& albedo_tables() {
+    static const AlbedoTables t;  // thread-safe static init, ~0.1 s once per process
     return t;
 }
 
 }  // namespace
 
 float ggx_albedo(float mu, float roughness, float f0) {
-    const Tables& t = tables();
-    const Tables::Cell cell(mu, roughness);
-    return std::clamp(f0 * Tables::lookup(t.spec_a, cell) + Tables::lookup(t.spec_b, cell), 0.0f, 1.0f);
+    const AlbedoTables& t = albedo_tables();
+    const AlbedoTables::Cell cell(mu, roughness);
+    return std::clamp(f0 * AlbedoTables::lookup(t.spec_a, cell) + AlbedoTables::lookup(t.spec_b, cell), 0.0f, 1.0f);
 }
 float sheen_albedo(float mu, float sheen_roughness) {
-    return std::clamp(Tables::lookup(tables().sheen, Tables::Cell(mu, sheen_roughness)), 0.0f, 1.0f);
+    return std::clamp(AlbedoTables::lookup(albedo_tables().sheen, AlbedoTables::Cell(mu, sheen_roughness)), 0.0f, 1.0f);
 }
 
 BsdfLobes::BsdfLobes(const BsdfParams& params) {

@@ -25,8 +25,8 @@ namespace {
 // (1) and the offset's squares and product (3).  The settings were chosen on the default
 // scene at 640x360 and 16 spp (docs/benchmarks.md, "Cloth regression": 11 x 11 was 1 % better
 // and 50 % dearer).
-constexpr int kRadius = 4;
-constexpr int kTaps = 2 * kRadius + 1;
+constexpr int kClothRadius = 4;
+constexpr int kTaps = 2 * kClothRadius + 1;
 constexpr int kFrameRegressors = 6;
 // Stills add the depth's change and the offset's squares and product (a crease's trough is a
 // minimum of the light across the fold: a plane fitted over it comes out too bright at the
@@ -50,13 +50,13 @@ constexpr float kStillDepthTolerance = 0.01f;
 // The depth regressor's unit, a share of the pixel's depth: the ridge below is on the scale of
 // a unit slope.
 constexpr float kDepthRegressorUnit = 0.01f;
-constexpr double kRidge = 1e-3;  // on the slopes, so that a flat patch still has a fit
+constexpr double kClothRidge = 1e-3;  // on the slopes, so that a flat patch still has a fit
 // A fit whose residual variance is beyond this many times the light's noise does not follow
 // the light (a glossy weave's highlight is not linear in the normal): the pixel keeps the
 // passes' result.  8 / 16 / 32 / none: satin 0.0078 / 0.0078 / 0.0079 / 0.0083, silk
 // charmeuse 0.0077 / 0.0079 / 0.0082 / 0.0093, the default scene 14.7 / 14.5 / 14.6 / 14.6
 // (docs/benchmarks.md, "Every look, measured").
-constexpr double kMisfit = 16.0;
+constexpr double kClothMisfit = 16.0;
 // The fits averaged at a pixel (average_fits): those about it and its neighbours within this
 // many pixels on either axis.  Default scene, 16 spp + denoise, seeds 1-3, squared error at
 // 320x180 / 640x360 with 1: 18.89 / 10.28, 2: 18.85 / 10.30, 4 (the whole window, three times
@@ -79,14 +79,14 @@ struct Offsets {
     explicit Offsets(float sigma) {
         float g[kTaps];
         for (int d = 0; d < kTaps; ++d) {
-            const float o = float(d - kRadius);
+            const float o = float(d - kClothRadius);
             g[d] = std::exp(-o * o / (2.0f * sigma * sigma));
-            regressor[d] = o / kRadius;
+            regressor[d] = o / kClothRadius;
             square[d] = regressor[d] * regressor[d];
         }
         for (int a = 0; a < kTaps; ++a)
             for (int b = 0; b < kTaps; ++b) {
-                const float dx = float(b - kRadius), dy = float(a - kRadius);
+                const float dx = float(b - kClothRadius), dy = float(a - kClothRadius);
                 spatial[a][b] = g[a] * g[b];
                 inv_distance[a][b] = 1.0f / std::max(1.0f, std::sqrt(dx * dx + dy * dy));
             }
@@ -142,7 +142,7 @@ struct Tap {
     float r[kStillRegressors];
 };
 inline Tap tap(const Planes& p, const Offsets& o, const Centre& c, std::size_t i, std::size_t j, int dx, int dy) {
-    const int ox = dx + kRadius, oy = dy + kRadius;
+    const int ox = dx + kClothRadius, oy = dy + kClothRadius;
     return {
         o.spatial[oy][ox] * fast_exp(-tap_exponent(p, c, i, j, o.inv_distance[oy][ox])),
         {1.0f, p.nx[j] - p.nx[i], p.ny[j] - p.ny[i], p.nz[j] - p.nz[i], o.regressor[ox], o.regressor[oy],
@@ -151,7 +151,7 @@ inline Tap tap(const Planes& p, const Offsets& o, const Centre& c, std::size_t i
 
 // The regression's value from its weighted sums (xx: X^T W X's upper triangle, row by row;
 // xy: X^T W y; yy: the weighted sum of the light's squared luminance), written to `out` when
-// the fit is sound and fits: its residual within kMisfit times `noise`, the variance of the
+// the fit is sound and fits: its residual within kClothMisfit times `noise`, the variance of the
 // light's luminance at the pixel.
 template <int kRegressors>
 void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegressors][3], float yy, float noise, V3& out,
@@ -161,7 +161,7 @@ void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegresso
     int k = 0;
     for (int a = 0; a < kRegressors; ++a)
         for (int b = a; b < kRegressors; ++b) m(a, b) = m(b, a) = xx[k++];
-    for (int a = 1; a < kRegressors; ++a) m(a, a) += kRidge;
+    for (int a = 1; a < kRegressors; ++a) m(a, a) += kClothRidge;
     Eigen::Matrix<double, kRegressors, 3> rhs;
     for (int a = 0; a < kRegressors; ++a)
         for (int c = 0; c < 3; ++c) rhs(a, c) = xy[a][c];
@@ -173,7 +173,7 @@ void solve(const float (&xx)[products(kRegressors)], const float (&xy)[kRegresso
     const Eigen::Vector3d to_luminance = Eigen::Map<const Eigen::Vector3f>(kLuminanceWeights).cast<double>();
     const Eigen::Matrix<double, kRegressors, 1> beta_luminance = beta * to_luminance;
     const double residual = std::max(0.0, double(yy) - beta_luminance.dot(rhs * to_luminance)) / double(xx[0]);
-    if (!(residual <= kMisfit * double(noise))) return;
+    if (!(residual <= kClothMisfit * double(noise))) return;
     if (!value.allFinite() || value.minCoeff() < 0.0f) return;
     out = value;
     if (beta_out)
@@ -189,10 +189,10 @@ void regress_pixel(const Planes& p, const Offsets& o, int x, int y, V3& out) {
     float xy[kRegressors][3] = {};
     float yy = 0.0f;
     const Centre at = centre(p, i);
-    for (int dy = -kRadius; dy <= kRadius; ++dy) {
+    for (int dy = -kClothRadius; dy <= kClothRadius; ++dy) {
         const int qy = y + dy;
         if (qy < 0 || qy >= p.h) continue;
-        for (int dx = -kRadius; dx <= kRadius; ++dx) {
+        for (int dx = -kClothRadius; dx <= kClothRadius; ++dx) {
             const int qx = x + dx;
             if (qx < 0 || qx >= p.w) continue;
             const std::size_t j = std::size_t(qy) * p.w + qx;
@@ -237,10 +237,10 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
     for (__m128& s : xx) s = _mm_setzero_ps();
     for (auto& row : xy)
         for (__m128& s : row) s = _mm_setzero_ps();
-    for (int dy = -kRadius; dy <= kRadius; ++dy) {
+    for (int dy = -kClothRadius; dy <= kClothRadius; ++dy) {
         const int qy = y + dy;
         if (qy < 0 || qy >= p.h) continue;
-        for (int dx = -kRadius; dx <= kRadius; ++dx) {
+        for (int dx = -kClothRadius; dx <= kClothRadius; ++dx) {
             const std::size_t j = std::size_t(qy) * p.w + std::size_t(x + dx);
             const __m128 taken = _mm_and_ps(
                 _mm_castsi128_ps(
@@ -257,20 +257,22 @@ void regress_four(const Planes& p, const Offsets& o, int x, int y, V3* out) {
                 _mm_add_ps(_mm_mul_ps(colour_sigma2, _mm_add_ps(variance_i, load(p.variance + j))), scale_floor));
             const __m128 exponent =
                 _mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_and_ps(_mm_sub_ps(depth_j, depth_i), abs_mask), inv_tolerance),
-                                      _mm_set1_ps(o.inv_distance[dy + kRadius][dx + kRadius])),
+                                      _mm_set1_ps(o.inv_distance[dy + kClothRadius][dx + kClothRadius])),
                            colour);
-            const __m128 weight = _mm_and_ps(taken, _mm_mul_ps(_mm_set1_ps(o.spatial[dy + kRadius][dx + kRadius]),
-                                                               fast_exp4(_mm_xor_ps(exponent, sign_bit))));
-            const __m128 r[kStillRegressors] = {_mm_set1_ps(1.0f),
-                                                _mm_sub_ps(load(p.nx + j), nx_i),
-                                                _mm_sub_ps(load(p.ny + j), ny_i),
-                                                _mm_sub_ps(load(p.nz + j), nz_i),
-                                                _mm_set1_ps(o.regressor[dx + kRadius]),
-                                                _mm_set1_ps(o.regressor[dy + kRadius]),
-                                                _mm_mul_ps(_mm_sub_ps(depth_j, depth_i), inv_depth_unit),
-                                                _mm_set1_ps(o.square[dx + kRadius]),
-                                                _mm_set1_ps(o.square[dy + kRadius]),
-                                                _mm_set1_ps(o.regressor[dx + kRadius] * o.regressor[dy + kRadius])};
+            const __m128 weight =
+                _mm_and_ps(taken, _mm_mul_ps(_mm_set1_ps(o.spatial[dy + kClothRadius][dx + kClothRadius]),
+                                             fast_exp4(_mm_xor_ps(exponent, sign_bit))));
+            const __m128 r[kStillRegressors] = {
+                _mm_set1_ps(1.0f),
+                _mm_sub_ps(load(p.nx + j), nx_i),
+                _mm_sub_ps(load(p.ny + j), ny_i),
+                _mm_sub_ps(load(p.nz + j), nz_i),
+                _mm_set1_ps(o.regressor[dx + kClothRadius]),
+                _mm_set1_ps(o.regressor[dy + kClothRadius]),
+                _mm_mul_ps(_mm_sub_ps(depth_j, depth_i), inv_depth_unit),
+                _mm_set1_ps(o.square[dx + kClothRadius]),
+                _mm_set1_ps(o.square[dy + kClothRadius]),
+                _mm_set1_ps(o.regressor[dx + kClothRadius] * o.regressor[dy + kClothRadius])};
             const __m128 l[3] = {load(p.red.data() + j), load(p.green.data() + j), load(p.blue.data() + j)};
             int k = 0;
             for (int a = 0; a < kRegressors; ++a) {
@@ -311,7 +313,7 @@ void regress_rows(const Planes& p, const Offsets& offsets, std::vector<V3>& out)
             while (x < p.w) {
 #if defined(__SSE2__)
                 // Four pixels at a time where all their taps lie inside the row.
-                if (x >= kRadius && x + 4 + kRadius <= p.w) {
+                if (x >= kClothRadius && x + 4 + kClothRadius <= p.w) {
                     const std::int32_t* c = p.cloth + row + x;
                     if (c[0] | c[1] | c[2] | c[3]) regress_four<kRegressors>(p, offsets, x, y, &out[row + x]);
                     x += 4;

@@ -15,12 +15,12 @@ namespace {
 // 7 x 7 window: the first-order fit below needs the candidates of two pixels more along the
 // edge to pin its slope (default scene, 320x180, seeds 1-3: squared error 19.28 x1e-6 with the
 // 5 x 5 mean, 19.14 with this fit).
-constexpr int kRadius = 3;
+constexpr int kMixedRadius = 3;
 constexpr float kSpatialSigma = 2.0f;  // pixels
 // Relative depth: a layer on a fold's back sheet must not take the front sheet's light,
 // 2-4% nearer (pixel_layers.hpp).
-constexpr float kDepthTolerance = 0.01f;
-constexpr int kNormalSquarings = 4;  // cos^16
+constexpr float kMixedDepthTolerance = 0.01f;
+constexpr int kMixedNormalSquarings = 4;  // cos^16
 constexpr float kAlbedoSigma = 0.05f;
 // A pure pixel's denoised light, next to a mixed pixel's noisy layer of the same share: it
 // lies farther from the edge, so it counts less.  With the first-order fit taking the light's
@@ -50,9 +50,9 @@ V3 divisor(const V3& albedo) {
 
 // How well a candidate layer stands in for `layer`: depth, normal and albedo.
 float match(const Layer& layer, float depth, const V3& normal, const V3& albedo) {
-    const float d = (depth - layer.depth) / (kDepthTolerance * layer.depth);
+    const float d = (depth - layer.depth) / (kMixedDepthTolerance * layer.depth);
     float c = std::max(0.0f, normal.dot(layer.normal));
-    for (int k = 0; k < kNormalSquarings; ++k) c *= c;
+    for (int k = 0; k < kMixedNormalSquarings; ++k) c *= c;
     return std::exp(-d * d - (albedo - layer.albedo).squaredNorm() / (kAlbedoSigma * kAlbedoSigma)) * c;
 }
 
@@ -120,8 +120,8 @@ void rebuild_mixed_pixels(Image& rgba, const PixelFeatures& features, const std:
     const auto fitted_light = [&](const Layer& self, int x, int y) {
         const std::size_t i = static_cast<std::size_t>(y) * w + x;
         PlaneFit fit;
-        for (int qy = std::max(0, y - kRadius); qy <= std::min(h - 1, y + kRadius); ++qy)
-            for (int qx = std::max(0, x - kRadius); qx <= std::min(w - 1, x + kRadius); ++qx) {
+        for (int qy = std::max(0, y - kMixedRadius); qy <= std::min(h - 1, y + kMixedRadius); ++qy)
+            for (int qx = std::max(0, x - kMixedRadius); qx <= std::min(w - 1, x + kMixedRadius); ++qx) {
                 const std::size_t q = static_cast<std::size_t>(qy) * w + qx;
                 if (rgba.pixels[4 * q + 3] <= 0.0f) continue;
                 const float r2 = static_cast<float>((qx - x) * (qx - x) + (qy - y) * (qy - y));

@@ -24,7 +24,7 @@ constexpr float kWindowImagePixels = 320.0f * 180.0f;
 // alpha may go half a step beyond the first setting, away from the second: a sharper fit
 // than either (320x180, seeds 1-3: [0, 1] 23.38, [-0.5, 1] 23.30, [-1, 1] 23.32, [-0.5, 1.5]
 // 23.41 before the backdrop's blend).
-constexpr float kMinAlpha = -0.5f, kMaxAlpha = 1.0f;
+constexpr float kMinBlendAlpha = -0.5f, kMaxBlendAlpha = 1.0f;
 // The cloth's averaged fits (cloth_regression.hpp) blended with each pixel's own fit by the
 // halves as the settings are, over the same window: the averaging lowers the noise of the
 // flat cloth and biases a glossy sheen lobe, which a neighbour's fit extrapolated to the pixel
@@ -187,13 +187,13 @@ void regress_still_by_halves(const SelectionInput& in, std::vector<V3>& out) {
         // The settings' blend chosen on the averaged fits, then the same blend of the own fits,
         // and between the two a second blend by the halves (kMaxOwnShare).
         const std::vector<float> alpha =
-            fit_alpha(in, mask, averaged0, averaged1, scale * kClothWindowPx, kMinAlpha, kMaxAlpha);
+            fit_alpha(in, mask, averaged0, averaged1, scale * kClothWindowPx, kMinBlendAlpha, kMaxBlendAlpha);
         const Candidate averaged = mix(mask, averaged0, averaged1, alpha), own = mix(mask, own0, own1, alpha);
         blend(in, mask, averaged, own, scale * kClothWindowPx, 0.0f, kMaxOwnShare, out);
     }
     const Candidate f0 = candidate(in, kBackdropSettings[0].noisy_share, backdrop);
     const Candidate f1 = candidate(in, kBackdropSettings[1].noisy_share, backdrop);
-    blend(in, *in.backdrop.backdrop, f0, f1, scale * kBackdropWindowPx, kMinAlpha, kMaxAlpha, out);
+    blend(in, *in.backdrop.backdrop, f0, f1, scale * kBackdropWindowPx, kMinBlendAlpha, kMaxBlendAlpha, out);
 }
 
 }  // namespace foldcast::render

@@ -18,7 +18,7 @@ constexpr int kBucketShift = 23 - 6;
 constexpr std::uint32_t kOneBits = 127u << 23;
 constexpr std::size_t kBuckets = ((kOneBits - kFirstBits) >> kBucketShift) + 1;
 
-struct Tables {
+struct EncodeTables {
     // thresholds[k] = the smallest float that encodes to k or more; thresholds[256] = +inf.
     std::array<float, 257> thresholds{};
     std::array<std::uint8_t, kBuckets> bucket_code{};  // the code of each bucket's first float
@@ -26,8 +26,8 @@ struct Tables {
 
 // Non-negative floats order like their bit patterns, so bisection over the patterns finds
 // each step exactly.
-Tables make_tables() {
-    Tables t;
+EncodeTables make_encode_tables() {
+    EncodeTables t;
     for (int code = 1; code < 256; ++code) {
         std::uint32_t lo = 0, hi = kOneBits;  // encode(lo) < code <= encode(hi)
         while (hi - lo > 1) {
@@ -46,7 +46,7 @@ Tables make_tables() {
     return t;
 }
 
-const Tables tables = make_tables();
+const EncodeTables encode_tables = make_encode_tables();
 
 }  // namespace
 
@@ -60,8 +60,8 @@ std::uint8_t encode_srgb8_by_formula(float linear) {
 std::uint8_t encode_srgb8(float linear) {
     if (!(linear >= std::bit_cast<float>(kFirstBits))) return 0;  // also NaN
     if (linear >= 1.0f) return 255;
-    std::size_t code = tables.bucket_code[(std::bit_cast<std::uint32_t>(linear) - kFirstBits) >> kBucketShift];
-    while (linear >= tables.thresholds[code + 1]) ++code;
+    std::size_t code = encode_tables.bucket_code[(std::bit_cast<std::uint32_t>(linear) - kFirstBits) >> kBucketShift];
+    while (linear >= encode_tables.thresholds[code + 1]) ++code;
     return static_cast<std::uint8_t>(code);
 }
 

@@ -17,22 +17,22 @@ namespace {
 // 320x180, 16 spp + denoise, the rod's squared error (seeds 1-3, x1e-6; 7.91 without this
 // stage): a straight line at radius 8 / 12 / 16 6.73 / 6.66 / 6.86, the quadratic at 12 / 16 /
 // 20 6.69 / 6.50 / 6.47 (docs/benchmarks.md, "The supports' regression").
-constexpr int kRadius = 16;
-constexpr float kSigma = 8.0f;
+constexpr int kSupportRadius = 16;
+constexpr float kSupportSigma = 8.0f;
 // At least this many taps on the line (the pixel's own included) must be of the same support
 // and albedo: the clips, five pixels wide, are left to the passes.  Fitted along their short
 // runs they lost (radius 12, no such test: the garment's box 6.23 -> 6.36, the other edges
 // 0.35 -> 0.44); at least 13 / 20 / 25 of 25 taps: the rod 6.95 / 7.19 / 7.23, the box 6.23.
-constexpr int kMinRun = kRadius + 1;
+constexpr int kMinRun = kSupportRadius + 1;
 constexpr int kRegressors = 3;   // 1, the offset and its square (in units of the radius)
-constexpr double kRidge = 1e-3;  // on the slopes, relative to the weights' sum
+constexpr double kSupportRidge = 1e-3;  // on the slopes, relative to the weights' sum
 // A tap's depth may differ by this share of the pixel's depth per pixel of distance (exp(-1)).
-constexpr float kDepthTolerance = 0.01f;
+constexpr float kSupportDepthTolerance = 0.01f;
 // How far the fit's residual may go beyond the light's noise before the pixel gives way to the
-// a-trous result, exp(-residual / (kMisfit noise)): a hard cut at 16 / 32 / 64 / 128 left the
+// a-trous result, exp(-residual / (kSupportMisfit noise)): a hard cut at 16 / 32 / 64 / 128 left the
 // rod 6.95 / 6.86 / 6.80 / 6.74, the blend at 16 / 64 / 256 6.96 / 6.66 / 6.69 (straight line,
 // radius 12); with the quadratic at radius 16, the blend at 32 / 64 6.68 / 6.50.
-constexpr double kMisfit = 64.0;
+constexpr double kSupportMisfit = 64.0;
 // What the pixel gives way to where the fit does not follow: a straight line over the nearest
 // taps along the axis (Gaussian sigma kShortSigma, out to kShortRadius), with no colour or
 // depth weight, rather than the a-trous result.  At a highlight's edge (the light rising
@@ -79,7 +79,7 @@ void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
                 const bool along_row = change(at(std::max(0, x - 1), y), at(std::min(w - 1, x + 1), y)) <=
                                        change(at(x, std::max(0, y - 1)), at(x, std::min(h - 1, y + 1)));
                 Sums s;
-                for (int d = -kRadius; d <= kRadius; ++d) {
+                for (int d = -kSupportRadius; d <= kSupportRadius; ++d) {
                     const int qx = along_row ? x + d : x, qy = along_row ? y : y + d;
                     if (qx < 0 || qx >= w || qy < 0 || qy >= h) continue;
                     const std::size_t j = at(qx, qy);
@@ -99,15 +99,16 @@ void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
                             s.short_xy.noalias() += ws * r * (*in.light)[j].cast<double>().transpose();
                         }
                     }
-                    float e = float(d * d) / (2.0f * kSigma * kSigma);
+                    float e = float(d * d) / (2.0f * kSupportSigma * kSupportSigma);
                     if (mix > kMixDeadZone) e += kMixScale * (mix - kMixDeadZone);
-                    if (d != 0) e += std::abs(depth[j] - depth[i]) / (kDepthTolerance * depth[i] * float(std::abs(d)));
+                    if (d != 0)
+                        e += std::abs(depth[j] - depth[i]) / (kSupportDepthTolerance * depth[i] * float(std::abs(d)));
                     const float difference = guide[j] - guide[i];
                     const float scale2 = kColourSigma * kColourSigma * (variance[i] + variance[j]) +
                                          kColourRelative * kColourRelative * guide[i] * guide[i] + 1e-12f;
                     e += difference * difference / scale2;
                     if (e > kMaxExponent) continue;
-                    const double wt = std::exp(-double(e)), u = double(d) / kRadius;
+                    const double wt = std::exp(-double(e)), u = double(d) / kSupportRadius;
                     const Eigen::Vector3d r(1.0, u, u * u);
                     const V3& l = (*in.light)[j];
                     s.xx.noalias() += wt * r * r.transpose();
@@ -116,7 +117,7 @@ void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
                     s.yy += wt * lum * lum;
                 }
                 if (s.run < kMinRun) continue;
-                for (int a = 1; a < kRegressors; ++a) s.xx(a, a) += kRidge * s.xx(0, 0);
+                for (int a = 1; a < kRegressors; ++a) s.xx(a, a) += kSupportRidge * s.xx(0, 0);
                 const Eigen::LLT<Eigen::Matrix3d> fit(s.xx);
                 if (fit.info() != Eigen::Success) continue;
                 const Eigen::Matrix<double, kRegressors, 3> beta = fit.solve(s.xy);
@@ -125,9 +126,10 @@ void regress_supports(const SupportRegressionInput& in, std::vector<V3>& out) {
                 // The fit's weighted residual variance in luminance, (y^T W y - beta^T X^T W y) / sum W.
                 const double residual =
                     std::max(0.0, s.yy - (beta * to_luminance).dot(s.xy * to_luminance)) / s.xx(0, 0);
-                const float alpha = float(std::exp(-residual / (kMisfit * double((*in.fitted_variance)[i]) + 1e-20)));
+                const float alpha =
+                    float(std::exp(-residual / (kSupportMisfit * double((*in.fitted_variance)[i]) + 1e-20)));
                 V3 fallback = out[i];
-                s.short_xx(1, 1) += kRidge * s.short_xx(0, 0);
+                s.short_xx(1, 1) += kSupportRidge * s.short_xx(0, 0);
                 const Eigen::LLT<Eigen::Matrix2d> short_fit(s.short_xx);
                 if (short_fit.info() == Eigen::Success) {
                     const Eigen::Matrix<double, 2, 3> b = short_fit.solve(s.short_xy);

@@ -24,7 +24,7 @@ namespace {
 // samples agree; silhouettes and the rod, clips and wires (thin, metal: a reprojected
 // highlight lands beside itself) keep their own value.
 constexpr float kPureShare = 0.9f;
-constexpr float kDepthTolerance = 1.5f;  // in the pixel's depth steps (the depth change to a neighbour)
+constexpr float kHistoryDepthTolerance = 1.5f;  // in the pixel's depth steps (the depth change to a neighbour)
 constexpr float kMinNormalCos = 0.9f;    // ~25 degrees: the weave's bump varies within a pixel
 constexpr float kAlbedoTolerance = 0.08f;  // absolute, per channel
 // Luminance may differ from frame f's by this many standard deviations of the two pixels'
@@ -54,7 +54,7 @@ struct Expected {
                       // estimate from a few samples can be near zero
 };
 
-struct Tap {
+struct HistoryTap {
     Vec3f light;     // colour / albedo
     float variance;  // of the luminance
     Vec3f light_a = Vec3f::Zero(), light_b = Vec3f::Zero();  // the same of the two half buffers, when kept
@@ -62,8 +62,8 @@ struct Tap {
 
 // The illumination another frame shows at the surface point `e`, or none where too little
 // of the bilinear footprint agrees with it.
-std::optional<Tap> fetch(const TemporalFrame& g, const CameraModel& cam, const Vec3f& camera_position,
-                         const Expected& e) {
+std::optional<HistoryTap> fetch(const TemporalFrame& g, const CameraModel& cam, const Vec3f& camera_position,
+                                const Expected& e) {
     const int w = g.beauty.width, h = g.beauty.height;
     float px = 0.0f, py = 0.0f;
     if (!cam.project(e.point, &px, &py)) return std::nullopt;
@@ -83,7 +83,7 @@ std::optional<Tap> fetch(const TemporalFrame& g, const CameraModel& cam, const V
         if (b <= 0.0f) continue;
         const std::size_t q = static_cast<std::size_t>(y) * w + x;
         if (e.cloth ? f.cloth[q] < kPureShare : f.turning[q] > 1.0f - kPureShare) continue;
-        if (f.depth[q] <= 0.0f || std::abs(f.depth[q] - distance) > kDepthTolerance * e.depth_step) continue;
+        if (f.depth[q] <= 0.0f || std::abs(f.depth[q] - distance) > kHistoryDepthTolerance * e.depth_step) continue;
         if (f.normal[q].dot(e.normal) < kMinNormalCos) continue;
         if ((f.albedo[q] - e.albedo).cwiseAbs().maxCoeff() > kAlbedoTolerance) continue;
         const float* c = g.beauty.at(x, y);
@@ -101,7 +101,7 @@ std::optional<Tap> fetch(const TemporalFrame& g, const CameraModel& cam, const V
     const float allowed =
         kNoiseSigmas * std::sqrt(std::max(variance, e.variance) + e.variance) + kShadingTolerance * 0.5f * (l + e.luminance);
     if (std::abs(l - e.luminance) > allowed + 1e-4f) return std::nullopt;
-    return Tap{sum / sum_w, variance, sum_a / sum_w, sum_b / sum_w};
+    return HistoryTap{sum / sum_w, variance, sum_a / sum_w, sum_b / sum_w};
 }
 
 // How much depth changes per pixel at (x, y), as the denoiser's depth weight measures it.
@@ -177,7 +177,7 @@ Image temporal_filter(const std::vector<const TemporalFrame*>& window, const Cam
                     Vec3f sum_b = halves ? demodulate(f.half_b[i].data(), f.albedo[i]) : Vec3f::Zero();
                     float count = 1.0f, variance_sum = f.variance[i];
                     for (int k = 1; k <= radius; ++k) {
-                        std::optional<Tap> side[2];
+                        std::optional<HistoryTap> side[2];
                         for (int s = 0; s < 2; ++s) {
                             const std::size_t g = static_cast<std::size_t>(radius + (s == 0 ? -k : k));
                             const Expected e{cloth ? turn_point(point, turn_centre, cosine[g], sine[g]) : point,

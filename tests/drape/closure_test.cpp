@@ -10,7 +10,7 @@
 #include "foldcast/drape.hpp"
 
 namespace foldcast::drape {
-namespace {
+namespace closure_test {
 
 struct Fabric {
     double thickness_mm, young_mpa, gsm, height_m, inset_m;
@@ -141,5 +141,5 @@ TEST(Closure, ZigZagGrowsWithTheFoldCount) {
         }
 }
 
-}  // namespace
+}  // namespace closure_test
 }  // namespace foldcast::drape

@@ -10,7 +10,7 @@
 #include "foldcast/drape.hpp"
 
 namespace foldcast::drape {
-namespace {
+namespace monotonic_test {
 
 struct Fabric {
     double thickness_mm, young_mpa, gsm, height_m;
@@ -107,5 +107,5 @@ TEST(Monotonic, DeeperFoldsWithMoreSlack) {
     }
 }
 
-}  // namespace
+}  // namespace monotonic_test
 }  // namespace foldcast::drape

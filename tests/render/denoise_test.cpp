@@ -10,7 +10,7 @@
 #include "random_stream.hpp"
 
 namespace foldcast::render {
-namespace {
+namespace denoise_test {
 
 constexpr int kW = 64, kH = 48;
 
@@ -211,5 +211,5 @@ TEST(Denoise, AnAlbedoCrossingTheDemodulationFloorLeavesNoLine) {
             EXPECT_NEAR(out.at(x, y)[1] / noisy.at(x, y)[1], 1.0f, 0.05f) << "x " << x << ", y " << y;
 }
 
-}  // namespace
+}  // namespace denoise_test
 }  // namespace foldcast::render

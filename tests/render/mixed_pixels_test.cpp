@@ -12,7 +12,7 @@
 #include "random_stream.hpp"
 
 namespace foldcast::render {
-namespace {
+namespace mixed_pixels_test {
 
 constexpr int kW = 48, kH = 32, kEdge = kW / 2;  // column kEdge is the silhouette
 constexpr float kSigma = 0.2f;                    // the light's noise per pixel
@@ -200,5 +200,5 @@ TEST(MixedPixels, SameFloatsForAnyThreadCount) {
     EXPECT_EQ(0, std::memcmp(one.pixels.data(), three.pixels.data(), one.pixels.size() * sizeof(float)));
 }
 
-}  // namespace
+}  // namespace mixed_pixels_test
 }  // namespace foldcast::render

@@ -12,7 +12,7 @@
 #include "support_regression.hpp"
 
 namespace foldcast::render {
-namespace {
+namespace support_regression_test {
 
 constexpr int kW = 96, kH = 64;
 
@@ -173,5 +173,5 @@ TEST(SupportRegression, SameFloatsForAnyThreadCount) {
     EXPECT_EQ(0, std::memcmp(one.data(), three.data(), one.size() * sizeof(V3)));
 }
 
-}  // namespace
+}  // namespace support_regression_test
 }  // namespace foldcast::render

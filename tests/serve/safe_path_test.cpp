@@ -7,7 +7,7 @@
 #include "test_paths.hpp"
 
 namespace foldcast::serve {
-namespace {
+namespace safe_path_test {
 namespace fs = std::filesystem;
 
 void write(const fs::path& file, const std::string& text) {
@@ -52,5 +52,5 @@ TEST(ResolveInside, MissingRootServesNothing) {
     EXPECT_FALSE(resolve_inside(test::temp_dir() / "nope", "a.fca").has_value());
 }
 
-}  // namespace
+}  // namespace safe_path_test
 }  // namespace foldcast::serve

@@ -11,7 +11,7 @@
 #include "test_paths.hpp"
 
 namespace foldcast::serve {
-namespace {
+namespace server_test {
 namespace fs = std::filesystem;
 using test::http_get;
 
@@ -232,5 +232,5 @@ TEST(Server, InvalidOptionsNameTheProblem) {
     EXPECT_THROW(Server{options}, InputError);
 }
 
-}  // namespace
+}  // namespace server_test
 }  // namespace foldcast::serve
