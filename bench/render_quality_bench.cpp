@@ -9,6 +9,8 @@
 //            from frame to frame minus the reference's change (0 = the noise does not move),
 //            without and with the temporal filter; a second reference (another seed) measures
 //            the reference's own share, and "own" is each row's flicker without it;
+//   flicker-samples: the same measure for denoised frames at 16, 32, 64 and 128 spp, with
+//            --noise-threshold 0.02 and without it: what less flicker costs (not in `all`);
 //   adaptive: the default scene at 640x360 with --noise-threshold, plain and denoised: time,
 //            mean spp, where the samples went (garment vs backdrop) and RMSE;
 //   looks:   every shipped look in the default scene at 320x180, 16 spp + denoise against
@@ -16,7 +18,8 @@
 //            gloss the denoiser mishandles shows as a denoised error far above plain 256 spp's.
 // References are rendered once and kept in --out.  Timed figures are wall clock on whatever
 // load the machine has; never asserts anything.
-//   bench_render_quality [rmse|twill|flicker|adaptive|looks|all] [--out DIR] [--threads N] [--ref-spp N] [--size N]
+//   bench_render_quality [rmse|twill|flicker|flicker-samples|adaptive|looks|all] [--out DIR] [--threads N] [--ref-spp
+//   N] [--size N]
 #include <OpenEXR/ImfArray.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
@@ -210,55 +213,96 @@ Flicker flicker(const std::vector<compare::Image>& test, const std::vector<compa
     return out;
 }
 
-void part_flicker(const Args& args) {
-    const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
-    constexpr int kFirst = 0, kLast = 8;
+// Turntable frames kFlickerFirst..kFlickerLast-1 of 36 at the flicker parts' size, with how
+// long they took (0 for references found in --out: those are rendered once and kept).
+constexpr int kFlickerFirst = 0, kFlickerLast = 8;
+struct TurntableRun {
+    std::vector<compare::Image> frames;
+    double seconds = 0.0;
+};
+TurntableRun flicker_frames(const Args& args, const render::SceneSpec& scene, const std::string& name, int spp,
+                            bool denoise, bool temporal, double threshold, std::optional<std::uint64_t> seed) {
     const int size = args.flicker_size;
-    const std::string size_tag = size == 96 ? "" : "_" + std::to_string(size);
-    // Reference frames (named ref*) are kept in --out and rendered once; test rows every run.
-    auto frames = [&](const std::string& name, int spp, bool denoise, bool temporal, double threshold,
-                      std::optional<std::uint64_t> seed) {
-        const fs::path dir = args.out / ("turntable_" + name + size_tag);
-        bool cached = true;
-        for (int f = kFirst; f < kLast; ++f) cached = cached && fs::exists(batch::turntable_frame_path(dir, f));
-        double seconds = 0.0;
-        if (!cached || name.rfind("ref", 0) != 0) {
-            batch::TurntableOptions o;
-            o.render.width = o.render.height = size;
-            o.render.spp = spp;
-            o.render.threads = args.threads;
-            o.render.denoise = denoise;
-            o.render.noise_threshold = threshold;
-            o.render.seed = seed;
-            o.temporal = temporal;
-            o.total_frames = 36;
-            o.first_frame = kFirst;
-            o.last_frame = kLast;
-            seconds = batch::render_turntable(scene, dir.string() + "/", o).stats.seconds;
-        }
-        std::vector<compare::Image> out;
-        for (int f = kFirst; f < kLast; ++f) out.push_back(compare::read_image(batch::turntable_frame_path(dir, f)));
-        return std::make_pair(out, seconds);
-    };
-    // The references with their own samples: one sharing the test's would understate both
-    // figures (a 16-spp test is the first 16 of its samples).  Two of them, seeds 7 and 8:
-    // their flicker against each other is twice the square of what one reference's own noise
-    // adds to every row's figure, so each row's own flicker is measured, not extrapolated.
-    const std::string ref_name = "ref" + std::to_string(args.ref_spp) + "_seed";
-    const auto ref = frames(ref_name + "7", args.ref_spp, false, false, 0.0, 7).first;
-    const auto ref_b = frames(ref_name + "8", args.ref_spp, false, false, 0.0, 8).first;
-    const Flicker between = flicker(ref_b, ref);
-    const auto own = [](double measured, double reference_pair) {
-        return std::sqrt(std::max(0.0, measured * measured - 0.5 * reference_pair * reference_pair));
-    };
-    std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames; edge pixels %.1f %%\n", kFirst, kLast - 1,
-                size, size, args.ref_spp, 100.0 * between.edge_share);
+    // The default size keeps the names of earlier runs' references.  (Built with append: GCC 12
+    // takes `"_" + std::to_string(size)` here for an overlapping memcpy, -Wrestrict.)
+    std::string dir_name = "turntable_" + name;
+    if (size != 96) dir_name.append("_").append(std::to_string(size));
+    const fs::path dir = args.out / dir_name;
+    bool cached = true;
+    for (int f = kFlickerFirst; f < kFlickerLast; ++f)
+        cached = cached && fs::exists(batch::turntable_frame_path(dir, f));
+    TurntableRun run;
+    if (!cached || name.rfind("ref", 0) != 0) {
+        batch::TurntableOptions o;
+        o.render.width = o.render.height = size;
+        o.render.spp = spp;
+        o.render.threads = args.threads;
+        o.render.denoise = denoise;
+        o.render.noise_threshold = threshold;
+        o.render.seed = seed;
+        o.temporal = temporal;
+        o.total_frames = 36;
+        o.first_frame = kFlickerFirst;
+        o.last_frame = kFlickerLast;
+        run.seconds = batch::render_turntable(scene, dir.string() + "/", o).stats.seconds;
+    }
+    for (int f = kFlickerFirst; f < kFlickerLast; ++f)
+        run.frames.push_back(compare::read_image(batch::turntable_frame_path(dir, f)));
+    return run;
+}
+
+// The flicker parts' reference frames and what the reference's own noise adds to a row's
+// flicker.  Two references with their own samples, seeds 7 and 8 (one sharing the test's
+// would understate both figures: a 16-spp test is the first 16 of its samples): their flicker
+// against each other is twice the square of what one reference's own noise adds to every
+// row's figure, so each row's own flicker is measured, not extrapolated.
+struct FlickerReference {
+    std::vector<compare::Image> frames;
+    Flicker between;  // the two references against each other
+    // A row's flicker with the reference's own share taken out.
+    Flicker own(const Flicker& measured) const {
+        const auto take_out = [](double m, double pair) { return std::sqrt(std::max(0.0, m * m - 0.5 * pair * pair)); };
+        Flicker out = measured;
+        out.whole = take_out(measured.whole, between.whole);
+        out.interior = take_out(measured.interior, between.interior);
+        out.edges = take_out(measured.edges, between.edges);
+        return out;
+    }
+};
+FlickerReference flicker_reference(const Args& args, const render::SceneSpec& scene) {
+    const std::string name = "ref" + std::to_string(args.ref_spp) + "_seed";
+    FlickerReference r;
+    r.frames = flicker_frames(args, scene, name + "7", args.ref_spp, false, false, 0.0, 7).frames;
+    r.between = flicker(flicker_frames(args, scene, name + "8", args.ref_spp, false, false, 0.0, 8).frames, r.frames);
+    const int size = args.flicker_size;
+    std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames; edge pixels %.1f %%\n", kFlickerFirst,
+                kFlickerLast - 1, size, size, args.ref_spp, 100.0 * r.between.edge_share);
     std::printf(
         "the reference's own flicker (whole / interior / edges): %.4f / %.4f / %.4f; \"own\": a row's flicker "
         "with it taken out\n",
-        between.whole / std::sqrt(2.0), between.interior / std::sqrt(2.0), between.edges / std::sqrt(2.0));
+        r.between.whole / std::sqrt(2.0), r.between.interior / std::sqrt(2.0), r.between.edges / std::sqrt(2.0));
+    return r;
+}
+
+void print_flicker_row(const char* name, const TurntableRun& run, const FlickerReference& ref) {
+    double err = 0.0;
+    for (std::size_t f = 0; f < run.frames.size(); ++f) err += rmse(ref.frames[f], run.frames[f]) / run.frames.size();
+    const Flicker fl = flicker(run.frames, ref.frames);
+    const Flicker own = ref.own(fl);
+    std::printf("%-18s %8.2f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n", name, run.seconds, err, fl.whole,
+                fl.interior, fl.edges, own.whole, own.interior, own.edges);
+    std::fflush(stdout);
+}
+
+void print_flicker_header() {
     std::printf("%-18s %8s %8s %8s %8s %8s %8s %8s %8s\n", "frames", "seconds", "RMSE", "flicker", "interior", "edges",
                 "own", "own int", "own edge");
+}
+
+void part_flicker(const Args& args) {
+    const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
+    const FlickerReference ref = flicker_reference(args, scene);
+    print_flicker_header();
     struct Row {
         const char* name;
         int spp;
@@ -270,16 +314,26 @@ void part_flicker(const Args& args) {
          {Row{"plain_16", 16, false, false}, Row{"plain_64", 64, false, false}, Row{"denoise_4", 4, true, false},
           Row{"denoise_8", 8, true, false}, Row{"denoise_16", 16, true, false},
           Row{"denoise_16_t02", 16, true, false, 0.02}, Row{"temporal_4", 4, true, true},
-          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true}}) {
-        const auto [test, seconds] = frames(row.name, row.spp, row.denoise, row.temporal, row.threshold, std::nullopt);
-        double err = 0.0;
-        for (std::size_t f = 0; f < test.size(); ++f) err += rmse(ref[f], test[f]) / test.size();
-        const Flicker fl = flicker(test, ref);
-        std::printf("%-18s %8.2f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n", row.name, seconds, err, fl.whole,
-                    fl.interior, fl.edges, own(fl.whole, between.whole), own(fl.interior, between.interior),
-                    own(fl.edges, between.edges));
-        std::fflush(stdout);
-    }
+          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true}})
+        print_flicker_row(
+            row.name,
+            flicker_frames(args, scene, row.name, row.spp, row.denoise, row.temporal, row.threshold, std::nullopt),
+            ref);
+}
+
+// What less flicker costs: denoised turntable frames at 16-128 spp, with the README's
+// --noise-threshold 0.02 and without adaptive sampling.
+void part_flicker_samples(const Args& args) {
+    const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
+    const FlickerReference ref = flicker_reference(args, scene);
+    print_flicker_header();
+    for (const double threshold : {0.02, 0.0})
+        for (const int spp : {16, 32, 64, 128}) {
+            const std::string name = "denoise_" + std::to_string(spp) + (threshold > 0.0 ? "_t02" : "_t0");
+            print_flicker_row(name.c_str(),
+                              flicker_frames(args, scene, "samples_" + name, spp, true, false, threshold, std::nullopt),
+                              ref);
+        }
 }
 
 void part_adaptive(const Args& args) {
@@ -351,6 +405,7 @@ int main(int argc, char** argv) {
     if (args.part == "rmse" || args.part == "all") part_rmse(args);
     if (args.part == "twill" || args.part == "all") part_twill(args);
     if (args.part == "flicker" || args.part == "all") part_flicker(args);
+    if (args.part == "flicker-samples") part_flicker_samples(args);
     if (args.part == "adaptive" || args.part == "all") part_adaptive(args);
     if (args.part == "looks" || args.part == "all") part_looks(args);
     return 0;

@@ -36,11 +36,14 @@ function(foldcast_module name)
                                          PRIVATE foldcast_options ${ARG_PRIVATE_DEPS})
 endfunction()
 
-# foldcast_test(NAME SOURCES... LIBS... [LABELS ...] [ENVIRONMENT ...]): a GoogleTest executable whose tests
-# are registered one by one with CTest.  Tests run from the source tree's tests/ folder so
-# they can find tests/data; FOLDCAST_SHARED_DATA points at ../shared/data when present.
+# foldcast_test(NAME SOURCES... LIBS... [LABELS ...] [SLOW_TESTS ...] [ENVIRONMENT ...]): a GoogleTest
+# executable whose tests are registered one by one with CTest.  Tests run from the source tree's
+# tests/ folder so they can find tests/data; FOLDCAST_SHARED_DATA points at ../shared/data when
+# present.  SLOW_TESTS names tests (Suite.Name) labelled `slow` instead of LABELS: measurements
+# that run code the executable's other tests already run, at a larger size or with more samples,
+# which CI's sanitizer stage leaves out.
 function(foldcast_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;ENVIRONMENT" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;SLOW_TESTS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_compile_options(${name} PRIVATE ${FOLDCAST_TEST_OPTIMIZATION})
   target_link_libraries(${name} PRIVATE foldcast_options ${ARG_LIBS} GTest::gtest GTest::gtest_main)
@@ -62,7 +65,16 @@ function(foldcast_test name)
   if(ARG_ENVIRONMENT)
     set(environment " ENVIRONMENT [==[${ARG_ENVIRONMENT}]==]")
   endif()
+  # A name in SLOW_TESTS that the executable does not hold (renamed, removed) stops CTest, so
+  # that a test does not silently go back to the sanitizer stage.
+  set(slow_tests "")
+  foreach(test IN LISTS ARG_SLOW_TESTS)
+    string(APPEND slow_tests
+           "  list(FIND ${name}_TESTS [==[${test}]==] found)\n"
+           "  if(found LESS 0)\n    message(FATAL_ERROR [==[${name} has no test ${test} (SLOW_TESTS)]==])\n  endif()\n"
+           "  set_tests_properties([==[${test}]==] PROPERTIES LABELS slow)\n")
+  endforeach()
   file(GENERATE OUTPUT ${properties_script} CONTENT
-       "if(${name}_TESTS)\n  set_tests_properties(\${${name}_TESTS} PROPERTIES LABELS [==[${ARG_LABELS}]==]${environment})\nendif()\n")
+       "if(${name}_TESTS)\n  set_tests_properties(\${${name}_TESTS} PROPERTIES LABELS [==[${ARG_LABELS}]==]${environment})\n${slow_tests}endif()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${properties_script})
 endfunction()
