@@ -18,8 +18,8 @@
 //            gloss the denoiser mishandles shows as a denoised error far above plain 256 spp's.
 // References are rendered once and kept in --out.  Timed figures are wall clock on whatever
 // load the machine has; never asserts anything.
-//   bench_render_quality [rmse|twill|flicker|flicker-samples|adaptive|looks|all] [--out DIR] [--threads N] [--ref-spp
-//   N] [--size N]
+//   bench_render_quality [rmse|twill|flicker|flicker-samples|adaptive|looks|all]
+//                        [--out DIR] [--threads N] [--ref-spp N] [--size N]
 #include <OpenEXR/ImfArray.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
@@ -400,6 +400,14 @@ int main(int argc, char** argv) {
             args.flicker_size = std::stoi(argv[++i]);
         else
             args.part = a;
+    }
+    const std::vector<std::string> parts = {"rmse", "twill", "flicker", "flicker-samples", "adaptive", "looks", "all"};
+    if (std::find(parts.begin(), parts.end(), args.part) == parts.end()) {
+        std::fprintf(stderr,
+                     "bench_render_quality: no part '%s' (rmse, twill, flicker, flicker-samples, adaptive, looks or "
+                     "all)\n",
+                     args.part.c_str());
+        return 2;
     }
     fs::create_directories(args.out);
     if (args.part == "rmse" || args.part == "all") part_rmse(args);
