@@ -24,6 +24,7 @@
 #include <OpenEXR/ImfRgbaFile.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -175,72 +176,46 @@ void part_twill(const Args& args) {
     }
 }
 
-// Flicker of `test` against `ref` (RMS over pixels and frame pairs of the change from frame
-// to frame minus the reference's change), whole and split: edge pixels (the reference
-// differs from a 4-neighbour by more than 0.08 in either frame of the pair: silhouettes, the
-// rod, the wires) apart from the rest, where what flickers is the noise of shading.
-struct Flicker {
-    double whole = 0.0, interior = 0.0, edges = 0.0, edge_share = 0.0;
-};
-Flicker flicker(const std::vector<compare::Image>& test, const std::vector<compare::Image>& ref) {
-    const int w = ref[0].width, h = ref[0].height;
-    double sum = 0.0, edge_sum = 0.0;
-    std::size_t n = 0, edge_n = 0;
-    for (std::size_t f = 0; f + 1 < test.size(); ++f)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                float contrast = 0.0f;
-                for (const compare::Image* r : {&ref[f], &ref[f + 1]})
-                    for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-                        const int qx = x + dx, qy = y + dy;
-                        if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
-                        for (int c = 0; c < 3; ++c)
-                            contrast = std::max(contrast, std::abs(r->at(x, y, c) - r->at(qx, qy, c)));
-                    }
-                const bool edge = contrast > 0.08f;
-                for (int c = 0; c < 3; ++c) {
-                    const double d =
-                        (test[f + 1].at(x, y, c) - test[f].at(x, y, c)) - (ref[f + 1].at(x, y, c) - ref[f].at(x, y, c));
-                    (edge ? edge_sum : sum) += d * d;
-                    ++(edge ? edge_n : n);
-                }
-            }
-    Flicker out;
-    out.interior = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, n)));
-    out.edges = std::sqrt(edge_sum / static_cast<double>(std::max<std::size_t>(1, edge_n)));
-    out.edge_share = static_cast<double>(edge_n) / static_cast<double>(n + edge_n);
-    out.whole = std::sqrt((sum + edge_sum) / static_cast<double>(n + edge_n));
-    return out;
-}
-
-// Turntable frames kFlickerFirst..kFlickerLast-1 of 36 at the flicker parts' size, with how
-// long they took (0 for references found in --out: those are rendered once and kept).
+// Turntable frames kFlickerFirst..kFlickerLast-1 of 36 at the flicker parts' size.
 constexpr int kFlickerFirst = 0, kFlickerLast = 8;
+// Bands of image rows the flicker is also split by, in rows of a 320-row frame (scaled to the
+// frame's size): in the default scene rows 40-80 hold the rod, the clips and the wires' lower
+// ends, rows 120-200 the cloth's middle.
+constexpr std::array<std::pair<int, int>, 5> kFlickerBands = {{{0, 40}, {40, 80}, {80, 120}, {120, 200}, {200, 320}}};
+
+// One way of rendering the turntable's frames.  A name starting with "ref" is a reference:
+// rendered once and kept in --out.
+struct TurntableRow {
+    std::string name;
+    int spp;
+    bool denoise = false, temporal = false;
+    double threshold = 0.0;
+    std::optional<std::uint64_t> seed = std::nullopt;
+};
 struct TurntableRun {
     std::vector<compare::Image> frames;
-    double seconds = 0.0;
+    double seconds = 0.0;  // 0 for a reference found in --out
 };
-TurntableRun flicker_frames(const Args& args, const render::SceneSpec& scene, const std::string& name, int spp,
-                            bool denoise, bool temporal, double threshold, std::optional<std::uint64_t> seed) {
+TurntableRun flicker_frames(const Args& args, const render::SceneSpec& scene, const TurntableRow& row) {
     const int size = args.flicker_size;
     // The default size keeps the names of earlier runs' references.  (Built with append: GCC 12
     // takes `"_" + std::to_string(size)` here for an overlapping memcpy, -Wrestrict.)
-    std::string dir_name = "turntable_" + name;
+    std::string dir_name = "turntable_" + row.name;
     if (size != 96) dir_name.append("_").append(std::to_string(size));
     const fs::path dir = args.out / dir_name;
     bool cached = true;
     for (int f = kFlickerFirst; f < kFlickerLast; ++f)
         cached = cached && fs::exists(batch::turntable_frame_path(dir, f));
     TurntableRun run;
-    if (!cached || name.rfind("ref", 0) != 0) {
+    if (!cached || row.name.rfind("ref", 0) != 0) {
         batch::TurntableOptions o;
         o.render.width = o.render.height = size;
-        o.render.spp = spp;
+        o.render.spp = row.spp;
         o.render.threads = args.threads;
-        o.render.denoise = denoise;
-        o.render.noise_threshold = threshold;
-        o.render.seed = seed;
-        o.temporal = temporal;
+        o.render.denoise = row.denoise;
+        o.render.noise_threshold = row.threshold;
+        o.render.seed = row.seed;
+        o.temporal = row.temporal;
         o.total_frames = 36;
         o.first_frame = kFlickerFirst;
         o.last_frame = kFlickerLast;
@@ -251,74 +226,134 @@ TurntableRun flicker_frames(const Args& args, const render::SceneSpec& scene, co
     return run;
 }
 
-// The flicker parts' reference frames and what the reference's own noise adds to a row's
-// flicker.  Two references with their own samples, seeds 7 and 8 (one sharing the test's
-// would understate both figures: a 16-spp test is the first 16 of its samples): their flicker
-// against each other is twice the square of what one reference's own noise adds to every
-// row's figure, so each row's own flicker is measured, not extrapolated.
+// Flicker (RMS over pixels and frame pairs of the change from frame to frame minus the
+// reference's change), whole, split into edge pixels and the rest, and by kFlickerBands.
+struct Flicker {
+    double whole = 0.0, interior = 0.0, edges = 0.0;
+    std::array<double, kFlickerBands.size()> bands{};
+};
+
+// The flicker parts' reference frames, their edge pixels, and what the reference's own noise
+// adds to a row's flicker.  Two references with their own samples, seeds 7 and 8 (one sharing
+// the test's would understate both figures: a 16-spp test is the first 16 of its samples):
+// their flicker against each other is twice the square of what one reference's own noise adds
+// to every row's figure, so each row's own flicker is measured, not extrapolated.
 struct FlickerReference {
     std::vector<compare::Image> frames;
+    // Per frame pair, per pixel: the reference differs from a 4-neighbour by more than 0.08 in
+    // either frame (silhouettes, the rod, the wires), where what flickers is more than the
+    // noise of shading.
+    std::vector<std::vector<bool>> edge;
+    double edge_share = 0.0;
     Flicker between;  // the two references against each other
+
+    Flicker flicker(const std::vector<compare::Image>& test) const {
+        const int w = frames[0].width, h = frames[0].height;
+        double sum = 0.0, edge_sum = 0.0;
+        std::size_t n = 0, edge_n = 0;
+        std::vector<double> row_sums(h, 0.0);
+        for (std::size_t f = 0; f + 1 < test.size(); ++f)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const bool is_edge = edge[f][static_cast<std::size_t>(y) * w + x];
+                    for (int c = 0; c < 3; ++c) {
+                        const double d = (test[f + 1].at(x, y, c) - test[f].at(x, y, c)) -
+                                         (frames[f + 1].at(x, y, c) - frames[f].at(x, y, c));
+                        (is_edge ? edge_sum : sum) += d * d;
+                        ++(is_edge ? edge_n : n);
+                        row_sums[y] += d * d;
+                    }
+                }
+        Flicker out;
+        out.interior = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, n)));
+        out.edges = std::sqrt(edge_sum / static_cast<double>(std::max<std::size_t>(1, edge_n)));
+        out.whole = std::sqrt((sum + edge_sum) / static_cast<double>(n + edge_n));
+        const double per_row = 3.0 * w * static_cast<double>(test.size() - 1);
+        for (std::size_t b = 0; b < kFlickerBands.size(); ++b) {
+            const int y0 = kFlickerBands[b].first * h / 320, y1 = kFlickerBands[b].second * h / 320;
+            double band = 0.0;
+            for (int y = y0; y < y1; ++y) band += row_sums[y];
+            out.bands[b] = std::sqrt(band / (per_row * std::max(1, y1 - y0)));
+        }
+        return out;
+    }
     // A row's flicker with the reference's own share taken out.
     Flicker own(const Flicker& measured) const {
         const auto take_out = [](double m, double pair) { return std::sqrt(std::max(0.0, m * m - 0.5 * pair * pair)); };
-        Flicker out = measured;
+        Flicker out;
         out.whole = take_out(measured.whole, between.whole);
         out.interior = take_out(measured.interior, between.interior);
         out.edges = take_out(measured.edges, between.edges);
+        for (std::size_t b = 0; b < out.bands.size(); ++b) out.bands[b] = take_out(measured.bands[b], between.bands[b]);
         return out;
     }
 };
+
 FlickerReference flicker_reference(const Args& args, const render::SceneSpec& scene) {
     const std::string name = "ref" + std::to_string(args.ref_spp) + "_seed";
     FlickerReference r;
-    r.frames = flicker_frames(args, scene, name + "7", args.ref_spp, false, false, 0.0, 7).frames;
-    r.between = flicker(flicker_frames(args, scene, name + "8", args.ref_spp, false, false, 0.0, 8).frames, r.frames);
+    r.frames = flicker_frames(args, scene, {name + "7", args.ref_spp, false, false, 0.0, 7}).frames;
+    const int w = r.frames[0].width, h = r.frames[0].height;
+    std::size_t edges = 0;
+    for (std::size_t f = 0; f + 1 < r.frames.size(); ++f) {
+        std::vector<bool>& edge = r.edge.emplace_back(static_cast<std::size_t>(w) * h);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float contrast = 0.0f;
+                for (const compare::Image* frame : {&r.frames[f], &r.frames[f + 1]})
+                    for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                        const int qx = x + dx, qy = y + dy;
+                        if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                        for (int c = 0; c < 3; ++c)
+                            contrast = std::max(contrast, std::abs(frame->at(x, y, c) - frame->at(qx, qy, c)));
+                    }
+                edge[static_cast<std::size_t>(y) * w + x] = contrast > 0.08f;
+                edges += contrast > 0.08f ? 1 : 0;
+            }
+    }
+    r.edge_share = static_cast<double>(edges) / static_cast<double>(r.edge.size() * w * h);
+    r.between = r.flicker(flicker_frames(args, scene, {name + "8", args.ref_spp, false, false, 0.0, 8}).frames);
     const int size = args.flicker_size;
     std::printf("turntable frames %d-%d of 36 at %dx%d against %d spp frames; edge pixels %.1f %%\n", kFlickerFirst,
-                kFlickerLast - 1, size, size, args.ref_spp, 100.0 * r.between.edge_share);
+                kFlickerLast - 1, size, size, args.ref_spp, 100.0 * r.edge_share);
     std::printf(
         "the reference's own flicker (whole / interior / edges): %.4f / %.4f / %.4f; \"own\": a row's flicker "
-        "with it taken out\n",
+        "with it taken out; the last columns: own flicker by rows of a 320-row frame\n",
         r.between.whole / std::sqrt(2.0), r.between.interior / std::sqrt(2.0), r.between.edges / std::sqrt(2.0));
+    std::printf("%-24s %8s %8s %8s %8s %8s %8s %8s %8s", "frames", "seconds", "RMSE", "flicker", "interior", "edges",
+                "own", "own int", "own edge");
+    for (const auto& [y0, y1] : kFlickerBands)
+        std::printf(" %9s", (std::to_string(y0) + "-" + std::to_string(y1)).c_str());
+    std::printf("\n%-24s %8s %8s %8s %8s %8s %8s %8s %8s", "reference's own", "", "", "", "", "", "", "", "");
+    for (const double band : r.between.bands) std::printf(" %9.4f", band / std::sqrt(2.0));
+    std::printf("\n");
     return r;
 }
 
-void print_flicker_row(const char* name, const TurntableRun& run, const FlickerReference& ref) {
+void print_flicker_row(const Args& args, const render::SceneSpec& scene, const TurntableRow& row,
+                       const FlickerReference& ref) {
+    const TurntableRun run = flicker_frames(args, scene, row);
     double err = 0.0;
     for (std::size_t f = 0; f < run.frames.size(); ++f) err += rmse(ref.frames[f], run.frames[f]) / run.frames.size();
-    const Flicker fl = flicker(run.frames, ref.frames);
+    const Flicker fl = ref.flicker(run.frames);
     const Flicker own = ref.own(fl);
-    std::printf("%-18s %8.2f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n", name, run.seconds, err, fl.whole,
+    std::printf("%-24s %8.2f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f", row.name.c_str(), run.seconds, err, fl.whole,
                 fl.interior, fl.edges, own.whole, own.interior, own.edges);
+    for (const double band : own.bands) std::printf(" %9.4f", band);
+    std::printf("\n");
     std::fflush(stdout);
-}
-
-void print_flicker_header() {
-    std::printf("%-18s %8s %8s %8s %8s %8s %8s %8s %8s\n", "frames", "seconds", "RMSE", "flicker", "interior", "edges",
-                "own", "own int", "own edge");
 }
 
 void part_flicker(const Args& args) {
     const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
     const FlickerReference ref = flicker_reference(args, scene);
-    print_flicker_header();
-    struct Row {
-        const char* name;
-        int spp;
-        bool denoise, temporal;
-        double threshold = 0.0;
-    };
     // denoise_16_t02 is the README's turntable: adaptive sampling at --noise-threshold 0.02.
-    for (const Row row :
-         {Row{"plain_16", 16, false, false}, Row{"plain_64", 64, false, false}, Row{"denoise_4", 4, true, false},
-          Row{"denoise_8", 8, true, false}, Row{"denoise_16", 16, true, false},
-          Row{"denoise_16_t02", 16, true, false, 0.02}, Row{"temporal_4", 4, true, true},
-          Row{"temporal_8", 8, true, true}, Row{"temporal_16", 16, true, true}})
-        print_flicker_row(
-            row.name,
-            flicker_frames(args, scene, row.name, row.spp, row.denoise, row.temporal, row.threshold, std::nullopt),
-            ref);
+    for (const TurntableRow& row :
+         {TurntableRow{"plain_16", 16}, TurntableRow{"plain_64", 64}, TurntableRow{"denoise_4", 4, true},
+          TurntableRow{"denoise_8", 8, true}, TurntableRow{"denoise_16", 16, true},
+          TurntableRow{"denoise_16_t02", 16, true, false, 0.02}, TurntableRow{"temporal_4", 4, true, true},
+          TurntableRow{"temporal_8", 8, true, true}, TurntableRow{"temporal_16", 16, true, true}})
+        print_flicker_row(args, scene, row, ref);
 }
 
 // What less flicker costs: denoised turntable frames at 16-128 spp, with the README's
@@ -326,13 +361,10 @@ void part_flicker(const Args& args) {
 void part_flicker_samples(const Args& args) {
     const render::SceneSpec scene = render::load_scene(source("gallery/default.toml"));
     const FlickerReference ref = flicker_reference(args, scene);
-    print_flicker_header();
     for (const double threshold : {0.02, 0.0})
         for (const int spp : {16, 32, 64, 128}) {
             const std::string name = "denoise_" + std::to_string(spp) + (threshold > 0.0 ? "_t02" : "_t0");
-            print_flicker_row(name.c_str(),
-                              flicker_frames(args, scene, "samples_" + name, spp, true, false, threshold, std::nullopt),
-                              ref);
+            print_flicker_row(args, scene, {"samples_" + name, spp, true, false, threshold}, ref);
         }
 }
 
@@ -401,20 +433,23 @@ int main(int argc, char** argv) {
         else
             args.part = a;
     }
-    const std::vector<std::string> parts = {"rmse", "twill", "flicker", "flicker-samples", "adaptive", "looks", "all"};
-    if (std::find(parts.begin(), parts.end(), args.part) == parts.end()) {
-        std::fprintf(stderr,
-                     "bench_render_quality: no part '%s' (rmse, twill, flicker, flicker-samples, adaptive, looks or "
-                     "all)\n",
-                     args.part.c_str());
+    struct Part {
+        const char* name;
+        void (*run)(const Args&);
+        bool in_all;
+    };
+    const Part parts[] = {{"rmse", part_rmse, true},         {"twill", part_twill, true},
+                          {"flicker", part_flicker, true},   {"flicker-samples", part_flicker_samples, false},
+                          {"adaptive", part_adaptive, true}, {"looks", part_looks, true}};
+    const bool all = args.part == "all";
+    if (!all && std::none_of(std::begin(parts), std::end(parts), [&](const Part& p) { return args.part == p.name; })) {
+        std::string names;
+        for (const Part& p : parts) names.append(p.name).append(", ");
+        std::fprintf(stderr, "bench_render_quality: no part '%s' (%sor all)\n", args.part.c_str(), names.c_str());
         return 2;
     }
     fs::create_directories(args.out);
-    if (args.part == "rmse" || args.part == "all") part_rmse(args);
-    if (args.part == "twill" || args.part == "all") part_twill(args);
-    if (args.part == "flicker" || args.part == "all") part_flicker(args);
-    if (args.part == "flicker-samples") part_flicker_samples(args);
-    if (args.part == "adaptive" || args.part == "all") part_adaptive(args);
-    if (args.part == "looks" || args.part == "all") part_looks(args);
+    for (const Part& p : parts)
+        if (all ? p.in_all : args.part == p.name) p.run(args);
     return 0;
 }
