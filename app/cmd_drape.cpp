@@ -32,7 +32,7 @@ struct DrapeOptions {
     double support_drop_m = 0.0;
     double thickness_mm = 0.3, young_mpa = 5.0, gsm = 150.0, weight_n_mm2 = 0.0;
     double poisson = 0.3, load_constant = looks::default_load_constant();
-    std::string look, grid = "64x64", output;
+    std::string look, grid = "64x64", output, closure = "hem";
     int frames = 60;
     double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0;
     bool json = false, verbose = false, quiet = false, no_relax = false;
@@ -118,6 +118,8 @@ drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
     drape::ClothParams p = drape::cloth_from_look(m, o.width_m, o.height_m, o.inset_m);
     p.supports = o.supports;
     p.support_drop_m = o.support_drop_m;
+    if (!drape::closure_from_name(o.closure, p.closure))
+        throw InputError("--closure \"" + o.closure + "\": must be hem or paper");
     if (flags.weight->count()) p.weight_n_per_m2 = o.weight_n_mm2 * 1e6;  // N/mm^2 -> N/m^2
     return p;
 }
@@ -154,6 +156,8 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
         {"stress_ratio", s.stress_ratio},
         {"slack_amplitude_m", s.slack_amplitude_m},
         {"critical_stress_pa", drape::critical_stress_pa(p)},
+        {"closure", drape::closure_name(s.closure)},
+        {"critical_Q", s.critical_Q},
         {"cloth",
          {{"width_m", p.width_m},
           {"height_m", p.height_m},
@@ -303,6 +307,11 @@ Command drape_command(CLI::App& app) {
     sub->add_option(
            "--support-drop-m", o->support_drop_m,
            "How much lower the last support hangs than the first (m; negative: higher); the pattern is sheared")
+        ->capture_default_str();
+    sub->add_option("--closure", o->closure,
+                    "How n and zmax are chosen: hem (the top edge and hem keep their length, the most folds "
+                    "whose zig-zag fits) or paper (the original paper's 5 % iteration, to reproduce its tables; "
+                    "docs/drape.md)")
         ->capture_default_str();
     sub->add_option("--look", o->look,
                     "Fabric look for the mechanics: a name (see `foldcast looks`) or a look "

@@ -22,6 +22,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape.hpp"
+#include "paper_closure.hpp"
 #include "root_finding.hpp"
 
 namespace foldcast::drape {
@@ -162,10 +163,20 @@ void set_smooth_sag(FoldSolution& s) {
 
 }  // namespace
 
+const char* closure_name(Closure closure) { return closure == Closure::paper ? "paper" : "hem"; }
+
+bool closure_from_name(const std::string& name, Closure& closure) {
+    if (name == "hem") closure = Closure::hem;
+    else if (name == "paper") closure = Closure::paper;
+    else return false;
+    return true;
+}
+
 FoldSolution solve_folds(const ClothParams& params) {
     validate(params);
     const ClothParams p = bay_params(params);  // every bay folds alike
     FoldSolution s;
+    s.closure = p.closure;
     s.stress_ratio = stress_ratio(p);
     const double span = p.support_span_m();
     s.slack_amplitude_m = top_edge_amplitude_m(span, p.width_m);
@@ -181,7 +192,7 @@ FoldSolution solve_folds(const ClothParams& params) {
                         "cloth is too stiff to wrinkle and hangs as a smooth sag";
         return s;
     }
-    s.Q = amplitude_ratio(s.stress_ratio);
+    s.Q = s.critical_Q = amplitude_ratio(s.stress_ratio);
     if (p.inset_m == 0.0) {
         s.regime = FoldSolution::Regime::no_feasible_folds;
         set_smooth_sag(s);
@@ -191,6 +202,7 @@ FoldSolution solve_folds(const ClothParams& params) {
             "there is no slack to fold and the cloth hangs flat";
         return s;
     }
+    if (p.closure == Closure::paper) return detail::solve_paper_closure(p, std::move(s));
 
     std::vector<std::vector<double>> amplitudes;  // per candidate, when solved
     for (int n = 1; n <= kMaxFolds; ++n) {

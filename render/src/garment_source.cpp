@@ -95,6 +95,7 @@ GarmentData load_garment(const SceneSpec& scene, const ProgressFn& progress) {
                 drape::cloth_from_look(scene.look.mechanics, spec.width_m, spec.height_m, spec.inset_m);
             params.supports = spec.supports;
             params.support_drop_m = spec.support_drop_m;
+            drape::closure_from_name(spec.closure, params.closure);  // the scene file allows only known names
             const drape::FoldSolution solution = drape::solve_folds(params);
             const drape::GridSize grid{spec.grid_nu, spec.grid_nv};
             drape::Garment garment = drape::build_garment(params, solution, grid, spec.relax);

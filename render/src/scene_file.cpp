@@ -69,6 +69,7 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
     g.supports = integer(s, "supports", g.supports, 2, 65);
     const double span_m = g.width_m - 2.0 * g.inset_m;
     g.support_drop_m = number(s, "support_drop_m", g.support_drop_m, range(-span_m, span_m));
+    g.closure = s.choice("closure", {"hem", "paper"}).value_or(g.closure);
     if (const auto grid = s.integers("grid", 2, 2, 4096)) {
         g.grid_nu = static_cast<int>((*grid)[0]);
         g.grid_nv = static_cast<int>((*grid)[1]);

@@ -140,6 +140,7 @@ TEST(DrapeCli, BadInputExitsTwoNamingTheFlagAndWritesNothing) {
         {"-o g.stl", ".stl"},
         {"-o missing_dir/g.obj", "missing_dir"},
         {"--look no_such_look -o g.obj", "no_such_look"},
+        {"--closure papers -o g.obj", "--closure"},
     };
     for (const auto& [args, named] : cases) {
         const Result r = run(args, dir);
@@ -162,6 +163,24 @@ TEST(DrapeCli, LookGivesTheMechanicsAndFlagsOverrideIt) {
     EXPECT_DOUBLE_EQ(k["cloth"]["thickness_m"].get<double>(), 0.123e-3);
     EXPECT_EQ(k["cloth"]["young_pa"], j["cloth"]["young_pa"]);
     EXPECT_NE(k["cloth"]["thickness_m"], j["cloth"]["thickness_m"]);
+}
+
+// The paper's closure from the command line: the paper's Table 1, first row, and its name in
+// the report; the default report names the hem closure.
+TEST(DrapeCli, PaperClosureReproducesTheFirstTableRow) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const Result r = run("--json --closure paper --width-m 1.4 --height-m 0.9 --inset-m 0.1 --thickness-mm 0.25 "
+                         "--young-mpa 165 --weight-n-mm2 15e-7 --grid 24x24",
+                         dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["closure"], "paper");
+    EXPECT_EQ(j["folds"].get<int>(), 5);
+    EXPECT_NEAR(j["Q"].get<double>(), 1.31, 0.05);
+    EXPECT_NEAR(j["critical_Q"].get<double>(), 1.291, 0.001);
+    const Result hem = run("--json --grid 24x24", dir);
+    ASSERT_EQ(hem.status, 0) << hem.err;
+    EXPECT_EQ(nlohmann::json::parse(hem.out)["closure"], "hem");
 }
 
 TEST(DrapeCli, SupportsAndDrop) {

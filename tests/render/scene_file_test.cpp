@@ -120,6 +120,15 @@ TEST(SceneFile, SupportsAndDropKeys) {
     EXPECT_NE(e.find("multiple of 4"), std::string::npos) << e;
 }
 
+TEST(SceneFile, ClosureKey) {
+    EXPECT_EQ(load_scene(write_scene("[garment]\nwidth_m = 0.5\n")).garment.closure, "hem");
+    EXPECT_EQ(load_scene(write_scene("[garment]\nclosure = \"paper\"\n")).garment.closure, "paper");
+    const std::string e = error_of("[garment]\nclosure = \"papers\"\n");
+    EXPECT_NE(e.find("garment.closure"), std::string::npos) << e;
+    EXPECT_NE(e.find("hem"), std::string::npos) << e;
+    EXPECT_NE(e.find("paper"), std::string::npos) << e;
+}
+
 TEST(SceneFile, SyntaxErrorNamesLine) {
     const std::string e = error_of("[output]\nwidth = = 3\n");
     EXPECT_NE(e.find("scene.toml:2"), std::string::npos) << e;

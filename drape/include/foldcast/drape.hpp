@@ -13,6 +13,15 @@
 
 namespace foldcast::drape {
 
+// How the fold count and the fold depth are closed (docs/drape.md, "The closure"):
+// hem: the top edge and the hem keep their length, the most folds whose zig-zag fits;
+// paper: the original paper's iteration (a_0 = 1.01 h, zmax stepped up, n from the centre
+// fibre, until the top edge is within 5 % of L), to reproduce its published tables.
+enum class Closure { hem, paper };
+const char* closure_name(Closure closure);
+// "hem" or "paper"; false for any other name.
+bool closure_from_name(const std::string& name, Closure& closure);
+
 struct ClothParams {
     double width_m = 0.5;   // L: top edge length
     double height_m = 0.7;  // h
@@ -28,6 +37,7 @@ struct ClothParams {
     // hangs support_drop_m lower than the first (negative: higher); the pattern is sheared.
     int supports = 2;
     double support_drop_m = 0.0;
+    Closure closure = Closure::hem;
 
     double support_span_m() const { return width_m - 2.0 * inset_m; }
     int bays() const { return supports - 1; }
@@ -82,6 +92,11 @@ struct FoldSolution {
     double residual = 0.0;                  // max relative residual of the chosen solution
     double stress_ratio = 0.0;              // S = sigma_cr t / (w h); S >= 1: no wrinkles
     double slack_amplitude_m = 0.0;         // A = sqrt(a_n^2 + zmax^2), fixed by the top edge length
+    Closure closure = Closure::hem;         // which closure chose n and zmax
+    // Q of the critical-stress equation; the paper closure reports Q = (a_0/a_n)^(1/n) as the
+    // paper does, which differs from it once n is rounded to an integer.
+    double critical_Q = 1.0;
+    int closure_steps = 0;  // paper closure: steps of zmax until the top edge was within 5 %
     enum class Regime { wrinkled, no_wrinkles, no_feasible_folds } regime = Regime::wrinkled;
     std::string explanation;  // one sentence for users, always set
 };

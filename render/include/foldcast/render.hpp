@@ -54,6 +54,7 @@ struct GarmentSpec {
     double inset_m = 0.12;
     int supports = 2;             // equally spaced under the top edge (drape's --supports)
     double support_drop_m = 0.0;  // the last support this much lower than the first
+    std::string closure = "hem";  // drape's --closure: hem or paper
     int grid_nu = 96;
     int grid_nv = 128;
     int animation_frames = 0;  // > 0: turntables sway the drape over this many frames
