@@ -17,6 +17,7 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape.hpp"
+#include "foldcast/drape_relax.hpp"
 #include "foldcast/looks.hpp"
 #include "progress_bar.hpp"
 
@@ -136,6 +137,11 @@ const char* regime_name(drape::FoldSolution::Regime r) {
     return "?";
 }
 
+nlohmann::json hem_report(const std::vector<Vec3f>& positions, drape::GridSize grid) {
+    const drape::HemShape hem = drape::hem_shape(positions, grid);
+    return {{"width_m", hem.width_m}, {"centre_y_m", hem.centre_y_m}, {"corners_y_m", hem.corners_y_m}};
+}
+
 nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s, const drape::Garment& g,
                       const DrapeOptions& o, drape::GridSize grid) {
     nlohmann::json j = {
@@ -171,6 +177,7 @@ nlohmann::json report(const drape::ClothParams& p, const drape::FoldSolution& s,
           {"weight_n_per_m2", p.weight_n_per_m2},
           {"load_constant", p.load_constant}}},
         {"grid", {grid.nu, grid.nv}},
+        {"hem", hem_report(g.mesh.positions, grid)},
         {"look", o.look.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.look)},
         {"output", o.output.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.output)}};
     if (o.verbose) {

@@ -11,8 +11,10 @@
 # The cloth: an NU x NV quad grid of the flat panel in Blender's XZ plane (x across, z up,
 # y out of the cloth), a 0.3 mm random out-of-plane jitter (fixed seed) so it can buckle.  The
 # two top corners are pinned and moved in by the inset over the first 1.5 s (a shape key),
-# then the cloth settles for 10 s more (SETTLE_FRAMES = 240: at 60 the soft looks still sway
-# at ~7 mm/s and count waves of their lower half as folds).
+# then the cloth settles until it is at rest: its fastest vertex below REST_SPEED_M_S (1 mm/s)
+# over a whole second, after at least MIN_SETTLE_FRAMES, at most MAX_SETTLE_FRAMES (the row
+# says whether it got there).  A fixed 10 s settle left the soft looks swaying at centimetres
+# per second on fine grids, counting waves of their lower half as folds.
 #
 # Units.  A cloth's rest shape depends only on how stiff it is against its own weight: its
 # bending length cubed, D / w (bending rigidity D = E t^3 / (12 (1 - nu^2)) over weight per area
@@ -55,7 +57,13 @@ def set_cloth_springs(s, vertex_kg):
     s.shear_stiffness = float(os.environ.get("SHEAR_STIFFNESS", "5.0"))
 
 FIELDS = ["name", "width_m", "height_m", "inset_m", "thickness_mm", "young_mpa", "gsm", "poisson",
-          "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s", "centre_fibre", "top_edge_m", "centre_fibre_m"]
+          "nu", "nv", "sign_changes", "crest_heights_m", "settle_speed_m_s", "blender_s", "centre_fibre", "top_edge_m",
+          "centre_fibre_m", "spacing_m", "at_rest", "settle_frames", "fold_depth_m", "hem_width_m", "hem_centre_m",
+          "hem_corners_m"]
+
+REST_SPEED_M_S = 1e-3
+MIN_SETTLE_FRAMES = int(os.environ.get("MIN_SETTLE_FRAMES", "120"))
+MAX_SETTLE_FRAMES = int(os.environ.get("MAX_SETTLE_FRAMES", "2400"))
 
 
 def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
@@ -84,7 +92,7 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
     key = obj.shape_key_add(name="in")
     key.data[0].co.x += inset
     key.data[nu - 1].co.x -= inset
-    move_frames, settle_frames = 36, int(os.environ.get("SETTLE_FRAMES", "240"))
+    move_frames, settle_frames = 36, MAX_SETTLE_FRAMES
     key.value = 0.0
     key.keyframe_insert("value", frame=1)
     key.value = 1.0
@@ -116,7 +124,31 @@ def build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv):
 def positions(scene, obj):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     evaluated = obj.evaluated_get(depsgraph)
-    return [tuple(v.co) for v in evaluated.data.vertices]
+    flat = [0.0] * (3 * len(evaluated.data.vertices))
+    evaluated.data.vertices.foreach_get("co", flat)
+    return [tuple(flat[3 * k:3 * k + 3]) for k in range(len(flat) // 3)]
+
+
+def settle(scene, obj, move_frames):
+    """Steps the solver until the cloth is at rest (the fastest vertex below REST_SPEED_M_S
+    for a second of frames) or MAX_SETTLE_FRAMES have passed; returns the final positions,
+    the last frame's largest speed, whether it came to rest and the frames it settled."""
+    fps = scene.render.fps
+    previous, calm, speed = None, 0, float("inf")
+    last = scene.frame_start + move_frames + MAX_SETTLE_FRAMES
+    for frame in range(scene.frame_start, last + 1):
+        scene.frame_set(frame)
+        if frame < scene.frame_start + move_frames:
+            continue
+        current = positions(scene, obj)
+        if previous is not None:
+            speed = max(math.dist(a, b) for a, b in zip(current, previous)) * fps
+            calm = calm + 1 if speed < REST_SPEED_M_S else 0
+            settled = frame - scene.frame_start - move_frames
+            if calm >= fps and settled >= MIN_SETTLE_FRAMES:
+                return current, speed, True, settled
+        previous = current
+    return previous, speed, False, MAX_SETTLE_FRAMES
 
 
 def lowest_crest_vertex(height, depth, begin, end):
@@ -170,6 +202,12 @@ def centre_fibre_folds(column_y, column_z):
     return changes, crests
 
 
+def hem_measures(final, nu, nv):
+    hem = final[(nv - 1) * nu:]
+    xs = [p[0] for p in hem]
+    return [f"{max(xs) - min(xs):.4f}", f"{hem[(nu - 1) // 2][2]:.4f}", f"{0.5 * (hem[0][2] + hem[-1][2]):.4f}"]
+
+
 def main():
     args = sys.argv[sys.argv.index("--") + 1:]
     name = args[0]
@@ -177,14 +215,8 @@ def main():
     nu, nv = int(args[8]), int(args[9])
     scene, obj = build(width, height, inset, t_mm, e_mpa, gsm, poisson, nu, nv)
     started = time.perf_counter()
-    previous = None
-    for frame in range(scene.frame_start, scene.frame_end + 1):
-        scene.frame_set(frame)
-        if frame == scene.frame_end - 1:
-            previous = positions(scene, obj)
-    final = positions(scene, obj)
+    final, speed, at_rest, settle_frames = settle(scene, obj, 36)
     elapsed = time.perf_counter() - started
-    speed = max(math.dist(a, b) for a, b in zip(final, previous)) * scene.render.fps
     centre = (nu - 1) // 2
     column = [final[j * nu + centre] for j in range(nv)]
     # Out-of-plane displacement and height; the supports sit at z = 0 in both tools.
@@ -197,7 +229,11 @@ def main():
            # Lengths of the top edge and the centre fibre as Blender left them: the cloth's
            # are width and height; much shorter means it compressed instead of buckling.
            f"{sum(math.dist(final[i], final[i + 1]) for i in range(nu - 1)):.4f}",
-           f"{sum(math.dist(column[j], column[j + 1]) for j in range(nv - 1)):.4f}"]
+           f"{sum(math.dist(column[j], column[j + 1]) for j in range(nv - 1)):.4f}",
+           f"{0.5 * (width / (nu - 1) + height / (nv - 1)):.5f}", int(at_rest), settle_frames,
+           # The deepest out-of-plane excursion of the centre fibre, the hem's extent across and
+           # the heights of its centre and (mean of) its two corners, all in metres.
+           f"{max(abs(p[1]) for p in column):.4f}"] + hem_measures(final, nu, nv)
     print("RESULT," + ",".join(str(v) for v in row), flush=True)
     if os.environ.get("DUMP_OBJ"):
         # The settled cloth in foldcast's axes (y up, z out of the cloth), to look at or

@@ -136,4 +136,22 @@ double turn_p90(const std::vector<Vec3f>& positions, GridSize grid) {
     return turn[turn.size() * 9 / 10];
 }
 
+HemShape hem_shape(const std::vector<Vec3f>& positions, GridSize grid) {
+    if (grid.nu < 2 || grid.nv < 2 || positions.size() != std::size_t(grid.nu) * std::size_t(grid.nv))
+        throw InputError("hem: positions must have one entry per grid vertex of a grid at least 2x2");
+    const std::size_t row = std::size_t(grid.nv - 1) * std::size_t(grid.nu);
+    const auto at = [&](int i) { return positions[row + std::size_t(i)]; };
+    HemShape hem;
+    float lo = at(0).x(), hi = lo;
+    for (int i = 1; i < grid.nu; ++i) {
+        lo = std::min(lo, at(i).x());
+        hi = std::max(hi, at(i).x());
+    }
+    hem.width_m = double(hi) - double(lo);
+    const int left = (grid.nu - 1) / 2, right = grid.nu / 2;
+    hem.centre_y_m = 0.5 * (double(at(left).y()) + double(at(right).y()));
+    hem.corners_y_m = 0.5 * (double(at(0).y()) + double(at(grid.nu - 1).y()));
+    return hem;
+}
+
 }  // namespace foldcast::drape

@@ -263,3 +263,29 @@ TEST(Relax, RejectsMismatchedInput) {
 
 }  // namespace
 }  // namespace foldcast::drape
+
+namespace foldcast::drape {
+namespace {
+
+// The hem measures: a flat sheet's hem is as wide as the cloth and level; the model's garment
+// hangs its hem within the support span, its centre lifted above its corners (the hem closure).
+TEST(HemShape, FlatSheetAndTheModelsGarment) {
+    const GridSize grid{9, 5};
+    std::vector<Vec3f> flat;
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) flat.emplace_back(-0.25f + 0.5f * i / 8.0f, -0.7f * j / 4.0f, 0.0f);
+    const HemShape sheet = hem_shape(flat, grid);
+    EXPECT_NEAR(sheet.width_m, 0.5, 1e-6);
+    EXPECT_NEAR(sheet.centre_y_m, -0.7, 1e-6);
+    EXPECT_NEAR(sheet.corners_y_m, -0.7, 1e-6);
+    EXPECT_THROW(hem_shape(flat, {9, 4}), InputError);
+
+    const ClothParams p;
+    const Garment model = build_garment(p, solve_folds(p), {33, 33}, false);
+    const HemShape hem = hem_shape(model.mesh.positions, {33, 33});
+    EXPECT_NEAR(hem.width_m, p.support_span_m(), 0.01);
+    EXPECT_GT(hem.centre_y_m, hem.corners_y_m + 0.05);
+}
+
+}  // namespace
+}  // namespace foldcast::drape

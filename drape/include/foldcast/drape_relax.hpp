@@ -87,6 +87,16 @@ struct CentreFibreFolds {
 };
 CentreFibreFolds centre_fibre_folds(const std::vector<Vec3f>& positions, GridSize grid);
 
+// How the hem (the grid's last row) hangs: its extent across (max x - min x), the height y of
+// its centre vertex (the mean of the two middle ones) and the mean height of its two corners.
+// The same measures run on Blender's cloth (bench/).
+struct HemShape {
+    double width_m = 0.0;
+    double centre_y_m = 0.0;
+    double corners_y_m = 0.0;
+};
+HemShape hem_shape(const std::vector<Vec3f>& positions, GridSize grid);
+
 // How far a grid is from its cut: mean and max |length / rest - 1| over its warp and weft edges,
 // the rest lengths from params' width and height.
 Stretch measure_stretch(const std::vector<Vec3f>& positions, const ClothParams& params, GridSize grid);
