@@ -58,7 +58,8 @@ Command batch_command(CLI::App& app) {
     sub->add_flag("--status", args->status,
                   "Say how much of the catalogue is finished, over all shards (verifies every image against its "
                   ".sha256); render nothing")
-        ->excludes("--dry-run");
+        ->excludes("--dry-run")
+        ->excludes("--json");
     sub->add_flag("--quiet", args->quiet,
                   "No progress (a bar on a terminal; otherwise, as in a Slurm log, a line per job)");
     return {sub, [args] {

@@ -2,6 +2,7 @@
 // Kubernetes API schema, without a cluster:
 //   node tests/kubernetes/validate-manifest.mjs MANIFEST.yaml   # exit 0 valid, 1 invalid
 //   node tests/kubernetes/validate-manifest.mjs --self-test MANIFEST.yaml
+//   node tests/kubernetes/validate-manifest.mjs --print-command MANIFEST.yaml   # the container's argv
 // 1. JSON Schema of batch/v1 Job from the Kubernetes OpenAPI (kubernetes-models, ajv): types,
 //    enumerations, required fields, formats (quantities such as "4Gi").
 // 2. Unknown fields, which the API server refuses (kubectl's default --validate=strict) and a
@@ -119,12 +120,19 @@ const breakages = [
 
 const args = process.argv.slice(2);
 const selfTest = args[0] === "--self-test";
-const file = selfTest ? args[1] : args[0];
+const printCommand = args[0] === "--print-command";
+const file = selfTest || printCommand ? args[1] : args[0];
 if (!file) {
-  console.error("usage: node validate-manifest.mjs [--self-test] MANIFEST.yaml");
+  console.error("usage: node validate-manifest.mjs [--self-test | --print-command] MANIFEST.yaml");
   process.exit(2);
 }
 const docs = load(file);
+if (printCommand) {
+  // The first container's command and args, one a line, for run-pods.sh.
+  const container = docs[0].spec.template.spec.containers[0];
+  console.log([...(container.command ?? []), ...(container.args ?? [])].join("\n"));
+  process.exit(0);
+}
 const variants = selfTest ? breakages.map(([, breakIt]) => {
   const broken = structuredClone(docs);
   breakIt(broken[0]);
