@@ -42,11 +42,12 @@ void check_shard_count(const BatchManifest& manifest, Shard shard) {
         if (recorded == shard.count) continue;
         const std::string dir = manifest.output_dir.string();
         throw InputError("shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) + ": '" + dir +
-                         "' holds outputs-*-of-" + std::to_string(recorded) + ".json, so this catalogue was split into " +
-                         std::to_string(recorded) + " shards, not " + std::to_string(shard.count) +
-                         " (the two splittings overlap); run its shards 0.." + std::to_string(recorded - 1) + "/" +
-                         std::to_string(recorded) + " (finished images are skipped), or delete '" + dir +
-                         "/outputs-*-of-" + std::to_string(recorded) + ".json' to split it anew");
+                         "' holds outputs-*-of-" + std::to_string(recorded) +
+                         ".json, so this catalogue was split into " + std::to_string(recorded) + " shards, not " +
+                         std::to_string(shard.count) + " (the two splittings overlap); run its shards 0.." +
+                         std::to_string(recorded - 1) + "/" + std::to_string(recorded) +
+                         " (finished images are skipped), or delete '" + dir + "/outputs-*-of-" +
+                         std::to_string(recorded) + ".json' to split it anew");
     }
 }
 
@@ -58,8 +59,8 @@ std::string job_log_line(const BatchManifest& manifest, Shard shard, const Batch
     else
         std::snprintf(what, sizeof what, "rendered in %.1f s", seconds);
     std::ostringstream line;
-    line << "shard " << shard.index << "/" << shard.count << ": job " << done << " of " << total << " " << what
-         << ": " << relative_output(manifest, output.job);
+    line << "shard " << shard.index << "/" << shard.count << ": job " << done << " of " << total << " " << what << ": "
+         << relative_output(manifest, output.job);
     return line.str();
 }
 
@@ -107,8 +108,8 @@ std::string status_report(const BatchManifest& manifest, const CatalogueStatus& 
                "rendered again\n";
     std::vector<int> unfinished;
     for (const CatalogueStatus::ShardStatus& s : status.shards) {
-        out << "shard " << s.index << "/" << status.shard_count << ": " << s.finished << " of " << s.jobs
-            << " finished" << (s.listed ? ", " + list_name(s.index, status.shard_count) + " written" : "") << "\n";
+        out << "shard " << s.index << "/" << status.shard_count << ": " << s.finished << " of " << s.jobs << " finished"
+            << (s.listed ? ", " + list_name(s.index, status.shard_count) + " written" : "") << "\n";
         if (s.finished < s.jobs || !s.listed) unfinished.push_back(s.index);
     }
     if (!unfinished.empty()) {

@@ -54,8 +54,7 @@ TEST(BatchFarmCli, LogsALinePerJobAndSummarisesTheShards) {
     EXPECT_FALSE(fs::exists(dir / "out" / "cloth" / "denim" / "front.png")) << "--status rendered";
 
     const test::CommandResult again = foldcast("batch " + manifest + " --shard 1/2 2>&1");
-    EXPECT_TRUE(has_line(again.out, "shard 1/2: job 2 of 2 already finished: cloth/chiffon/side.png\n"))
-        << again.out;
+    EXPECT_TRUE(has_line(again.out, "shard 1/2: job 2 of 2 already finished: cloth/chiffon/side.png\n")) << again.out;
     const test::CommandResult quiet = foldcast("batch " + manifest + " --shard 1/2 --quiet 2>&1");
     EXPECT_EQ(quiet.out, "");
 }

@@ -6,7 +6,8 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 missing=""
 command -v node >/dev/null || missing="node (Debian's nodejs)"
-[ -d "$here/node_modules/kubernetes-models" ] || missing="${missing:+$missing and }$here/node_modules (npm ci --prefix tests/kubernetes)"
+[ -d "$here/node_modules/kubernetes-models" ] ||
+  missing="${missing:+$missing and }$here/node_modules (npm ci --prefix tests/kubernetes)"
 if [ -n "$missing" ]; then
   if [ "${CI:-}" = true ]; then echo "$0: missing $missing" >&2; exit 1; fi
   echo "$0: SKIPPED: missing $missing (with CI=true this fails)" >&2

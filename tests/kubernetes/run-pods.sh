@@ -24,11 +24,31 @@ mkdir -p "$work/bin" "$work/volume"
 ln -s "$foldcast" "$work/bin/foldcast"  # the image's /usr/local/bin/foldcast
 cd "$work/volume"
 printf '[garment]\npath = "%s"\nscale = 0.1\n' "$(realpath "$here/../data/animations/basicCloth.obj")" >tiny.toml
-body='width = 40\nheight = 30\nspp = 2\nlooks = ["denim", "chiffon", "linen"]\n[[garments]]\nname = "cloth"\nscene = "tiny.toml"\n[[views]]\nname = "front"\n[[views]]\nname = "side"\nazimuth_deg = 60\n[[views]]\nname = "back"\nazimuth_deg = 180\n'
-printf "output_dir = \"out\"\n$body" >catalogue.toml
-printf "output_dir = \"ref\"\n$body" >ref.toml
+catalogue() {  # 9 images, tiny: 3 looks x 3 views
+  cat <<EOT
+output_dir = "$1"
+width = 40
+height = 30
+spp = 2
+looks = ["denim", "chiffon", "linen"]
+[[garments]]
+name = "cloth"
+scene = "tiny.toml"
+[[views]]
+name = "front"
+[[views]]
+name = "side"
+azimuth_deg = 60
+[[views]]
+name = "back"
+azimuth_deg = 180
+EOT
+}
+catalogue out >catalogue.toml
+catalogue ref >ref.toml
 "$foldcast" batch ref.toml --quiet
 
+# A pod's environment: little more than PATH and the index Kubernetes sets.
 pod() { env -i PATH="$work/bin:/usr/bin:/bin" HOME="$work" JOB_COMPLETION_INDEX="$1" "${argv[@]}" >"pod-$1.log" 2>&1; }
 for ((i = 0; i < completions; i++)); do
   pod "$i" || { cat "pod-$i.log" >&2; echo "FAIL: pod $i exited non-zero" >&2; exit 1; }
@@ -39,5 +59,6 @@ for ((i = 0; i < completions; i++)); do lists+=("out/outputs-$i-of-$completions.
 cmp <(jq -s 'add | sort_by(.index)' "${lists[@]}") ref/outputs.json ||
   { echo "FAIL: the pods' lists differ from outputs.json" >&2; exit 1; }
 pod 3
-grep -q "^shard 3/$completions: job 1 of .* already finished" pod-3.log || { cat pod-3.log >&2; echo "FAIL: a retried pod did not skip" >&2; exit 1; }
+grep -q "^shard 3/$completions: job 1 of .* already finished" pod-3.log ||
+  { cat pod-3.log >&2; echo "FAIL: a retried pod did not skip" >&2; exit 1; }
 echo "$completions pods of $manifest: their outputs equal the unsharded run; a retried pod skips"

@@ -68,16 +68,19 @@ function unknownFieldErrors(docs) {
 function foldcastErrors(doc) {
   const errors = [];
   const spec = doc?.spec ?? {};
-  if (spec.completionMode !== "Indexed") errors.push("foldcast: spec.completionMode must be Indexed (JOB_COMPLETION_INDEX is the shard)");
+  if (spec.completionMode !== "Indexed")
+    errors.push("foldcast: spec.completionMode must be Indexed (JOB_COMPLETION_INDEX is the shard)");
   for (const container of spec.template?.spec?.containers ?? []) {
     const command = [...(container.command ?? []), ...(container.args ?? [])].join(" ");
-    const shards = [...command.matchAll(/--shard\s+"?\$\{?JOB_COMPLETION_INDEX\}?\/(\d+)"?/g)].map((m) => Number(m[1]));
-    if (shards.length === 0) errors.push(`foldcast: container ${container.name} runs no --shard "\${JOB_COMPLETION_INDEX}/N"`);
+    const name = `foldcast: container ${container.name}`;
+    const shard = /--shard\s+"?\$\{?JOB_COMPLETION_INDEX\}?\/(\d+)"?/g;
+    const shards = [...command.matchAll(shard)].map((m) => Number(m[1]));
+    if (shards.length === 0) errors.push(`${name} runs no --shard "\${JOB_COMPLETION_INDEX}/N"`);
     for (const n of shards)
-      if (n !== spec.completions)
-        errors.push(`foldcast: container ${container.name} splits into ${n} shards but spec.completions is ${spec.completions}`);
+      if (n !== spec.completions) errors.push(`${name} splits into ${n} shards but spec.completions is ${spec.completions}`);
     const threads = command.match(/--threads\s+(\d+)/);
-    const cpus = Number(container.resources?.limits?.cpu ?? Infinity);
+    const limit = String(container.resources?.limits?.cpu ?? "Infinity");  // "4", "3500m"
+    const cpus = limit.endsWith("m") ? Number.parseFloat(limit) / 1000 : Number(limit);
     if (threads && Number(threads[1]) > cpus)
       errors.push(`foldcast: container ${container.name} renders with ${threads[1]} threads under a limit of ${cpus} CPUs`);
   }
@@ -107,15 +110,19 @@ function load(file) {
 }
 
 // Each way of breaking the manifest, with the words its error must contain.
+const container = (job) => job.spec.template.spec.containers[0];
 const breakages = [
   ["completionMode misspelt", (j) => { j.spec.completionMode = "Indexd"; }, "completionMode"],
   ["completions as a string", (j) => { j.spec.completions = "8"; }, "completions must be integer"],
-  ["a memory limit that is no quantity", (j) => { j.spec.template.spec.containers[0].resources.limits.memory = "4 GB"; }, "memory"],
-  ["a restartPolicy Kubernetes does not have", (j) => { j.spec.template.spec.restartPolicy = "Sometimes"; }, "restartPolicy"],
-  ["an unknown key", (j) => { j.spec.backofLimitPerIndex = 2; }, "'backofLimitPerIndex' does not exist in type 'JobSpec'"],
-  ["a key at the wrong level", (j) => { j.spec.template.spec.containers[0].workdir = "/work"; }, "'workdir' does not exist in type 'Container'"],
+  ["a memory limit that is no quantity", (j) => { container(j).resources.limits.memory = "4 GB"; }, "memory"],
+  ["a restartPolicy Kubernetes does not have", (j) => { j.spec.template.spec.restartPolicy = "Sometimes"; },
+    "restartPolicy"],
+  ["an unknown key", (j) => { j.spec.backofLimitPerIndex = 2; },
+    "'backofLimitPerIndex' does not exist in type 'JobSpec'"],
+  ["a key at the wrong level", (j) => { container(j).workdir = "/work"; },
+    "'workdir' does not exist in type 'Container'"],
   ["N differs from completions", (j) => { j.spec.completions = 4; }, "splits into 8 shards but spec.completions is 4"],
-  ["more threads than CPUs", (j) => { j.spec.template.spec.containers[0].resources.limits.cpu = "2"; }, "4 threads under a limit of 2 CPUs"],
+  ["more threads than CPUs", (j) => { container(j).resources.limits.cpu = "2"; }, "4 threads under a limit of 2 CPUs"],
 ];
 
 const args = process.argv.slice(2);
@@ -142,10 +149,13 @@ const results = check([...variants, docs]);
 let failed = false;
 breakages.slice(0, variants.length).forEach(([what, , expected], k) => {
   const caught = results[k].some((e) => e.includes(expected));
-  console.log(`${caught ? "caught" : "MISSED"}: ${what}${caught ? "" : ` (errors: ${results[k].join("; ") || "none"})`}`);
+  const detail = caught ? "" : ` (errors: ${results[k].join("; ") || "none"})`;
+  console.log(`${caught ? "caught" : "MISSED"}: ${what}${detail}`);
   failed ||= !caught;
 });
 const errors = results[results.length - 1];
 for (const e of errors) console.error(`${file}: ${e}`);
-if (errors.length === 0) console.log(`${file}: valid batch/v1 Job (schema of kubernetes-models 4.5.1, fields of kubernetes-types 1.30.0), ${docs[0].spec.completions} indexed shards`);
+if (errors.length === 0)
+  console.log(`${file}: valid batch/v1 Job (schema of kubernetes-models 4.5.1, fields of kubernetes-types 1.30.0), ` +
+    `${docs[0].spec.completions} indexed shards`);
 process.exit(failed || errors.length ? 1 : 0);

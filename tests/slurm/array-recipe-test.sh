@@ -17,7 +17,11 @@ data=$(realpath "$(dirname "$0")/../data")
 work=$(mktemp -d /tmp/foldcast-slurm-test.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-fail() { echo "FAIL: $*" >&2; for log in "$work"/*.log; do [ -f "$log" ] && { echo "--- $log"; cat "$log"; }; done >&2; exit 1; }
+fail() {
+  echo "FAIL: $*" >&2
+  for log in "$work"/*.log; do [ -f "$log" ] && { echo "--- $log"; cat "$log"; }; done >&2
+  exit 1
+}
 step() { echo "== $* ($SECONDS s)"; }
 
 # A small catalogue: 8 images (2 garments x 2 looks x 2 views), 2 per shard, each about 1.5 s

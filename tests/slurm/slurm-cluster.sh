@@ -6,7 +6,8 @@
 # and memory `slurmd -C` detects, and the daemons talking over 127.0.0.1 on two free ports;
 # runs COMMAND with SLURM_CONF set (sbatch, squeue, scancel ... then use this cluster);
 # then cancels every job, stops the daemons and removes the directory, whatever happened.
-# COMMAND's stdin is /dev/null.  Exits with COMMAND's status, or 1 when the cluster does not come up (its logs are printed).
+# COMMAND's stdin is /dev/null.  Exits with COMMAND's status, or 1 when the cluster does not
+# come up (its logs are printed).
 # Needs root: slurmd starts jobs as their submitter, and munged must own its key.
 set -euo pipefail
 
