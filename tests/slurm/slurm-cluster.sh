@@ -97,13 +97,14 @@ munged --foreground --force --socket="$dir/munge/munge.socket" --key-file="$dir/
   --log-file="$dir/log/munged.log" >>"$dir/log/munged.out" 2>&1 &
 pids+=($!)
 
-node=$(hostname -s)
 # "NodeName=vm CPUs=2 Boards=1 SocketsPerBoard=1 CoresPerSocket=2 ThreadsPerCore=1 RealMemory=24152"
 hardware=$(slurmd -C | head -n 1)
 case "$hardware" in
   NodeName=*" CPUs="*) ;;
   *) echo "$0: slurmd -C printed no node line: $hardware" >&2; exit 1 ;;
 esac
+node=${hardware%% *}
+node=${node#NodeName=}
 cat >"$dir/slurm.conf" <<EOF
 ClusterName=foldcast-test
 SlurmctldHost=$node(127.0.0.1)
