@@ -59,6 +59,20 @@ TEST(BatchFarmCli, LogsALinePerJobAndSummarisesTheShards) {
     EXPECT_EQ(quiet.out, "");
 }
 
+// On a terminal (util-linux's script gives foldcast one): the bar, not the log lines.
+TEST(BatchFarmCli, DrawsABarOnATerminal) {
+    if (test::run_command("command -v script >/dev/null").exit_code != 0) GTEST_SKIP() << "no script (bsdutils)";
+    const auto dir = test::temp_dir();
+    const std::string manifest = tiny_catalogue(dir).string();
+    const test::CommandResult tty =
+        test::run_command("script -qec '" + test::foldcast_binary() + " batch " + manifest + " --shard 0/2' /dev/null");
+    ASSERT_EQ(tty.exit_code, 0) << tty.out;
+    EXPECT_NE(tty.out.find("\rbatch      [####################                    ]  50%"), std::string::npos)
+        << tty.out;
+    EXPECT_NE(tty.out.find("] 100%"), std::string::npos) << tty.out;
+    EXPECT_EQ(tty.out.find("job 1 of 2"), std::string::npos) << tty.out;
+}
+
 TEST(BatchFarmCli, AnotherShardCountIsExitTwoAndSaysWhatToDo) {
     const auto dir = test::temp_dir();
     const std::string manifest = tiny_catalogue(dir).string();
