@@ -1,5 +1,7 @@
-// foldcast batch MANIFEST.toml [--shard I/N]: a catalogue of garments x looks x views.
+// foldcast batch MANIFEST.toml [--shard I/N] [--status]: a catalogue of garments x looks x views.
+#include <chrono>
 #include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -12,11 +14,34 @@
 
 namespace foldcast::app {
 
+namespace {
+// A bar on a terminal; otherwise (a Slurm or Kubernetes log) a line per job, with the shard.
+batch::JobDoneFn job_progress(const batch::BatchManifest& manifest, batch::Shard shard, ProgressBar& bar) {
+    if (bar.on_terminal()) {
+        ProgressFn draw = bar.callback();
+        return [draw](const batch::BatchOutput&, std::size_t done, std::size_t total) {
+            draw("batch", static_cast<double>(done) / static_cast<double>(total));
+        };
+    }
+    std::fprintf(stderr, "shard %d/%d: %zu of the catalogue's %zu jobs, images in %s\n", shard.index, shard.count,
+                 batch::shard_jobs(manifest, shard).size(), batch::all_jobs(manifest).size(),
+                 manifest.output_dir.c_str());
+    auto last = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+    return [&manifest, shard, last](const batch::BatchOutput& output, std::size_t done, std::size_t total) {
+        const auto now = std::chrono::steady_clock::now();
+        const double seconds = std::chrono::duration<double>(now - *last).count();
+        *last = now;
+        std::fprintf(stderr, "%s\n", batch::job_log_line(manifest, shard, output, done, total, seconds).c_str());
+        std::fflush(stderr);
+    };
+}
+}  // namespace
+
 Command batch_command(CLI::App& app) {
     struct Args {
         std::string manifest, shard = "0/1";
         int threads = 0;
-        bool dry_run = false, json = false, quiet = false;
+        bool dry_run = false, json = false, quiet = false, status = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand(
@@ -30,12 +55,23 @@ Command batch_command(CLI::App& app) {
         ->check(CLI::Range(1, 1024));
     sub->add_flag("--dry-run", args->dry_run, "List this shard's jobs and whether each is finished; render nothing");
     sub->add_flag("--json", args->json, "Print the shard's outputs (paths, SHA-256, skipped) as JSON");
-    sub->add_flag("--quiet", args->quiet, "No progress bar");
+    sub->add_flag("--status", args->status,
+                  "Say how much of the catalogue is finished, over all shards (verifies every image against its "
+                  ".sha256); render nothing")
+        ->excludes("--dry-run")
+        ->excludes("--json");
+    sub->add_flag("--quiet", args->quiet,
+                  "No progress (a bar on a terminal; otherwise, as in a Slurm log, a line per job)");
     return {sub, [args] {
                 const batch::Shard shard = batch::parse_shard(args->shard);
                 const batch::BatchManifest manifest = batch::load_manifest(args->manifest);
                 const looks::Library library = looks::Library::load_default();
                 for (const std::string& look : manifest.looks) library.get(look);  // fail before any work
+                if (args->status) {
+                    const int split = shard.count > 1 ? shard.count : 0;  // 0: the split earlier runs recorded
+                    std::printf("%s", batch::status_report(manifest, batch::catalogue_status(manifest, split)).c_str());
+                    return 0;
+                }
                 if (args->dry_run) {
                     for (const batch::BatchJob& job : batch::shard_jobs(manifest, shard))
                         std::printf(
@@ -57,10 +93,13 @@ Command batch_command(CLI::App& app) {
                     options.threads = args->threads;
                     render::write_render(job.output, render::render_still(scene, options), scene);
                 };
+                batch::check_shard_count(manifest, shard);  // before the log's first line
                 std::vector<batch::BatchOutput> outputs;
                 {
-                    ProgressBar bar(args->quiet || args->json);
-                    outputs = batch::run_batch(manifest, shard, render_job, bar.callback());
+                    const bool quiet = args->quiet || args->json;
+                    ProgressBar bar(quiet);
+                    outputs = batch::run_batch(manifest, shard, render_job,
+                                               quiet ? batch::JobDoneFn{} : job_progress(manifest, shard, bar));
                 }
                 if (args->json) {
                     std::printf("%s", batch::outputs_json(manifest, outputs).c_str());

@@ -13,6 +13,7 @@ public:
     explicit ProgressBar(bool quiet);
     ~ProgressBar();
     ProgressFn callback();
+    bool on_terminal() const { return terminal_; }
 
 private:
     void draw(std::string_view stage, double fraction);

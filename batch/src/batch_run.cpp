@@ -111,7 +111,8 @@ std::string outputs_json(const BatchManifest& manifest, const std::vector<BatchO
 }
 
 std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, const JobRenderer& render_job,
-                                   const ProgressFn& progress) {
+                                   const JobDoneFn& job_done) {
+    check_shard_count(manifest, shard);
     const std::vector<BatchJob> jobs = shard_jobs(manifest, shard);
     std::vector<BatchOutput> outputs;
     for (std::size_t i = 0; i < jobs.size(); ++i) {
@@ -128,7 +129,7 @@ std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, c
             out.sha256 = sha256_file(job.output);
         }
         outputs.push_back(std::move(out));
-        if (progress) progress("batch", static_cast<double>(i + 1) / static_cast<double>(jobs.size()));
+        if (job_done) job_done(outputs.back(), i + 1, jobs.size());
     }
     const std::string name =
         shard.count == 1 ? std::string("outputs.json")

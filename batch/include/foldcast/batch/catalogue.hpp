@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/core/progress.hpp"
 
 namespace foldcast::batch {
 
@@ -78,12 +77,50 @@ struct BatchOutput {
     bool skipped = false;  // already finished before this run
 };
 
+// Called after each of the shard's jobs with its output (rendered or skipped), how many of
+// the shard's jobs are done so far (from 1) and how many the shard has.
+using JobDoneFn = std::function<void(const BatchOutput& output, std::size_t done, std::size_t total)>;
+
 // Renders the shard's jobs that are not finished with `render_job` (which must write the
 // image at job.output), writes each sidecar hash, and records every output of the shard in
 // `<output_dir>/outputs-<I>-of-<N>.json` (or outputs.json unsharded).  Returns the outputs.
+// Checks the shard count against earlier runs first (check_shard_count).
 using JobRenderer = std::function<void(const BatchJob& job, const BatchManifest& manifest)>;
 std::vector<BatchOutput> run_batch(const BatchManifest& manifest, Shard shard, const JobRenderer& render_job,
-                                   const ProgressFn& progress = {});
+                                   const JobDoneFn& job_done = {});
+
+// The shard counts N of the outputs-I-of-N.json lists in the output directory: how earlier
+// sharded runs split this catalogue.
+std::vector<int> recorded_shard_counts(const BatchManifest& manifest);
+
+// Throws InputError, naming the directory, both counts and the ways on, when a sharded run
+// would split the catalogue into another N than earlier runs recorded: the shards of two
+// splittings overlap and leave gaps, so their lists would not add up to the catalogue.  An
+// unsharded run (N = 1) is always allowed: it verifies and completes everything.
+void check_shard_count(const BatchManifest& manifest, Shard shard);
+
+// A log line for a farm's job log (no terminal to redraw a bar on), e.g.
+// "shard 1/4: job 2 of 3 rendered in 3.2 s: tall/denim/front.png".
+std::string job_log_line(const BatchManifest& manifest, Shard shard, const BatchOutput& output, std::size_t done,
+                         std::size_t total, double seconds);
+
+// How much of a catalogue is finished, read from the images and their .sha256 files (each
+// verified as a resumed run would).
+struct CatalogueStatus {
+    struct ShardStatus {
+        int index = 0;
+        std::size_t jobs = 0, finished = 0;
+        bool listed = false;  // its outputs-I-of-N.json exists: the shard ran to its end
+    };
+    std::size_t jobs = 0, finished = 0;
+    std::size_t unverified = 0;  // an image without a matching .sha256 (interrupted, damaged or changed job)
+    int shard_count = 1;         // the split `shards` describes (1: none)
+    std::vector<ShardStatus> shards;
+};
+// `shard_count` 0 takes the split earlier runs recorded (recorded_shard_counts), if exactly one.
+CatalogueStatus catalogue_status(const BatchManifest& manifest, int shard_count = 0);
+// The summary `foldcast batch MANIFEST --status` prints.
+std::string status_report(const BatchManifest& manifest, const CatalogueStatus& status);
 
 // The JSON list of outputs of a run (what run_batch writes), for reports.
 std::string outputs_json(const BatchManifest& manifest, const std::vector<BatchOutput>& outputs);
