@@ -49,7 +49,7 @@ CALIBRATION_SPACING_M = 0.0208
 def set_cloth_springs(s, vertex_kg):
     """The solver settings and the springs other than bending, shared with the bending
     calibration (its figure holds for cloth set up so)."""
-    s.quality = 5
+    s.quality = int(os.environ.get("CLOTH_QUALITY", "5"))
     s.mass = vertex_kg
     s.bending_model = "ANGULAR"
     s.tension_stiffness = 80.0
