@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::turntable_command(app));
     commands.push_back(foldcast::app::preview_command(app));
     commands.push_back(foldcast::app::batch_command(app));
+    commands.push_back(foldcast::app::export_command(app));
 
     // CLI11 would answer "A subcommand is required" to a misspelt one: name it instead.
     bool known_name = false;
