@@ -1,29 +1,42 @@
 #pragma once
-// An MP4 (OpenCV videoio, mp4v) written one frame at a time into a registered temporary of
-// an OutputTransaction: a turntable encodes each frame as soon as it is finished, on the
-// thread that writes its PNG, instead of reading every PNG back after the last one.
+// A turntable video that browsers play, encoded one frame at a time by Debian's ffmpeg
+// (the command-line tool, fed raw frames through a pipe) into a registered temporary of an
+// OutputTransaction: H.264 (libx264, yuv420p, BT.709, +faststart) in MP4, or VP9
+// (libvpx-vp9) in WebM, chosen by the target's extension.  A turntable encodes each frame
+// as soon as it is finished, on the thread that writes its PNG.
 #include <opencv2/core.hpp>
-#include <opencv2/videoio.hpp>
 
+#include <cstdio>
 #include <filesystem>
+#include <sys/types.h>
 
+#include "foldcast/batch/turntable.hpp"
 #include "foldcast/core/atomic_file.hpp"
 
 namespace foldcast::batch {
 
-class Mp4Stream {
+class VideoStream {
 public:
-    // Throws if `mp4` cannot be written or no MP4 writer opens.
-    Mp4Stream(OutputTransaction& outputs, const std::filesystem::path& mp4, double fps, cv::Size size);
-    // One 8-bit BGR frame of the stream's size (throws otherwise).
+    // Throws InputError if `video` cannot be written or has another extension than .mp4 or
+    // .webm; std::runtime_error if ffmpeg cannot be started.
+    VideoStream(OutputTransaction& outputs, const std::filesystem::path& video, double fps, cv::Size size,
+                const VideoOptions& options);
+    ~VideoStream();
+    VideoStream(const VideoStream&) = delete;
+    VideoStream& operator=(const VideoStream&) = delete;
+    // One 8-bit BGR frame of the stream's size (throws otherwise, or if ffmpeg failed).
     void add(const cv::Mat& bgr);
-    // Finishes the file; the transaction's commit() then moves it into place.
-    void close() { writer_.release(); }
+    // Finishes the file (throws with ffmpeg's message if it failed); the transaction's
+    // commit() then moves it into place.
+    void close();
 
 private:
-    std::filesystem::path mp4_;
+    [[noreturn]] void fail(const std::string& what);
+    std::filesystem::path video_;
     cv::Size size_;
-    cv::VideoWriter writer_;
+    int input_ = -1;            // our end of ffmpeg's standard input
+    pid_t child_ = -1;
+    std::FILE* log_ = nullptr;  // ffmpeg's standard error (an unlinked temporary)
 };
 
 }  // namespace foldcast::batch
