@@ -44,6 +44,7 @@ Command decode_command(CLI::App& app) {
     struct Options {
         std::string input, output, frames, look;
         bool json = false, uncompressed = false;
+        double max_error_m = 0.0;
     };
     auto o = std::make_shared<Options>();
     sub->add_option("input", o->input, "an .fca file (a truncated one decodes to a coarser animation)")->required();
@@ -53,6 +54,11 @@ Command decode_command(CLI::App& app) {
     sub->add_option("--look", o->look, ".glb: the material, a look's name (see `foldcast looks`) or a look .toml file");
     sub->add_flag("--uncompressed", o->uncompressed,
                   ".glb: float attributes, without KHR_mesh_quantization / EXT_meshopt_compression");
+    sub->add_option("--max-error-m", o->max_error_m,
+                    ".glb: the largest position error the quantization may add (m; default: the finest, 15 bits "
+                    "over the largest side)")
+        ->check(finite_in(0.0, 1.0))
+        ->excludes("--uncompressed");
     sub->add_option("--frames", o->frames, "A:B: only frames A..B-1");
     sub->add_flag("--json", o->json, "print a JSON report on stdout");
 
@@ -65,6 +71,8 @@ Command decode_command(CLI::App& app) {
                 gltf::GlbOptions glb_options;
                 if (!o->look.empty()) glb_options.look = looks::Library::load_default().find(o->look);
                 glb_options.compress = !o->uncompressed;
+                glb_options.max_position_error_m = o->max_error_m;
+                if (o->max_error_m > 0.0 && !glb) throw InputError("--max-error-m: only for -o OUT.glb");
                 const std::string bytes = codec::read_fca(o->input);
                 codec::StreamingDecoder decoder(o->input, bytes.size());
                 decoder.feed(bytes);

@@ -36,7 +36,7 @@ struct DrapeOptions {
     double poisson = 0.3, load_constant = looks::default_load_constant();
     std::string look, grid = "64x64", output;
     int frames = 60;
-    double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0;
+    double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0, max_error_m = 0.0;
     bool json = false, verbose = false, quiet = false, no_relax = false, uncompressed = false;
 };
 
@@ -229,6 +229,8 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     require(std::isfinite(o.fps) && o.fps > 0.0 && o.fps <= 1000.0, "--fps", o.fps, "> 0 and <= 1000");
     require(std::isfinite(o.sway_m) && o.sway_m >= 0.0, "--sway-m", o.sway_m, "a finite number >= 0");
     require_positive("--sway-period-s", o.sway_period_s);
+    if (o.max_error_m > 0.0 && !(kind == OutputKind::glb && (flags.frames->count() > 0 || o.sway_m > 0.0)))
+        throw InputError("--max-error-m: only for -o x.glb animations (with --frames or --sway-m)");
     if (kind != OutputKind::none) {
         check_writable(o.output);
         if (kind == OutputKind::pc2) check_writable(fs::path(o.output).replace_extension(".obj"));
@@ -249,6 +251,7 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     gltf::GlbOptions glb_options;
     if (kind == OutputKind::glb && !o.look.empty()) glb_options.look = looks::Library::load_default().find(o.look);
     glb_options.compress = !o.uncompressed;
+    glb_options.max_position_error_m = o.max_error_m;
     std::optional<Animation> animation;
     std::optional<gltf::GlbSummary> glb_summary;
     if (animated) {
@@ -348,6 +351,10 @@ Command drape_command(CLI::App& app) {
                   "isometry so that the cloth keeps its length)");
     sub->add_flag("--uncompressed", o->uncompressed,
                   "x.glb animations: float attributes, without KHR_mesh_quantization / EXT_meshopt_compression");
+    sub->add_option("--max-error-m", o->max_error_m,
+                    "x.glb animations: the largest position error the quantization may add (m; default: the finest)")
+        ->check(finite_in(0.0, 1.0))
+        ->excludes("--uncompressed");
     sub->add_flag("--json", o->json, "Print the result as one JSON object");
     sub->add_flag("--verbose", o->verbose, "Also report every fold count tried");
     sub->add_flag("-q,--quiet", o->quiet, "No progress bar");

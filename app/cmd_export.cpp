@@ -19,6 +19,7 @@ Command export_command(CLI::App& app) {
         std::string scene, out;
         int texture_px = 256;
         bool uncompressed = false, json = false, quiet = false;
+        double max_error_m = 0.0;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand(
@@ -32,6 +33,11 @@ Command export_command(CLI::App& app) {
     sub->add_flag("--uncompressed", args->uncompressed,
                   "Animations: float attributes without KHR_mesh_quantization / EXT_meshopt_compression "
                   "(larger; for importers without meshopt, e.g. Blender)");
+    sub->add_option("--max-error-m", args->max_error_m,
+                    "Animations: the largest position error the quantization may add (m; default: the finest, 15 "
+                    "bits over the largest side)")
+        ->check(finite_in(0.0, 1.0))
+        ->excludes("--uncompressed");
     sub->add_flag("--json", args->json, "Print what was written as JSON");
     sub->add_flag("-q,--quiet", args->quiet, "No progress bar");
     return {sub, [args] {
@@ -47,6 +53,7 @@ Command export_command(CLI::App& app) {
                 gltf::GlbOptions options;
                 options.look = scene.look;
                 options.compress = !args->uncompressed;
+                options.max_position_error_m = args->max_error_m;
                 options.texture_px = args->texture_px;
                 const gltf::GlbSummary summary = gltf::write_glb(args->out, garment.animation, options);
                 print_glb_summary(args->out, summary, args->json, scene.look.name);

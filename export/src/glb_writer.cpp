@@ -115,13 +115,15 @@ struct Quantization {
 // scale and translation map them back to metres), normals and tangents as normalized
 // shorts, morph deltas of normals and tangents as normalized bytes; every stream compressed.
 double add_quantized_streams(GlbBuilder& glb, const Layout& L, nlohmann::json& primitive, nlohmann::json& node,
-                             std::size_t n) {
+                             std::size_t n, double max_error_m) {
     Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
     for (const FrameData& f : L.frames)
         for (const Vec3f& p : f.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     Quantization quant;
     quant.centre = 0.5f * (lo + hi);
     quant.step = std::max(1e-9f, 0.5f * (hi - lo).maxCoeff() / kPositionLevels);
+    // Rounding moves a point by at most half a step per axis: sqrt(3) / 2 steps in all.
+    if (max_error_m > 0.0) quant.step = std::max(quant.step, static_cast<float>(max_error_m / std::sqrt(0.75)));
     node["translation"] = {quant.centre.x(), quant.centre.y(), quant.centre.z()};
     node["scale"] = {quant.step, quant.step, quant.step};
     glb.use_extension("KHR_mesh_quantization", true);
@@ -245,7 +247,7 @@ std::string write_layout(const Layout& L, const GlbOptions& options, bool compre
     nlohmann::json node = {{"name", options.name}, {"mesh", 0}};
     double error = 0.0;
     if (compress)
-        error = add_quantized_streams(glb, layout, primitive, node, n);
+        error = add_quantized_streams(glb, layout, primitive, node, n, options.max_position_error_m);
     else
         add_float_streams(glb, layout, primitive, n);
     if (has_uvs) {
@@ -308,6 +310,9 @@ std::string glb_bytes(const Animation& animation, const GlbOptions& options, Glb
     if (animation.frame_count() > kMaxMorphFrames)
         throw InputError("glTF output: " + std::to_string(animation.frame_count()) + " frames; a morph-target animation holds at most " +
                          std::to_string(kMaxMorphFrames) + " (every frame keys every target)");
+    if (!(options.max_position_error_m >= 0.0) || !std::isfinite(options.max_position_error_m))
+        throw InputError("glTF output: position error bound " + std::to_string(options.max_position_error_m) +
+                         " m must be finite and >= 0");
     if (!(animation.fps > 0.0) || !std::isfinite(animation.fps))
         throw InputError("glTF output: frame rate " + std::to_string(animation.fps) + " must be > 0");
     Layout L;

@@ -24,6 +24,10 @@ struct GlbOptions {
     // Animations only: quantize and meshopt-compress (off: float attributes, no extension
     // required, larger files; for importers without EXT_meshopt_compression).
     bool compress = true;
+    // Compressed animations: the largest position error allowed (m).  0: the finest the
+    // quantization holds (15 bits over the largest side, about 1e-5 m on a 0.7 m garment);
+    // a coarser bound packs smaller (docs/gltf.md).
+    double max_position_error_m = 0.0;
     // Side of the baked weave textures (colour and normal map), pixels, a power of two.
     int texture_px = 256;
     std::string name = "garment";
