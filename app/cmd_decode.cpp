@@ -66,7 +66,8 @@ Command decode_command(CLI::App& app) {
                 const bool glb = is_glb(o->output);
                 if (std::filesystem::path(o->output).extension() != ".pc2" && !glb)
                     throw InputError("-o '" + o->output + "' must end in .pc2 or .glb");
-                if (!o->look.empty() && !glb) throw InputError("--look: only for -o OUT.glb (a PC2 cache has no material)");
+                if (!o->look.empty() && !glb)
+                    throw InputError("--look: only for -o OUT.glb (a PC2 cache has no material)");
                 check_not_input(o->output, o->input, "-o");
                 gltf::GlbOptions glb_options;
                 if (!o->look.empty()) glb_options.look = looks::Library::load_default().find(o->look);
@@ -106,9 +107,11 @@ Command decode_command(CLI::App& app) {
                                      {"bytes", bytes.size()},
                                      {"complete", status.complete},
                                      {"playable_frames", status.playable_frames}};
-                    if (summary) j["glb"] = {{"bytes", summary->bytes}, {"morph_targets", summary->morph_targets},
-                                             {"compressed", summary->compressed},
-                                             {"max_position_error_m", summary->max_position_error_m}};
+                    if (summary)
+                        j["glb"] = {{"bytes", summary->bytes},
+                                    {"morph_targets", summary->morph_targets},
+                                    {"compressed", summary->compressed},
+                                    {"max_position_error_m", summary->max_position_error_m}};
                     std::printf("%s\n", j.dump().c_str());
                 }
                 return 0;

@@ -339,9 +339,10 @@ Command drape_command(CLI::App& app) {
     flags->load = sub->add_option("--load-constant", o->load_constant, "Load constant c (default 23.9 pi^2 / 12)")
                       ->capture_default_str();
     sub->add_option("--grid", o->grid, "Material grid NUxNV (vertices across x down)")->capture_default_str();
-    flags->frames = sub->add_option("--frames", o->frames,
-                                    "Animation frames, supports moving in from d = 0 (for -o x.pc2, x.fca, x.glb or --sway-m)")
-                        ->capture_default_str();
+    flags->frames =
+        sub->add_option("--frames", o->frames,
+                        "Animation frames, supports moving in from d = 0 (for -o x.pc2, x.fca, x.glb or --sway-m)")
+            ->capture_default_str();
     sub->add_option("--fps", o->fps, "Animation frame rate")->capture_default_str();
     sub->add_option("--sway-m", o->sway_m, "Sway amplitude at the hem on top of the animation (m)")
         ->capture_default_str();

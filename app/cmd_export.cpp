@@ -23,8 +23,9 @@ Command export_command(CLI::App& app) {
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand(
-        "export", "Write a scene's garment with its look as glTF 2.0 (.glb): the animation as morph targets when the "
-                  "garment moves, the look as a material with the weave baked into textures (docs/gltf.md)");
+        "export",
+        "Write a scene's garment with its look as glTF 2.0 (.glb): the animation as morph targets when the "
+        "garment moves, the look as a material with the weave baked into textures (docs/gltf.md)");
     sub->add_option("scene", args->scene, "Scene file (TOML), e.g. gallery/default.toml")->required();
     sub->add_option("-o,--output", args->out, "Output OUT.glb")->required();
     sub->add_option("--texture-px", args->texture_px, "Side of the baked weave textures in pixels (a power of two)")

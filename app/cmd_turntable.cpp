@@ -80,10 +80,11 @@ Command turntable_command(CLI::App& app) {
                     "Average video bitrate instead of constant quality (kbit/s)")
         ->check(CLI::Range(1, 1000000))
         ->excludes("--crf");
-    sub->add_option("--preset", args->video.preset,
-                    "H.264 speed preset (x264): ultrafast .. veryslow; slower is smaller at the same quality (default medium)")
-        ->check(CLI::IsMember({"ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow", "slower",
-                               "veryslow"}));
+    sub->add_option(
+           "--preset", args->video.preset,
+           "H.264 speed preset (x264): ultrafast .. veryslow; slower is smaller at the same quality (default medium)")
+        ->check(CLI::IsMember(
+            {"ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow", "slower", "veryslow"}));
     sub->add_flag("--denoise", args->denoise, "Denoise each frame, guided by the first hit's albedo, normal and depth");
     sub->add_flag("--keep-raw", args->keep_raw, "With --denoise: also write each frame before it (frame_NNNN.raw.png)")
         ->needs("--denoise");

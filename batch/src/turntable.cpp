@@ -56,8 +56,8 @@ fs::path frame_to_read(OutputTransaction& outputs, const fs::path& frames_dir, i
     return staged.empty() ? final_path : staged;
 }
 
-void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame_count, double fps,
-               const fs::path& mp4, const VideoOptions& video) {
+void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4,
+               const VideoOptions& video) {
     check_writable(mp4);
     cv::Mat first = cv::imread(frame_to_read(outputs, frames_dir, 0).string(), cv::IMREAD_COLOR);
     if (first.empty()) throw InputError("turntable frames in " + frames_dir.string() + ": frame_0000.png is missing");
@@ -99,7 +99,7 @@ cv::Mat video_frame(const render::Image& beauty, const SceneSpec& opaque) {
 
 void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4,
                 const VideoOptions& video) {
-    video_codec_for(mp4);
+    check_video_options(video, mp4);
     OutputTransaction outputs;
     stage_mp4(outputs, frames_dir, frame_count, fps, mp4, video);
     outputs.commit();
@@ -120,7 +120,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const bool to_dir = !to_mp4 && (out_s.empty() || out_s.back() == '/' || fs::is_directory(out) || ext.empty());
     if (!to_mp4 && !to_dir)
         throw InputError("turntable output '" + out_s + "': a turntable goes to OUT.mp4, OUT.webm or a directory DIR/");
-    if (to_mp4) check_video_options(options.video, video_codec_for(out));  // before any folder is made
+    if (to_mp4) check_video_options(options.video, out);  // before any folder is made
     fs::path dir = to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out;
     std::error_code ec;
     fs::create_directories(dir, ec);

@@ -52,7 +52,8 @@ std::vector<std::string> encoder_arguments(VideoCodec codec, const VideoOptions&
         }
         a.insert(a.end(), {"-movflags", "+faststart", "-f", "mp4"});
     } else {
-        a.insert(a.end(), {"-c:v", "libvpx-vp9", "-deadline", "good", "-cpu-used", "2", "-row-mt", "0", "-threads", "1"});
+        a.insert(a.end(),
+                 {"-c:v", "libvpx-vp9", "-deadline", "good", "-cpu-used", "2", "-row-mt", "0", "-threads", "1"});
         if (o.bitrate_kbps > 0)
             a.insert(a.end(), {"-b:v", std::to_string(o.bitrate_kbps) + "k"});
         else
@@ -74,19 +75,25 @@ VideoCodec video_codec_for(const std::filesystem::path& video) {
 
 int default_crf(VideoCodec codec) { return codec == VideoCodec::h264 ? 18 : 31; }
 
-void check_video_options(const VideoOptions& o, VideoCodec codec) {
+void check_video_options(const VideoOptions& o, const std::filesystem::path& video) {
+    const VideoCodec codec = video_codec_for(video);
+    const std::string what = "turntable video '" + video.string() + "': ";
     const int most = codec == VideoCodec::h264 ? 51 : 63;
-    if (o.crf > most) throw InputError("video quality (CRF) " + std::to_string(o.crf) + ": must be 0.." + std::to_string(most) + " for this codec");
+    if (o.crf > most)
+        throw InputError(what + "quality (CRF) " + std::to_string(o.crf) + " must be 0.." + std::to_string(most) +
+                         (codec == VideoCodec::h264 ? " for H.264" : " for VP9"));
     if (o.bitrate_kbps < 0 || o.bitrate_kbps > 1000000)
-        throw InputError("video bitrate " + std::to_string(o.bitrate_kbps) + " kbit/s: must be 1..1000000 (0 = constant quality)");
-    static const char* const presets[] = {"ultrafast", "superfast", "veryfast", "faster", "fast",
+        throw InputError(what + "bitrate " + std::to_string(o.bitrate_kbps) +
+                         " kbit/s must be 1..1000000 (0 = constant quality)");
+    static const char* const presets[] = {"ultrafast", "superfast", "veryfast", "faster",  "fast",
                                           "medium",    "slow",      "slower",   "veryslow"};
     if (!o.preset.empty()) {
         bool known = false;
         for (const char* p : presets) known = known || o.preset == p;
         if (!known)
-            throw InputError("video preset '" + o.preset +
-                             "': must be one of ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow");
+            throw InputError(
+                what + "preset '" + o.preset +
+                "': must be one of ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow");
     }
 }
 
@@ -94,14 +101,25 @@ VideoStream::VideoStream(OutputTransaction& outputs, const std::filesystem::path
                          const VideoOptions& options)
     : video_(video), size_(size) {
     const VideoCodec codec = video_codec_for(video);
-    check_video_options(options, codec);
+    check_video_options(options, video);
     check_writable(video);
     // A registered temporary of a unique name beside the target (removed on failure or interrupt).
     const std::filesystem::path temp = outputs.stage_file(video);
-    std::vector<std::string> args = {"ffmpeg", "-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo",
-                                     "-pix_fmt", "bgr24", "-video_size",
-                                     std::to_string(size.width) + "x" + std::to_string(size.height), "-framerate",
-                                     number(fps), "-i", "pipe:0"};
+    std::vector<std::string> args = {"ffmpeg",
+                                     "-hide_banner",
+                                     "-loglevel",
+                                     "error",
+                                     "-y",
+                                     "-f",
+                                     "rawvideo",
+                                     "-pix_fmt",
+                                     "bgr24",
+                                     "-video_size",
+                                     std::to_string(size.width) + "x" + std::to_string(size.height),
+                                     "-framerate",
+                                     number(fps),
+                                     "-i",
+                                     "pipe:0"};
     const std::vector<std::string> encoder = encoder_arguments(codec, options, size);
     args.insert(args.end(), encoder.begin(), encoder.end());
     // ffmpeg writes through a descriptor of ours, never by name: the temporary is ours to
@@ -109,7 +127,9 @@ VideoStream::VideoStream(OutputTransaction& outputs, const std::filesystem::path
     // end of its input) writes into the removed file instead of creating it again.
     // /dev/fd/3 reopens the same file where +faststart reads it back.
     const int output = ::open(temp.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (output < 0) throw InputError("turntable video " + video.string() + ": cannot create " + temp.string() + ": " + std::strerror(errno));
+    if (output < 0)
+        throw InputError("turntable video " + video.string() + ": cannot create " + temp.string() + ": " +
+                         std::strerror(errno));
     args.push_back("file:/dev/fd/3");
 
     // A socket rather than a pipe: send() with MSG_NOSIGNAL reports a dead ffmpeg as an
@@ -198,8 +218,10 @@ void VideoStream::close() {
     }
     child_ = -1;
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        fail("ffmpeg failed (" + (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
-                                                    : "signal " + std::to_string(WTERMSIG(status))) + ")");
+        fail("ffmpeg failed (" +
+             (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                                : "signal " + std::to_string(WTERMSIG(status))) +
+             ")");
 }
 
 }  // namespace foldcast::batch

@@ -34,7 +34,7 @@ private:
     [[noreturn]] void fail(const std::string& what);
     std::filesystem::path video_;
     cv::Size size_;
-    int input_ = -1;            // our end of ffmpeg's standard input
+    int input_ = -1;  // our end of ffmpeg's standard input
     pid_t child_ = -1;
     std::FILE* log_ = nullptr;  // ffmpeg's standard error (an unlinked temporary)
 };

@@ -18,9 +18,7 @@ void put_u32(std::string& out, std::uint32_t v) {
 }
 }  // namespace
 
-GlbBuilder::GlbBuilder() {
-    document_ = {{"asset", {{"version", "2.0"}, {"generator", "foldcast"}}}};
-}
+GlbBuilder::GlbBuilder() { document_ = {{"asset", {{"version", "2.0"}, {"generator", "foldcast"}}}}; }
 
 std::size_t GlbBuilder::append(std::string& buffer, std::string_view bytes) {
     buffer.resize((buffer.size() + 3) & ~std::size_t(3), '\0');

@@ -145,17 +145,21 @@ double add_quantized_streams(GlbBuilder& glb, const Layout& L, nlohmann::json& p
     if (L.tangents)
         for (std::size_t i = 0; i < n; ++i) tan[4 * i + 3] = snorm16(base.tangents[i].w());
     nlohmann::json& attributes = primitive["attributes"];
-    nlohmann::json pa = accessor(glb.add_compressed_view(bytes_of(pos), n, 8, kArrayBuffer, false), 0, kShort, n, "VEC3");
+    nlohmann::json pa =
+        accessor(glb.add_compressed_view(bytes_of(pos), n, 8, kArrayBuffer, false), 0, kShort, n, "VEC3");
     set_bounds(pa, pmin, pmax);
     attributes["POSITION"] = glb.add("accessors", std::move(pa));
     attributes["NORMAL"] = glb.add(
-        "accessors", accessor(glb.add_compressed_view(bytes_of(nor), n, 8, kArrayBuffer, false), 0, kShort, n, "VEC3", true));
+        "accessors",
+        accessor(glb.add_compressed_view(bytes_of(nor), n, 8, kArrayBuffer, false), 0, kShort, n, "VEC3", true));
     if (L.tangents)
-        attributes["TANGENT"] = glb.add("accessors", accessor(glb.add_compressed_view(bytes_of(tan), n, 8, kArrayBuffer, false),
-                                                              0, kShort, n, "VEC4", true));
+        attributes["TANGENT"] = glb.add(
+            "accessors",
+            accessor(glb.add_compressed_view(bytes_of(tan), n, 8, kArrayBuffer, false), 0, kShort, n, "VEC4", true));
     for (std::size_t i = 0; i < n; ++i)
-        max_error = std::max<double>(max_error, (Vec3f(base_q[i][0], base_q[i][1], base_q[i][2]) * quant.step +
-                                                 quant.centre - base.positions[i]).norm());
+        max_error = std::max<double>(
+            max_error,
+            (Vec3f(base_q[i][0], base_q[i][1], base_q[i][2]) * quant.step + quant.centre - base.positions[i]).norm());
 
     const std::size_t targets = L.frames.size() - 1;
     if (!targets) return max_error;
@@ -308,8 +312,9 @@ std::string glb_bytes(const Animation& animation, const GlbOptions& options, Glb
     if (animation.frames.empty() || animation.vertex_count() == 0 || animation.topology.triangles.empty())
         throw InputError("glTF output: the animation has no frames or no triangles");
     if (animation.frame_count() > kMaxMorphFrames)
-        throw InputError("glTF output: " + std::to_string(animation.frame_count()) + " frames; a morph-target animation holds at most " +
-                         std::to_string(kMaxMorphFrames) + " (every frame keys every target)");
+        throw InputError("glTF output: " + std::to_string(animation.frame_count()) +
+                         " frames; a morph-target animation holds at most " + std::to_string(kMaxMorphFrames) +
+                         " (every frame keys every target)");
     if (!(options.max_position_error_m >= 0.0) || !std::isfinite(options.max_position_error_m))
         throw InputError("glTF output: position error bound " + std::to_string(options.max_position_error_m) +
                          " m must be finite and >= 0");

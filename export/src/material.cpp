@@ -45,18 +45,19 @@ MaterialRef add_material(GlbBuilder& glb, const std::optional<looks::Look>& look
     const bool textured = look && has_uvs && has_pattern(a);
     if (textured) {
         const BakedWeave baked = bake_weave(a, texture_px);
-        const int sampler = glb.add("samplers", {{"magFilter", kLinear},
-                                                 {"minFilter", kLinearMipmapLinear},
-                                                 {"wrapS", kRepeat},
-                                                 {"wrapT", kRepeat}});
-        pbr["baseColorTexture"] = texture_info(glb, add_png(glb, baked.colour_png, sampler, a.weave == looks::Weave::none ? "texture" : "weave colour"), baked.tile_m);
+        const int sampler = glb.add(
+            "samplers",
+            {{"magFilter", kLinear}, {"minFilter", kLinearMipmapLinear}, {"wrapS", kRepeat}, {"wrapT", kRepeat}});
+        pbr["baseColorTexture"] = texture_info(
+            glb, add_png(glb, baked.colour_png, sampler, a.weave == looks::Weave::none ? "texture" : "weave colour"),
+            baked.tile_m);
         m["normalTexture"] = texture_info(glb, add_png(glb, baked.normal_png, sampler, "weave normals"), baked.tile_m);
         ref.needs_tangents = true;
         if (a.anisotropy > 0.0) {
-            nlohmann::json aniso = {{"anisotropyStrength", anisotropy_strength(a.roughness, a.anisotropy)},
-                                    {"anisotropyTexture",
-                                     texture_info(glb, add_png(glb, baked.anisotropy_png, sampler, "yarn direction"),
-                                                  baked.tile_m)}};
+            nlohmann::json aniso = {
+                {"anisotropyStrength", anisotropy_strength(a.roughness, a.anisotropy)},
+                {"anisotropyTexture",
+                 texture_info(glb, add_png(glb, baked.anisotropy_png, sampler, "yarn direction"), baked.tile_m)}};
             m["extensions"]["KHR_materials_anisotropy"] = aniso;
             glb.use_extension("KHR_materials_anisotropy", false);
         }
@@ -64,7 +65,8 @@ MaterialRef add_material(GlbBuilder& glb, const std::optional<looks::Look>& look
         pbr["baseColorFactor"] = {std::clamp(a.base_colour.x(), 0.0f, 1.0f), std::clamp(a.base_colour.y(), 0.0f, 1.0f),
                                   std::clamp(a.base_colour.z(), 0.0f, 1.0f), 1.0f};
         if (look && has_uvs && a.anisotropy > 0.0) {
-            const double rotation = a.anisotropy_axis == looks::AnisotropyAxis::weft ? 0.5 * 3.14159265358979323846 : 0.0;
+            const double rotation =
+                a.anisotropy_axis == looks::AnisotropyAxis::weft ? 0.5 * 3.14159265358979323846 : 0.0;
             m["extensions"]["KHR_materials_anisotropy"] = {
                 {"anisotropyStrength", anisotropy_strength(a.roughness, a.anisotropy)},
                 {"anisotropyRotation", rotation}};

@@ -25,7 +25,8 @@ cv::Mat read_image(const std::filesystem::path& path, const char* what) {
     } catch (const cv::Exception&) {
         image.release();
     }
-    if (image.empty()) throw InputError(std::string(what) + " " + path.string() + ": cannot be read as an image (PNG, JPEG, EXR...)");
+    if (image.empty())
+        throw InputError(std::string(what) + " " + path.string() + ": cannot be read as an image (PNG, JPEG, EXR...)");
     cv::Mat f;
     image.convertTo(f, CV_32FC3, image.depth() == CV_8U ? 1.0 / 255.0 : image.depth() == CV_16U ? 1.0 / 65535.0 : 1.0);
     return f;

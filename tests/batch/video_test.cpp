@@ -23,8 +23,10 @@ std::string bytes_of(const std::filesystem::path& p) {
 }
 
 std::string probe(const std::filesystem::path& video) {
-    return test::run_command("ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,pix_fmt,width,height "
-                             "-of csv=p=0 '" + video.string() + "'")
+    return test::run_command(
+               "ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,pix_fmt,width,height "
+               "-of csv=p=0 '" +
+               video.string() + "'")
         .out;
 }
 
@@ -106,8 +108,7 @@ TEST(TurntableVideo, BadOptionsAreRefusedBeforeRenderingAndLeaveNothing) {
     EXPECT_THROW(render_turntable(test::cloth_scene(32, 32, 1), dir / "spin.mp4", o), InputError);
     EXPECT_THROW(encode_mp4(dir, 2, 24.0, dir / "spin.avi"), InputError);
     std::vector<std::string> left;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
-        left.push_back(e.path().string());
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) left.push_back(e.path().string());
     EXPECT_TRUE(left.empty()) << left.front();
 }
 

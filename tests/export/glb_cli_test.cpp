@@ -74,7 +74,8 @@ TEST(GlbCli, DrapeAndDecodeWriteAnimations) {
 TEST(GlbCli, ExportWritesASceneGarmentWithItsLook) {
     const fs::path dir = temp_dir();
     std::ofstream(dir / "scene.toml") << "look = \"velvet\"\n[garment]\nsource = \"drape\"\ngrid = [14, 18]\n";
-    const CommandResult r = foldcast("export " + (dir / "scene.toml").string() + " --json -o " + (dir / "v.glb").string());
+    const CommandResult r =
+        foldcast("export " + (dir / "scene.toml").string() + " --json -o " + (dir / "v.glb").string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_EQ(nlohmann::json::parse(r.out)["look"], "velvet");
     const Glb glb = parse_glb(read_file((dir / "v.glb").string()));

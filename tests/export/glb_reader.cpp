@@ -49,7 +49,8 @@ std::string Glb::view_bytes(int index) const {
     if (view.contains("extensions") && view["extensions"].contains("EXT_meshopt_compression")) {
         const nlohmann::json& ext = view["extensions"]["EXT_meshopt_compression"];
         const std::size_t count = ext["count"], stride = ext["byteStride"];
-        const std::string packed = bin.substr(ext["byteOffset"].get<std::size_t>(), ext["byteLength"].get<std::size_t>());
+        const std::string packed =
+            bin.substr(ext["byteOffset"].get<std::size_t>(), ext["byteLength"].get<std::size_t>());
         std::string out(count * stride, '\0');
         const auto* src = reinterpret_cast<const unsigned char*>(packed.data());
         const int rc = ext["mode"] == "TRIANGLES"
@@ -78,12 +79,34 @@ std::vector<float> Glb::floats(int index) const {
             const char* p = data.data() + offset + i * stride + c * size;
             float v = 0.0f;
             switch (type) {
-                case 5120: v = normalized ? std::max(*reinterpret_cast<const std::int8_t*>(p) / 127.0f, -1.0f) : *reinterpret_cast<const std::int8_t*>(p); break;
-                case 5121: v = normalized ? *reinterpret_cast<const std::uint8_t*>(p) / 255.0f : *reinterpret_cast<const std::uint8_t*>(p); break;
-                case 5122: { std::int16_t s; std::memcpy(&s, p, 2); v = normalized ? std::max(s / 32767.0f, -1.0f) : s; break; }
-                case 5123: { std::uint16_t s; std::memcpy(&s, p, 2); v = normalized ? s / 65535.0f : s; break; }
-                case 5125: { std::uint32_t s; std::memcpy(&s, p, 4); v = static_cast<float>(s); break; }
-                default: std::memcpy(&v, p, 4);
+                case 5120:
+                    v = normalized ? std::max(*reinterpret_cast<const std::int8_t*>(p) / 127.0f, -1.0f)
+                                   : *reinterpret_cast<const std::int8_t*>(p);
+                    break;
+                case 5121:
+                    v = normalized ? *reinterpret_cast<const std::uint8_t*>(p) / 255.0f
+                                   : *reinterpret_cast<const std::uint8_t*>(p);
+                    break;
+                case 5122: {
+                    std::int16_t s;
+                    std::memcpy(&s, p, 2);
+                    v = normalized ? std::max(s / 32767.0f, -1.0f) : s;
+                    break;
+                }
+                case 5123: {
+                    std::uint16_t s;
+                    std::memcpy(&s, p, 2);
+                    v = normalized ? s / 65535.0f : s;
+                    break;
+                }
+                case 5125: {
+                    std::uint32_t s;
+                    std::memcpy(&s, p, 4);
+                    v = static_cast<float>(s);
+                    break;
+                }
+                default:
+                    std::memcpy(&v, p, 4);
             }
             out.push_back(v);
         }

@@ -26,8 +26,8 @@ struct VideoOptions {
 // Throws InputError naming `video` unless it ends in .mp4 or .webm.
 VideoCodec video_codec_for(const std::filesystem::path& video);
 int default_crf(VideoCodec codec);  // H.264 18, VP9 31: frames indistinguishable from their PNGs at a glance
-// Throws InputError naming the value and what is allowed.
-void check_video_options(const VideoOptions& options, VideoCodec codec);
+// Throws InputError naming `video`, the value and what is allowed (the codec is `video`'s).
+void check_video_options(const VideoOptions& options, const std::filesystem::path& video);
 
 struct TurntableOptions {
     RenderOptions render;
