@@ -3,6 +3,7 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -42,9 +43,13 @@ int GlbBuilder::add_compressed_view(std::string_view bytes, std::size_t count, i
         // The extension's TRIANGLES mode decodes index codec version 1.
         meshopt_encodeIndexVersion(1);
         std::vector<unsigned int> wide(count);
-        for (std::size_t i = 0; i < count; ++i)
-            wide[i] = stride == 2 ? reinterpret_cast<const std::uint16_t*>(bytes.data())[i]
-                                  : reinterpret_cast<const std::uint32_t*>(bytes.data())[i];
+        for (std::size_t i = 0; i < count; ++i) {
+            std::uint16_t narrow = 0;
+            if (stride == 2)
+                std::memcpy(&narrow, bytes.data() + 2 * i, 2), wide[i] = narrow;
+            else
+                std::memcpy(&wide[i], bytes.data() + 4 * i, 4);
+        }
         const std::size_t vertices = count ? *std::max_element(wide.begin(), wide.end()) + 1 : 0;
         encoded.resize(meshopt_encodeIndexBufferBound(count, vertices));
         encoded.resize(meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), wide.data(), count));
