@@ -121,6 +121,9 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     if (!to_mp4 && !to_dir)
         throw InputError("turntable output '" + out_s + "': a turntable goes to OUT.mp4, OUT.webm or a directory DIR/");
     if (to_mp4) check_video_options(options.video, out);  // before any folder is made
+    if (!to_mp4 && (options.video.crf >= 0 || options.video.bitrate_kbps > 0 || !options.video.preset.empty()))
+        throw InputError("turntable output '" + out_s +
+                         "': video quality, bitrate and preset need OUT.mp4 or OUT.webm");
     fs::path dir = to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out;
     std::error_code ec;
     fs::create_directories(dir, ec);

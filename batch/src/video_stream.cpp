@@ -85,6 +85,8 @@ void check_video_options(const VideoOptions& o, const std::filesystem::path& vid
     if (o.bitrate_kbps < 0 || o.bitrate_kbps > 1000000)
         throw InputError(what + "bitrate " + std::to_string(o.bitrate_kbps) +
                          " kbit/s must be 1..1000000 (0 = constant quality)");
+    if (!o.preset.empty() && codec != VideoCodec::h264)
+        throw InputError(what + "a speed preset ('" + o.preset + "') is for H.264 (.mp4) only");
     static const char* const presets[] = {"ultrafast", "superfast", "veryfast", "faster",  "fast",
                                           "medium",    "slow",      "slower",   "veryslow"};
     if (!o.preset.empty()) {

@@ -106,6 +106,10 @@ TEST(TurntableVideo, BadOptionsAreRefusedBeforeRenderingAndLeaveNothing) {
     o.video.crf = -1;
     o.video.preset = "fastest";
     EXPECT_THROW(render_turntable(test::cloth_scene(32, 32, 1), dir / "spin.mp4", o), InputError);
+    EXPECT_THROW(render_turntable(test::cloth_scene(32, 32, 1), dir / "spin.webm", o), InputError);  // x264's
+    o.video.preset.clear();
+    o.video.crf = 20;
+    EXPECT_THROW(render_turntable(test::cloth_scene(32, 32, 1), dir / "frames/", o), InputError);  // no video
     EXPECT_THROW(encode_mp4(dir, 2, 24.0, dir / "spin.avi"), InputError);
     std::vector<std::string> left;
     for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) left.push_back(e.path().string());
