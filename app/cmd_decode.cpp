@@ -42,9 +42,11 @@ Command decode_command(CLI::App& app) {
     auto* sub = app.add_subcommand(
         "decode", "Decompress an .fca file to a PC2 cache (+ OBJ topology beside it) or a glTF 2.0 binary (.glb)");
     struct Options {
-        std::string input, output, frames, look;
-        bool json = false, uncompressed = false;
+        std::string look;  // .glb only: the material, its --uncompressed and --max-error-m
+        bool uncompressed = false;
         double max_error_m = 0.0;
+        std::string input, output, frames;
+        bool json = false;
     };
     auto o = std::make_shared<Options>();
     sub->add_option("input", o->input, "an .fca file (a truncated one decodes to a coarser animation)")->required();
