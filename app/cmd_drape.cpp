@@ -29,6 +29,8 @@ namespace fs = std::filesystem;
 
 // Defaults: a typical cotton shirting panel, 0.5 m x 0.7 m, supports 0.1 m in from each side.
 struct DrapeOptions {
+    bool uncompressed = false;  // x.glb animations: floats, or quantized + meshopt within
+    double max_error_m = 0.0;   // this position error (0: the finest)
     double width_m = 0.5, height_m = 0.7, inset_m = 0.1;
     int supports = 2;
     double support_drop_m = 0.0;
@@ -36,8 +38,8 @@ struct DrapeOptions {
     double poisson = 0.3, load_constant = looks::default_load_constant();
     std::string look, grid = "64x64", output;
     int frames = 60;
-    double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0, max_error_m = 0.0;
-    bool json = false, verbose = false, quiet = false, no_relax = false, uncompressed = false;
+    double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0;
+    bool json = false, verbose = false, quiet = false, no_relax = false;
 };
 
 struct Flags {  // which options the user gave (they override a look)

@@ -22,12 +22,12 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::overlay_command(app));
     commands.push_back(foldcast::app::encode_command(app));
     commands.push_back(foldcast::app::decode_command(app));
+    commands.push_back(foldcast::app::export_command(app));
     commands.push_back(foldcast::app::serve_command(app));
     commands.push_back(foldcast::app::render_command(app));
     commands.push_back(foldcast::app::turntable_command(app));
     commands.push_back(foldcast::app::preview_command(app));
     commands.push_back(foldcast::app::batch_command(app));
-    commands.push_back(foldcast::app::export_command(app));
 
     // CLI11 would answer "A subcommand is required" to a misspelt one: name it instead.
     bool known_name = false;
