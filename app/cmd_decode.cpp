@@ -1,13 +1,19 @@
-// foldcast decode IN.fca -o OUT.pc2: decompress to a PC2 cache plus the OBJ topology.
+// foldcast decode IN.fca -o OUT.pc2|OUT.glb: decompress to a PC2 cache plus the OBJ topology,
+// or to a glTF 2.0 binary with the frames as morph targets (docs/gltf.md).
 // A truncated file decodes to the best animation its prefix allows (with a warning).
 #include <charconv>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.hpp"
 #include "foldcast/codec.hpp"
 #include "foldcast/core/error.hpp"
+#include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/mesh_io.hpp"
+#include "foldcast/gltf.hpp"
+#include "foldcast/looks.hpp"
+#include "gltf_report.hpp"
 
 namespace foldcast::app {
 namespace {
@@ -33,20 +39,43 @@ std::pair<std::size_t, std::size_t> parse_frames(const std::string& text, std::s
 }  // namespace
 
 Command decode_command(CLI::App& app) {
-    auto* sub = app.add_subcommand("decode", "Decompress an .fca file to a PC2 cache (+ OBJ topology beside it)");
+    auto* sub = app.add_subcommand(
+        "decode", "Decompress an .fca file to a PC2 cache (+ OBJ topology beside it) or a glTF 2.0 binary (.glb)");
     struct Options {
+        std::string look;  // .glb only: the material, its --uncompressed and --max-error-m
+        bool uncompressed = false;
+        double max_error_m = 0.0;
         std::string input, output, frames;
         bool json = false;
     };
     auto o = std::make_shared<Options>();
     sub->add_option("input", o->input, "an .fca file (a truncated one decodes to a coarser animation)")->required();
-    sub->add_option("-o,--output", o->output, "output .pc2 (the .obj of the same name is written too)")->required();
+    sub->add_option("-o,--output", o->output,
+                    "output .pc2 (the .obj of the same name is written too) or .glb (morph-target animation)")
+        ->required();
+    sub->add_option("--look", o->look, ".glb: the material, a look's name (see `foldcast looks`) or a look .toml file");
+    sub->add_flag("--uncompressed", o->uncompressed,
+                  ".glb: float attributes, without KHR_mesh_quantization / EXT_meshopt_compression");
+    sub->add_option("--max-error-m", o->max_error_m,
+                    ".glb: the largest position error the quantization may add (m; default: the finest, 15 bits "
+                    "over the largest side)")
+        ->check(finite_in(0.0, 1.0))
+        ->excludes("--uncompressed");
     sub->add_option("--frames", o->frames, "A:B: only frames A..B-1");
     sub->add_flag("--json", o->json, "print a JSON report on stdout");
 
     return {sub, [o]() {
-                if (std::filesystem::path(o->output).extension() != ".pc2")
-                    throw InputError("-o '" + o->output + "' must end in .pc2");
+                const bool glb = is_glb(o->output);
+                if (std::filesystem::path(o->output).extension() != ".pc2" && !glb)
+                    throw InputError("-o '" + o->output + "' must end in .pc2 or .glb");
+                if (!o->look.empty() && !glb)
+                    throw InputError("--look: only for -o OUT.glb (a PC2 cache has no material)");
+                check_not_input(o->output, o->input, "-o");
+                gltf::GlbOptions glb_options;
+                if (!o->look.empty()) glb_options.look = looks::Library::load_default().find(o->look);
+                glb_options.compress = !o->uncompressed;
+                glb_options.max_position_error_m = o->max_error_m;
+                if (o->max_error_m > 0.0 && !glb) throw InputError("--max-error-m: only for -o OUT.glb");
                 const std::string bytes = codec::read_fca(o->input);
                 codec::StreamingDecoder decoder(o->input, bytes.size());
                 decoder.feed(bytes);
@@ -65,7 +94,12 @@ Command decode_command(CLI::App& app) {
                         stderr,
                         "foldcast: warning: '%s' is truncated: frames 0..%zu are final, later frames are coarser\n",
                         o->input.c_str(), status.playable_frames == 0 ? std::size_t(0) : status.playable_frames - 1);
-                write_pc2_animation(o->output, anim);
+                std::optional<gltf::GlbSummary> summary;
+                if (glb)
+                    summary = gltf::write_glb(o->output, anim, glb_options);
+                else
+                    write_pc2_animation(o->output, anim);
+                if (summary && !o->json) print_glb_summary(o->output, *summary, false, o->look);
                 if (o->json) {
                     nlohmann::json j{{"output", o->output},
                                      {"frames", anim.frame_count()},
@@ -75,6 +109,11 @@ Command decode_command(CLI::App& app) {
                                      {"bytes", bytes.size()},
                                      {"complete", status.complete},
                                      {"playable_frames", status.playable_frames}};
+                    if (summary)
+                        j["glb"] = {{"bytes", summary->bytes},
+                                    {"morph_targets", summary->morph_targets},
+                                    {"compressed", summary->compressed},
+                                    {"max_position_error_m", summary->max_position_error_m}};
                     std::printf("%s\n", j.dump().c_str());
                 }
                 return 0;

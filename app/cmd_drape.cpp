@@ -18,7 +18,9 @@
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape.hpp"
 #include "foldcast/drape_relax.hpp"
+#include "foldcast/gltf.hpp"
 #include "foldcast/looks.hpp"
+#include "gltf_report.hpp"
 #include "progress_bar.hpp"
 
 namespace foldcast::app {
@@ -28,6 +30,8 @@ namespace fs = std::filesystem;
 
 // Defaults: a typical cotton shirting panel, 0.5 m x 0.7 m, supports 0.1 m in from each side.
 struct DrapeOptions {
+    bool uncompressed = false;  // x.glb animations: floats, or quantized + meshopt within
+    double max_error_m = 0.0;   // this position error (0: the finest)
     double width_m = 0.5, height_m = 0.7, inset_m = 0.1;
     int supports = 2;
     double support_drop_m = 0.0;
@@ -40,7 +44,7 @@ struct DrapeOptions {
 };
 
 struct Flags {  // which options the user gave (they override a look)
-    CLI::Option *thickness, *young, *gsm, *weight, *poisson, *load;
+    CLI::Option *thickness, *young, *gsm, *weight, *poisson, *load, *frames;
 };
 
 std::string number(double v) {
@@ -72,7 +76,7 @@ drape::GridSize parse_grid(const std::string& text) {
     throw InputError("--grid " + text + ": must be NUxNV with 2..8192 vertices each way, e.g. 64x64");
 }
 
-enum class OutputKind { none, obj, ply, pc2, fca };
+enum class OutputKind { none, obj, ply, pc2, fca, glb };
 OutputKind output_kind(const std::string& path) {
     if (path.empty()) return OutputKind::none;
     std::string ext = fs::path(path).extension().string();
@@ -81,8 +85,9 @@ OutputKind output_kind(const std::string& path) {
     if (ext == ".ply") return OutputKind::ply;
     if (ext == ".pc2") return OutputKind::pc2;
     if (ext == ".fca") return OutputKind::fca;
+    if (ext == ".glb") return OutputKind::glb;
     throw InputError("-o " + path + ": unknown extension '" + ext +
-                     "' (allowed: .obj or .ply for the garment, .pc2 or .fca for the animation)");
+                     "' (allowed: .obj, .ply or .glb for the garment, .pc2, .fca or .glb for the animation)");
 }
 
 drape::ClothParams cloth_params(const DrapeOptions& o, const Flags& flags) {
@@ -237,6 +242,8 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     require(std::isfinite(o.fps) && o.fps > 0.0 && o.fps <= 1000.0, "--fps", o.fps, "> 0 and <= 1000");
     require(std::isfinite(o.sway_m) && o.sway_m >= 0.0, "--sway-m", o.sway_m, "a finite number >= 0");
     require_positive("--sway-period-s", o.sway_period_s);
+    if (o.max_error_m > 0.0 && !(kind == OutputKind::glb && (flags.frames->count() > 0 || o.sway_m > 0.0)))
+        throw InputError("--max-error-m: only for -o x.glb animations (with --frames or --sway-m)");
     if (kind != OutputKind::none) {
         check_writable(o.output);
         if (kind == OutputKind::pc2) check_writable(fs::path(o.output).replace_extension(".obj"));
@@ -251,8 +258,15 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     anim_options.sway_amplitude_m = o.sway_m;
     anim_options.sway_period_s = o.sway_period_s;
     anim_options.relax = !o.no_relax;
-    const bool animated = kind == OutputKind::pc2 || kind == OutputKind::fca || o.sway_m > 0.0;
+    // A .glb holds the animation when one was asked for (--frames or --sway-m), else the garment.
+    const bool glb_animated = kind == OutputKind::glb && (flags.frames->count() > 0 || o.sway_m > 0.0);
+    const bool animated = kind == OutputKind::pc2 || kind == OutputKind::fca || o.sway_m > 0.0 || glb_animated;
+    gltf::GlbOptions glb_options;
+    if (kind == OutputKind::glb && !o.look.empty()) glb_options.look = looks::Library::load_default().find(o.look);
+    glb_options.compress = !o.uncompressed;
+    glb_options.max_position_error_m = o.max_error_m;
     std::optional<Animation> animation;
+    std::optional<gltf::GlbSummary> glb_summary;
     if (animated) {
         ProgressBar bar(o.quiet || o.json);
         animation = drape::animate(params, grid, anim_options, bar.callback());
@@ -262,6 +276,8 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
         write_pc2_animation(o.output, *animation);
     } else if (kind == OutputKind::fca) {  // the codec's default profile and error bound
         codec::write_fca(o.output, codec::encode(*animation, {}));
+    } else if (glb_animated) {
+        glb_summary = gltf::write_glb(o.output, *animation, glb_options);
     } else if (kind != OutputKind::none) {
         Mesh mesh = garment.mesh;
         if (animation) {  // the last frame, sway included
@@ -270,6 +286,8 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
         }
         if (kind == OutputKind::obj)
             write_obj(o.output, mesh);
+        else if (kind == OutputKind::glb)
+            glb_summary = gltf::write_glb(o.output, mesh, glb_options);
         else
             write_ply(o.output, mesh);
     }
@@ -277,6 +295,11 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     if (o.json) {
         nlohmann::json j = report(params, solution, garment, o, grid);
         if (animation) j["frames"] = animation->frame_count(), j["fps"] = animation->fps;
+        if (glb_summary)
+            j["glb"] = {{"bytes", glb_summary->bytes},
+                        {"morph_targets", glb_summary->morph_targets},
+                        {"compressed", glb_summary->compressed},
+                        {"max_position_error_m", glb_summary->max_position_error_m}};
         std::cout << j.dump(2) << "\n";
     } else {
         print_text(params, solution, garment, o);
@@ -286,6 +309,8 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
         else if (kind == OutputKind::pc2)
             std::printf("wrote %s (%zu frames at %g fps) and %s\n", o.output.c_str(), animation->frame_count(),
                         animation->fps, fs::path(o.output).replace_extension(".obj").c_str());
+        else if (glb_summary)
+            print_glb_summary(o.output, *glb_summary, false, o.look);
         else if (kind != OutputKind::none)
             std::printf("wrote %s (%dx%d grid)\n", o.output.c_str(), grid.nu, grid.nv);
     }
@@ -332,8 +357,10 @@ Command drape_command(CLI::App& app) {
     flags->load = sub->add_option("--load-constant", o->load_constant, "Load constant c (default 23.9 pi^2 / 12)")
                       ->capture_default_str();
     sub->add_option("--grid", o->grid, "Material grid NUxNV (vertices across x down)")->capture_default_str();
-    sub->add_option("--frames", o->frames, "Animation frames, supports moving in from d = 0 (for -o x.pc2 or --sway-m)")
-        ->capture_default_str();
+    flags->frames =
+        sub->add_option("--frames", o->frames,
+                        "Animation frames, supports moving in from d = 0 (for -o x.pc2, x.fca, x.glb or --sway-m)")
+            ->capture_default_str();
     sub->add_option("--fps", o->fps, "Animation frame rate")->capture_default_str();
     sub->add_option("--sway-m", o->sway_m, "Sway amplitude at the hem on top of the animation (m)")
         ->capture_default_str();
@@ -341,12 +368,19 @@ Command drape_command(CLI::App& app) {
     sub->add_flag("--no-relax", o->no_relax,
                   "Keep the model's surface as it is (by default the grid is relaxed towards "
                   "isometry so that the cloth keeps its length)");
+    sub->add_flag("--uncompressed", o->uncompressed,
+                  "x.glb animations: float attributes, without KHR_mesh_quantization / EXT_meshopt_compression");
+    sub->add_option("--max-error-m", o->max_error_m,
+                    "x.glb animations: the largest position error the quantization may add (m; default: the finest)")
+        ->check(finite_in(0.0, 1.0))
+        ->excludes("--uncompressed");
     sub->add_flag("--json", o->json, "Print the result as one JSON object");
     sub->add_flag("--verbose", o->verbose, "Also report every fold count tried");
     sub->add_flag("-q,--quiet", o->quiet, "No progress bar");
     sub->add_option(
         "-o,--output", o->output,
-        "Write x.obj or x.ply (garment, last frame), x.pc2 (animation + x.obj beside) or x.fca (compressed animation)");
+        "Write x.obj or x.ply (garment, last frame), x.pc2 (animation + x.obj beside), x.fca (compressed animation) "
+        "or x.glb (glTF 2.0: the garment with --look's material; with --frames or --sway-m the animation)");
     return Command{sub, [o, flags] { return run_drape(*o, *flags); }};
 }
 

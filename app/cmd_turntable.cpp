@@ -1,4 +1,4 @@
-// foldcast turntable SCENE.toml -o OUT.mp4|DIR/ [--frames N | --frames A:B]
+// foldcast turntable SCENE.toml -o OUT.mp4|OUT.webm|DIR/ [--frames N | --frames A:B]
 #include <cstdio>
 #include <string>
 
@@ -47,16 +47,20 @@ void parse_frames(const std::string& text, batch::TurntableOptions& options) {
 Command turntable_command(CLI::App& app) {
     struct Args {
         std::string scene, out, frames, join;
+        batch::VideoOptions video;
         int width = 0, height = 0, spp = 0, threads = 0;
         double noise_threshold = 0.0;
         bool quiet = false, json = false, preview = false, denoise = false, keep_raw = false, temporal = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub =
-        app.add_subcommand("turntable", "Render frames of the camera orbiting the garment: a PNG sequence and an MP4");
+        app.add_subcommand("turntable",
+                           "Render frames of the camera orbiting the garment: a PNG sequence and a video browsers play "
+                           "(H.264 MP4 or VP9 WebM)");
     sub->add_option("scene", args->scene, "Scene file (TOML)")->required();
     sub->add_option("-o,--output", args->out,
-                    "OUT.mp4 (frames go to OUT_frames/ beside it) or DIR/ (PNG sequence only)")
+                    "OUT.mp4 (H.264, yuv420p, +faststart) or OUT.webm (VP9), frames in OUT_frames/ beside it; or DIR/ "
+                    "(PNG sequence only)")
         ->required();
     sub->add_option("--frames", args->frames,
                     "N frames in all (default: the scene's [turntable] frames, 36), or A:B to render only frames "
@@ -66,8 +70,21 @@ Command turntable_command(CLI::App& app) {
     sub->add_option("--spp", args->spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20));
     sub->add_option("--threads", args->threads, "Render threads (default: all cores)")->check(CLI::Range(1, 1024));
     sub->add_option("--join", args->join,
-                    "Encode an already rendered, complete PNG sequence from this directory into -o OUT.mp4 "
+                    "Encode an already rendered, complete PNG sequence from this directory into -o OUT.mp4|OUT.webm "
                     "(no rendering)");
+    sub->add_option("--crf", args->video.crf,
+                    "Video quality, constant rate factor: lower is better and larger (default: H.264 18, VP9 31; "
+                    "H.264 0..51, VP9 0..63)")
+        ->check(CLI::Range(0, 63));
+    sub->add_option("--video-bitrate-kbps", args->video.bitrate_kbps,
+                    "Average video bitrate instead of constant quality (kbit/s)")
+        ->check(CLI::Range(1, 1000000))
+        ->excludes("--crf");
+    sub->add_option(
+           "--preset", args->video.preset,
+           "H.264 speed preset (x264): ultrafast .. veryslow; slower is smaller at the same quality (default medium)")
+        ->check(CLI::IsMember(
+            {"ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow", "slower", "veryslow"}));
     sub->add_flag("--denoise", args->denoise, "Denoise each frame, guided by the first hit's albedo, normal and depth");
     sub->add_flag("--keep-raw", args->keep_raw, "With --denoise: also write each frame before it (frame_NNNN.raw.png)")
         ->needs("--denoise");
@@ -94,7 +111,7 @@ Command turntable_command(CLI::App& app) {
                 if (!args->frames.empty()) parse_frames(args->frames, options);
                 if (!args->join.empty()) {
                     const int total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
-                    batch::encode_mp4(args->join, total, scene.turntable_fps, args->out);
+                    batch::encode_mp4(args->join, total, scene.turntable_fps, args->out, args->video);
                     if (!args->quiet) std::fprintf(stderr, "wrote %s (%d frames)\n", args->out.c_str(), total);
                     return 0;
                 }
@@ -107,6 +124,7 @@ Command turntable_command(CLI::App& app) {
                 options.render.noise_threshold = args->noise_threshold;
                 options.preview = args->preview;
                 options.temporal = args->temporal;
+                options.video = args->video;
                 batch::TurntableResult result;
                 {
                     ProgressBar bar(args->quiet || args->json);

@@ -26,5 +26,6 @@ Command render_command(CLI::App& app);
 Command turntable_command(CLI::App& app);
 Command preview_command(CLI::App& app);
 Command batch_command(CLI::App& app);
+Command export_command(CLI::App& app);
 
 }  // namespace foldcast::app

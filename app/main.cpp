@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::overlay_command(app));
     commands.push_back(foldcast::app::encode_command(app));
     commands.push_back(foldcast::app::decode_command(app));
+    commands.push_back(foldcast::app::export_command(app));
     commands.push_back(foldcast::app::serve_command(app));
     commands.push_back(foldcast::app::render_command(app));
     commands.push_back(foldcast::app::turntable_command(app));

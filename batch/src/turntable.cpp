@@ -1,5 +1,5 @@
 // Turntables: the camera rig (camera, lights, cyclorama) orbits the garment; each frame is a
-// still written as DIR/frame_NNNN.png, and complete sequences are encoded to MP4.
+// still written as DIR/frame_NNNN.png, and complete sequences are encoded to a video.
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #if defined(__GLIBC__)
@@ -19,7 +19,7 @@
 #include "foldcast/preview.hpp"
 #include "foldcast/render/studio_setup.hpp"
 #include "foldcast/render/tracer.hpp"
-#include "mp4_stream.hpp"
+#include "video_stream.hpp"
 #include "temporal_window.hpp"
 
 namespace foldcast::batch {
@@ -56,12 +56,12 @@ fs::path frame_to_read(OutputTransaction& outputs, const fs::path& frames_dir, i
     return staged.empty() ? final_path : staged;
 }
 
-void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame_count, double fps,
-               const fs::path& mp4) {
+void stage_mp4(OutputTransaction& outputs, const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4,
+               const VideoOptions& video) {
     check_writable(mp4);
     cv::Mat first = cv::imread(frame_to_read(outputs, frames_dir, 0).string(), cv::IMREAD_COLOR);
     if (first.empty()) throw InputError("turntable frames in " + frames_dir.string() + ": frame_0000.png is missing");
-    Mp4Stream stream(outputs, mp4, fps, first.size());
+    VideoStream stream(outputs, mp4, fps, first.size(), video);
     for (int f = 0; f < frame_count; ++f) {
         const fs::path p = turntable_frame_path(frames_dir, f);
         cv::Mat img = cv::imread(frame_to_read(outputs, frames_dir, f).string(), cv::IMREAD_COLOR);
@@ -97,9 +97,11 @@ cv::Mat video_frame(const render::Image& beauty, const SceneSpec& opaque) {
 }
 }  // namespace
 
-void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4) {
+void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const fs::path& mp4,
+                const VideoOptions& video) {
+    check_video_options(video, mp4);
     OutputTransaction outputs;
-    stage_mp4(outputs, frames_dir, frame_count, fps, mp4);
+    stage_mp4(outputs, frames_dir, frame_count, fps, mp4, video);
     outputs.commit();
 }
 
@@ -113,11 +115,15 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
         throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) +
                          ": need 0 <= first < last <= " + std::to_string(total) + " (the turntable's frame count)");
     const std::string ext = out.extension().string();
-    const bool to_mp4 = ext == ".mp4";
+    const bool to_mp4 = ext == ".mp4" || ext == ".webm";
     const std::string out_s = out.string();
     const bool to_dir = !to_mp4 && (out_s.empty() || out_s.back() == '/' || fs::is_directory(out) || ext.empty());
     if (!to_mp4 && !to_dir)
-        throw InputError("turntable output '" + out_s + "': a turntable goes to OUT.mp4 or a directory DIR/");
+        throw InputError("turntable output '" + out_s + "': a turntable goes to OUT.mp4, OUT.webm or a directory DIR/");
+    if (to_mp4) check_video_options(options.video, out);  // before any folder is made
+    if (!to_mp4 && (options.video.crf >= 0 || options.video.bitrate_kbps > 0 || !options.video.preset.empty()))
+        throw InputError("turntable output '" + out_s +
+                         "': video quality, bitrate and preset need OUT.mp4 or OUT.webm");
     fs::path dir = to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out;
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -165,9 +171,9 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     SceneSpec opaque = setup.lit_scene();
     opaque.transparent = false;  // video frames have no alpha
     // The whole orbit to an MP4: each frame is encoded right after its PNG is written.
-    std::unique_ptr<Mp4Stream> mp4;
+    std::unique_ptr<VideoStream> mp4;
     if (to_mp4 && first == 0 && last == total)
-        mp4 = std::make_unique<Mp4Stream>(outputs, out, scene.turntable_fps, cv::Size(width, height));
+        mp4 = std::make_unique<VideoStream>(outputs, out, scene.turntable_fps, cv::Size(width, height), options.video);
     std::future<void> writing;  // after what its task uses: waits for the task when destroyed early
     std::unique_ptr<PreviewRenderer> rasteriser;
     if (options.preview) rasteriser = std::make_unique<PreviewRenderer>(width, height, options.msaa_samples);
