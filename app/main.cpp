@@ -3,12 +3,31 @@
 // error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cerrno>
 #include <exception>
+#include <filesystem>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "foldcast/core/error.hpp"
+
+namespace {
+// One line of ours instead of libstdc++'s "filesystem error: ..." text: the path and the
+// system's reason.  A path that cannot be followed or found is the user's input (exit 2);
+// anything else (a full disk, an I/O error) is a runtime failure (exit 1).
+int report_filesystem_error(const std::filesystem::filesystem_error& e) {
+    const std::string path = e.path1().empty() ? std::string("a path") : "'" + e.path1().string() + "'";
+    std::fprintf(stderr, "foldcast: %s: %s\n", path.c_str(), e.code().message().c_str());
+    const int code = e.code().value();
+    const bool input = e.code().category() == std::generic_category() || e.code().category() == std::system_category();
+    return input && (code == ELOOP || code == ENOENT || code == ENOTDIR || code == EISDIR || code == EACCES ||
+                     code == ENAMETOOLONG || code == EEXIST || code == EINVAL)
+               ? 2
+               : 1;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"foldcast: cloth folds, garment animation codec and garment renderer"};
@@ -59,6 +78,11 @@ int main(int argc, char** argv) {
     } catch (const foldcast::InputError& e) {
         std::fprintf(stderr, "foldcast: %s\n", e.what());
         return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "foldcast: error: out of memory (the work needs more memory than this process may use)\n");
+        return 1;
+    } catch (const std::filesystem::filesystem_error& e) {
+        return report_filesystem_error(e);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "foldcast: error: %s\n", e.what());
         return 1;
