@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "foldcast/compare/image.hpp"
+#include "input_domains.hpp"
 #include "foldcast/core/error.hpp"
 
 namespace {
@@ -30,6 +32,7 @@ int report_filesystem_error(const std::filesystem::filesystem_error& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    foldcast::compare::silence_library_logging();  // our one line, not OpenCV's (or FFmpeg's) first
     CLI::App app{"foldcast: cloth folds, garment animation codec and garment renderer"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "foldcast 0.1.0");
@@ -46,6 +49,7 @@ int main(int argc, char** argv) {
     commands.push_back(foldcast::app::turntable_command(app));
     commands.push_back(foldcast::app::preview_command(app));
     commands.push_back(foldcast::app::batch_command(app));
+    foldcast::app::apply_input_domains(app);
 
     // CLI11 would answer "A subcommand is required" to a misspelt one: name it instead.
     bool known_name = false;
