@@ -1,4 +1,4 @@
-// A resumed batch re-renders an image whose look changed: a look read from FOLDCAST_LOOKS_DIR
+// Sets that belong together, kept together.  A resumed batch re-renders an image whose look changed: a look read from FOLDCAST_LOOKS_DIR
 // is a file the user edits, and its name alone kept the old image as finished.
 #include <gtest/gtest.h>
 
@@ -35,6 +35,20 @@ TEST(ResumedBatch, AnEditedLookFileIsRenderedAgain) {
     std::ofstream(denim) << text;
     const std::string listed = test::run_command(run + " --dry-run").out;
     EXPECT_NE(listed.find(" todo "), std::string::npos) << "the image of the old look is kept as finished: " << listed;
+}
+
+// A turntable of fewer frames than the last one into the same OUT_frames/: the earlier run's
+// frames past the new count used to stay beside the new MP4 as if they were part of it.
+TEST(Turntable, AShorterRunLeavesNoFramesOfTheLongerOne) {
+    const fs::path dir = test::temp_dir();
+    std::ofstream(dir / "tiny.toml") << "[garment]\ngrid = [9, 9]\n[output]\nwidth = 16\nheight = 16\nspp = 1\n";
+    const std::string run = "'" + test::foldcast_under_test() + "' turntable '" + (dir / "tiny.toml").string() +
+                            "' -o '" + (dir / "spin.mp4").string() + "' --quiet --frames ";
+    ASSERT_EQ(test::run_command(run + "3").exit_code, 0);
+    ASSERT_TRUE(fs::exists(dir / "spin_frames" / "frame_0002.png"));
+    ASSERT_EQ(test::run_command(run + "2").exit_code, 0);
+    EXPECT_TRUE(fs::exists(dir / "spin_frames" / "frame_0001.png"));
+    EXPECT_FALSE(fs::exists(dir / "spin_frames" / "frame_0002.png")) << "a frame of the earlier run was left";
 }
 
 }  // namespace
