@@ -11,6 +11,7 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/mesh_io.hpp"
+#include "foldcast/core/resources.hpp"
 #include "foldcast/gltf.hpp"
 #include "foldcast/looks.hpp"
 #include "gltf_report.hpp"
@@ -46,7 +47,7 @@ Command decode_command(CLI::App& app) {
         bool uncompressed = false;
         double max_error_m = 0.0;
         std::string input, output, frames;
-        bool json = false;
+        bool json = false, force = false;
     };
     auto o = std::make_shared<Options>();
     sub->add_option("input", o->input, "an .fca file (a truncated one decodes to a coarser animation)")->required();
@@ -63,6 +64,7 @@ Command decode_command(CLI::App& app) {
         ->excludes("--uncompressed");
     sub->add_option("--frames", o->frames, "A:B: only frames A..B-1");
     sub->add_flag("--json", o->json, "print a JSON report on stdout");
+    sub->add_flag("--force", o->force, "decode even when the estimated memory exceeds what this process can use");
 
     return {sub, [o]() {
                 const bool glb = is_glb(o->output);
@@ -83,6 +85,13 @@ Command decode_command(CLI::App& app) {
                 if (!status.header_ready)
                     throw InputError(o->input + ": truncated inside its header (" + std::to_string(bytes.size()) +
                                      " bytes)");
+                // The frames and a copy of them (--frames, the PC2 writer's buffer), and the decoder's
+                // state (about 100 bytes per vertex), before any frame is made.
+                const std::uint64_t vertex_frames = std::uint64_t(decoder.vertex_count()) * decoder.frame_count();
+                require_memory(vertex_frames * sizeof(Vec3f) * 2 + std::uint64_t(decoder.vertex_count()) * 100,
+                               o->input + ": decoding " + std::to_string(decoder.vertex_count()) + " vertices x " +
+                                   std::to_string(decoder.frame_count()) + " frames",
+                               "--force to try anyway", o->force);
                 Animation anim = decoder.animation();
                 if (!o->frames.empty()) {
                     const auto [a, b] = parse_frames(o->frames, anim.frame_count());

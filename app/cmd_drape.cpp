@@ -22,6 +22,7 @@
 #include "foldcast/looks.hpp"
 #include "gltf_report.hpp"
 #include "progress_bar.hpp"
+#include "resource_estimates.hpp"
 
 namespace foldcast::app {
 
@@ -40,7 +41,7 @@ struct DrapeOptions {
     std::string look, grid = "64x64", output, closure = "hem";
     int frames = 60;
     double fps = 30.0, sway_m = 0.0, sway_period_s = 2.0;
-    bool json = false, verbose = false, quiet = false, no_relax = false;
+    bool json = false, verbose = false, quiet = false, no_relax = false, force = false;
 };
 
 struct Flags {  // which options the user gave (they override a look)
@@ -70,10 +71,10 @@ drape::GridSize parse_grid(const std::string& text) {
     };
     drape::GridSize g{0, 0};
     if (x != std::string::npos && parse(text.data(), text.data() + x, g.nu) &&
-        parse(text.data() + x + 1, text.data() + text.size(), g.nv) && g.nu >= 2 && g.nv >= 2 && g.nu <= 8192 &&
-        g.nv <= 8192)
+        parse(text.data() + x + 1, text.data() + text.size(), g.nv) && g.nu >= 2 && g.nv >= 2 && g.nu <= 4096 &&
+        g.nv <= 4096)
         return g;
-    throw InputError("--grid " + text + ": must be NUxNV with 2..8192 vertices each way, e.g. 64x64");
+    throw InputError("--grid " + text + ": must be NUxNV with 2..4096 vertices each way, e.g. 64x64");
 }
 
 enum class OutputKind { none, obj, ply, pc2, fca, glb };
@@ -239,6 +240,10 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     const drape::ClothParams params = cloth_params(o, flags);
     const drape::GridSize grid = parse_grid(o.grid);
     require(o.frames >= 1 && o.frames <= 100000, "--frames", o.frames, "1..100000");
+    const bool frames_kept = kind == OutputKind::pc2 || kind == OutputKind::fca;
+    check_drape_work(grid.nu, grid.nv, frames_kept ? o.frames : 1,
+                     "--grid " + o.grid + (frames_kept ? " with --frames " + std::to_string(o.frames) : std::string()),
+                     o.force);
     require(std::isfinite(o.fps) && o.fps > 0.0 && o.fps <= 1000.0, "--fps", o.fps, "> 0 and <= 1000");
     require(std::isfinite(o.sway_m) && o.sway_m >= 0.0, "--sway-m", o.sway_m, "a finite number >= 0");
     require_positive("--sway-period-s", o.sway_period_s);
@@ -377,6 +382,7 @@ Command drape_command(CLI::App& app) {
     sub->add_flag("--json", o->json, "Print the result as one JSON object");
     sub->add_flag("--verbose", o->verbose, "Also report every fold count tried");
     sub->add_flag("-q,--quiet", o->quiet, "No progress bar");
+    sub->add_flag("--force", o->force, "Work even when the memory or time estimate exceeds this machine's");
     sub->add_option(
         "-o,--output", o->output,
         "Write x.obj or x.ply (garment, last frame), x.pc2 (animation + x.obj beside), x.fca (compressed animation) "

@@ -41,6 +41,8 @@ Command encode_command(CLI::App& app) {
     return {
         sub, [o]() {
             const std::filesystem::path in = o->input;
+            check_not_input(o->output, in, "-o");  // re-encoding lossily over its own input
+            if (!o->topology.empty()) check_not_input(o->output, o->topology, "-o");
             Animation anim;
             if (in.extension() == ".fca") {
                 anim = codec::decode(codec::read_fca(in), in.string());

@@ -1,4 +1,5 @@
 // foldcast render SCENE.toml -o OUT.png|OUT.exr: a still of the scene.
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -8,6 +9,7 @@
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/render.hpp"
 #include "progress_bar.hpp"
+#include "resource_estimates.hpp"
 
 namespace foldcast::app {
 
@@ -17,7 +19,7 @@ Command render_command(CLI::App& app) {
         int width = 0, height = 0, spp = 0, threads = 0;
         std::uint64_t seed = 0;
         double noise_threshold = 0.0;
-        bool json = false, quiet = false, denoise = false, keep_raw = false;
+        bool json = false, quiet = false, denoise = false, keep_raw = false, force = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand("render", "Path-trace a still of a scene file (PNG or EXR, optional AOVs)");
@@ -50,6 +52,7 @@ Command render_command(CLI::App& app) {
                   "Print width, height, spp, mean_spp (also garment_mean_spp, backdrop_mean_spp), seconds, rays, "
                   "rays_per_second and the files as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
+    sub->add_flag("--force", args->force, "Render even when the memory or time estimate exceeds this machine's");
     return {sub, [args, seed] {
                 render::RenderOptions options;
                 options.width = args->width;
@@ -63,6 +66,19 @@ Command render_command(CLI::App& app) {
                 if (!args->aovs.empty()) options.aovs = render::parse_aovs(args->aovs);
                 const render::SceneSpec scene = render::load_scene(args->scene);
                 check_writable(args->out);
+                check_not_input(args->out, args->scene, "-o");
+                if (!scene.look.appearance.texture.empty())
+                    check_not_input(args->out, scene.look.appearance.texture, "-o");
+                if (!scene.garment.path.empty()) check_not_input(args->out, scene.garment.path, "-o");
+                if (scene.garment.source == render::GarmentSpec::Source::drape)
+                    check_drape_work(scene.garment.grid_nu, scene.garment.grid_nv,
+                                     std::max(1, scene.garment.animation_frames),
+                                     args->scene + ": garment.grid = [" + std::to_string(scene.garment.grid_nu) + ", " +
+                                         std::to_string(scene.garment.grid_nv) + "]",
+                                     args->force);
+                check_render_work(options.width ? options.width : scene.width,
+                                  options.height ? options.height : scene.height,
+                                  options.spp ? options.spp : scene.spp, 1, 1, "render " + args->out, args->force);
                 render::RenderResult result;
                 {
                     ProgressBar bar(args->quiet || args->json);

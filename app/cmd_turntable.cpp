@@ -1,4 +1,5 @@
 // foldcast turntable SCENE.toml -o OUT.mp4|OUT.webm|DIR/ [--frames N | --frames A:B]
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -7,9 +8,12 @@
 #include "foldcast/render.hpp"
 #include "foldcast/batch/turntable.hpp"
 #include "progress_bar.hpp"
+#include "resource_estimates.hpp"
 
 namespace foldcast::app {
 namespace {
+
+constexpr int kMaxTurntableFrames = 100000;
 
 // "N" = N frames; "A:B" = frames A..B-1 of the scene's count; "A:B/N" = of N frames.
 void parse_frames(const std::string& text, batch::TurntableOptions& options) {
@@ -23,6 +27,9 @@ void parse_frames(const std::string& text, batch::TurntableOptions& options) {
         }
         if (used != s.size() || v < 0)
             throw InputError("--frames " + text + ": expected N, A:B or A:B/N with non-negative integers");
+        if (v > kMaxTurntableFrames)
+            throw InputError("--frames " + text + ": at most " + std::to_string(kMaxTurntableFrames) +
+                             " frames (as the scene's turntable.frames)");
         return v;
     };
     const std::size_t colon = text.find(':');
@@ -51,6 +58,7 @@ Command turntable_command(CLI::App& app) {
         int width = 0, height = 0, spp = 0, threads = 0;
         double noise_threshold = 0.0;
         bool quiet = false, json = false, preview = false, denoise = false, keep_raw = false, temporal = false;
+        bool force = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub =
@@ -105,6 +113,7 @@ Command turntable_command(CLI::App& app) {
         "Print frames, width, height, spp, mean_spp, seconds, rays, rays_per_second, reused_paths (camera paths "
         "taken from the previous frame) as JSON");
     sub->add_flag("--quiet", args->quiet, "No progress bar");
+    sub->add_flag("--force", args->force, "Render even when the memory or time estimate exceeds this machine's");
     return {sub, [args] {
                 const render::SceneSpec scene = render::load_scene(args->scene);
                 batch::TurntableOptions options;
@@ -114,6 +123,22 @@ Command turntable_command(CLI::App& app) {
                     batch::encode_mp4(args->join, total, scene.turntable_fps, args->out, args->video);
                     if (!args->quiet) std::fprintf(stderr, "wrote %s (%d frames)\n", args->out.c_str(), total);
                     return 0;
+                }
+                if (scene.garment.source == render::GarmentSpec::Source::drape)
+                    check_drape_work(scene.garment.grid_nu, scene.garment.grid_nv,
+                                     std::max(1, scene.garment.animation_frames),
+                                     args->scene + ": garment.grid = [" + std::to_string(scene.garment.grid_nu) + ", " +
+                                         std::to_string(scene.garment.grid_nv) + "]",
+                                     args->force);
+                {
+                    const long long total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
+                    const long long count = options.last_frame > options.first_frame
+                                                ? options.last_frame - options.first_frame
+                                                : total;
+                    check_render_work(args->width ? args->width : scene.width,
+                                      args->height ? args->height : scene.height, args->spp ? args->spp : scene.spp,
+                                      args->preview ? 0 : count, args->temporal ? 5 : 1, "turntable " + args->out,
+                                      args->force);
                 }
                 options.render.width = args->width;
                 options.render.height = args->height;

@@ -10,6 +10,7 @@
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/batch/catalogue.hpp"
+#include "foldcast/looks.hpp"
 #include "foldcast/render.hpp"
 
 namespace foldcast::batch {
@@ -81,7 +82,14 @@ std::string job_identity(const BatchJob& job, const BatchManifest& manifest) {
             topology = fs::path(scene.garment.path).replace_extension(".obj");
         text << "garment " << hash_if_file(scene.garment.path) << " " << hash_if_file(topology) << "\n";
     }
-    text << "look " << job.look << "\nview " << job.view.azimuth_deg << " " << job.view.elevation_deg << "\n"
+    // A look's values live in its file (FOLDCAST_LOOKS_DIR's or the shipped one) and its
+    // texture: an edited look changes the pixels under the same name.
+    text << "look " << job.look;
+    if (const looks::Library library = looks::Library::load_default(); library.contains(job.look)) {
+        const looks::Look& look = library.find(job.look);
+        text << " " << hash_if_file(look.source) << " " << hash_if_file(look.appearance.texture);
+    }
+    text << "\nview " << job.view.azimuth_deg << " " << job.view.elevation_deg << "\n"
          << "image " << manifest.width << "x" << manifest.height << " spp " << manifest.spp << " seed " << manifest.seed
          << "\n";
     return sha256_text(text.str());

@@ -12,6 +12,7 @@
 #include <future>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
@@ -104,6 +105,25 @@ void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const f
     stage_mp4(outputs, frames_dir, frame_count, fps, mp4, video);
     outputs.commit();
 }
+
+namespace {
+// Frames an earlier, longer turntable left in the frame folder (frame_NNNN.png with N past
+// this one's count) would sit beside the new set as if they belonged to it: they go as soon
+// as the new set is in place.
+void remove_stale_frames(const fs::path& dir, int total) {
+    std::error_code ec;
+    std::vector<fs::path> stale;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        int index = -1;
+        char tail[8] = {};
+        if (std::sscanf(name.c_str(), "frame_%d%7s", &index, tail) == 2 && std::string(tail) == ".png" &&
+            index >= total && turntable_frame_path(dir, index).filename() == name)
+            stale.push_back(it->path());
+    }
+    for (const fs::path& p : stale) fs::remove(p, ec);
+}
+}  // namespace
 
 TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, const TurntableOptions& options,
                                  const ProgressFn& progress) {
@@ -241,6 +261,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
         result.written.push_back(out);
     }
     outputs.commit();
+    remove_stale_frames(dir, total);
     result.stats.width = width;
     result.stats.height = height;
     result.stats.spp = settings.spp;

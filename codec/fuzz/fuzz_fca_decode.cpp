@@ -8,6 +8,7 @@
 
 #include "foldcast/codec.hpp"
 #include "foldcast/core/error.hpp"
+#include "materialise.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size == 0) return 0;
@@ -17,10 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         foldcast::codec::StreamingDecoder decoder("fuzz input", bytes.size());
         decoder.feed(bytes.substr(0, split));
         decoder.feed(bytes.substr(split));
-        if (decoder.status().header_ready) {
-            const auto anim = decoder.animation();
-            (void)anim;
-        }
+        if (decoder.status().header_ready) foldcast::codec::fuzz::materialise(decoder);
     } catch (const foldcast::InputError&) {
     }
     return 0;

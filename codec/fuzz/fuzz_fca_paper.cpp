@@ -9,6 +9,7 @@
 
 #include "foldcast/codec.hpp"
 #include "foldcast/core/error.hpp"
+#include "materialise.hpp"
 #include "paper_container.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -17,10 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
         foldcast::codec::StreamingDecoder decoder("fuzz input", file.size());
         decoder.feed(file);
-        if (decoder.status().header_ready) {
-            const auto anim = decoder.animation();
-            (void)anim;
-        }
+        if (decoder.status().header_ready) foldcast::codec::fuzz::materialise(decoder);
     } catch (const foldcast::InputError&) {
     }
     return 0;

@@ -2,6 +2,7 @@
 
 #include <zstd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -20,6 +21,34 @@ ZSTD_DCtx& decompression_context() {
     thread_local const std::unique_ptr<ZSTD_DCtx, Free> context(ZSTD_createDCtx());
     if (!context) throw std::bad_alloc();
     return *context;
+}
+
+// Decompresses `packed`, which must hold exactly `expected` bytes, into a buffer that grows
+// with what zstd produces: a frame that only claims a large size costs nothing before its
+// bytes prove it.
+std::string inflate(std::string_view packed, std::uint64_t expected, const ByteReader& r) {
+    ZSTD_DCtx& context = decompression_context();
+    ZSTD_DCtx_reset(&context, ZSTD_reset_session_only);
+    ZSTD_inBuffer in{packed.data(), packed.size(), 0};
+    std::string raw;
+    constexpr std::size_t kFirstChunk = 64 * 1024;
+    for (;;) {
+        const std::size_t have = raw.size();
+        // Room for one more byte than expected, so that a frame holding more is caught.
+        const std::size_t room = static_cast<std::size_t>(
+            std::min<std::uint64_t>(expected + 1 - have, std::max(have, kFirstChunk)));
+        raw.resize(have + room);
+        ZSTD_outBuffer out{raw.data() + have, room, 0};
+        const std::size_t left = ZSTD_decompressStream(&context, &out, &in);
+        raw.resize(have + out.pos);
+        if (ZSTD_isError(left)) r.fail("topology block is corrupt");
+        if (raw.size() > expected) r.fail("topology block holds more than the triangle and UV counts say");
+        if (left == 0) break;
+        if (out.pos == 0 && in.pos == in.size) r.fail("topology block is truncated");
+    }
+    if (raw.size() != expected || in.pos != in.size)
+        r.fail("topology block does not match the triangle and UV counts");
+    return raw;
 }
 }  // namespace
 
@@ -90,6 +119,9 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
         if (!std::isfinite(h.bounds.min[k]) || !std::isfinite(h.bounds.max[k]) || h.bounds.min[k] > h.bounds.max[k])
             r.fail("bounds are not finite or min > max");
     // Allocation policy: what the decoder will allocate must be justified by the bytes.
+    if (h.vertices > kMaxVertices || h.frames > kMaxFrames)
+        r.fail("header says " + std::to_string(h.vertices) + " vertices and " + std::to_string(h.frames) +
+               " frames (at most " + std::to_string(kMaxVertices) + " and " + std::to_string(kMaxFrames) + ")");
     const std::uint64_t file_bytes = known_total_bytes ? std::min(*known_total_bytes, h.total_bytes) : h.total_bytes;
     const std::uint64_t vertex_frames = std::uint64_t(h.vertices) * h.frames;
     if (vertex_frames > kMaxVertexFrames || vertex_frames > file_bytes * kMaxVertexFramesPerByte)
@@ -99,17 +131,18 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     const auto triangles = r.get<std::uint32_t>("triangle count");
     const auto has_uvs = r.get<std::uint8_t>("UV flag");
     if (has_uvs > 1) r.fail("UV flag " + std::to_string(has_uvs) + " (allowed 0 or 1)");
+    if (triangles > kMaxTrianglesPerVertex * h.vertices)
+        r.fail(std::to_string(triangles) + " triangles for " + std::to_string(h.vertices) + " vertices (at most " +
+               std::to_string(kMaxTrianglesPerVertex) + " per vertex)");
     const std::uint64_t raw_size = std::uint64_t(triangles) * 12 + (has_uvs ? std::uint64_t(h.vertices) * 8 : 0);
     const std::string_view packed = r.get_bytes(r.remaining(), "topology");
-    if (raw_size > kMaxVertexFramesPerByte * (payload.size() + 1) || raw_size > (std::uint64_t(1) << 32))
-        r.fail(std::to_string(triangles) + " triangles and UVs are more than a " + std::to_string(payload.size()) +
-               "-byte header can hold");
+    if (raw_size > kMaxTopologyBytesPerByte * packed.size() || raw_size > kMaxTopologyBytes)
+        r.fail(std::to_string(triangles) + " triangles" + (has_uvs ? " and UVs" : "") + " (" +
+               std::to_string(raw_size) + " bytes) are more than a " + std::to_string(packed.size()) +
+               "-byte topology block can hold (limit " + std::to_string(kMaxTopologyBytesPerByte) + " bytes per byte)");
     const unsigned long long declared = ZSTD_getFrameContentSize(packed.data(), packed.size());
     if (declared != raw_size) r.fail("topology block is malformed or does not match the triangle and UV counts");
-    std::string raw(static_cast<std::size_t>(raw_size), '\0');
-    const std::size_t got =
-        ZSTD_decompressDCtx(&decompression_context(), raw.data(), raw.size(), packed.data(), packed.size());
-    if (ZSTD_isError(got) || got != raw.size()) r.fail("topology block is corrupt");
+    const std::string raw = inflate(packed, raw_size, r);
     ByteReader t(raw, r.what() + " topology");
     h.topology.triangles.resize(triangles);
     Triangle previous{0, 0, 0};

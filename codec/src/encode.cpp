@@ -65,6 +65,14 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
         throw InputError("animation to encode is too large (" + std::to_string(anim.vertex_count()) + " x " +
                          std::to_string(anim.frame_count()) + " vertex-frames, limit " +
                          std::to_string(kMaxVertexFrames) + ")");
+    if (anim.vertex_count() > kMaxVertices || anim.frame_count() > kMaxFrames)
+        throw InputError("animation to encode has " + std::to_string(anim.vertex_count()) + " vertices and " +
+                         std::to_string(anim.frame_count()) + " frames (at most " + std::to_string(kMaxVertices) +
+                         " and " + std::to_string(kMaxFrames) + ")");
+    if (anim.topology.triangles.size() > kMaxTrianglesPerVertex * anim.vertex_count())
+        throw InputError("animation to encode has " + std::to_string(anim.topology.triangles.size()) +
+                         " triangles for " + std::to_string(anim.vertex_count()) + " vertices (at most " +
+                         std::to_string(kMaxTrianglesPerVertex) + " per vertex)");
     if (options.profile == Profile::paper && anim.frame_count() > kMaxPaperFrames)
         throw InputError("animation to encode has " + std::to_string(anim.frame_count()) +
                          " frames; the paper profile holds at most " + std::to_string(kMaxPaperFrames) +

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/interrupt_cleanup.hpp"
@@ -95,15 +96,59 @@ void OutputTransaction::commit() {
         e->out.close();
         if (!ok || e->out.fail()) throw std::runtime_error("writing '" + e->target.string() + "' failed (disk full?)");
     }
-    // Every file or none: an interrupt from here on waits for the last rename.
+    // Every file or none: an interrupt from here on waits for the last rename, and a rename
+    // that fails (an immutable or vanished target) puts back the files renamed before it.
     const InterruptDeferral hold;
-    for (auto& e : entries_) {
+    const std::vector<fs::path> backups = keep_old_targets();
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
         std::error_code ec;
-        fs::rename(e->temp, e->target, ec);
-        if (ec) throw std::runtime_error("cannot rename into '" + e->target.string() + "': " + ec.message());
-        e->cleanup->release();
+        fs::rename(entries_[i]->temp, entries_[i]->target, ec);
+        if (ec) {
+            restore_old_targets(backups, i);
+            throw std::runtime_error("cannot rename into '" + entries_[i]->target.string() + "': " + ec.message() +
+                                     (i > 0 ? " (the files renamed before it were put back)" : ""));
+        }
     }
+    std::error_code ignored;
+    for (const fs::path& backup : backups)
+        if (!backup.empty()) fs::remove(backup, ignored);
+    for (auto& e : entries_) e->cleanup->release();
     committed_ = true;
+}
+
+// A hard link to each target that exists, beside it: the old file, for restore_old_targets.
+// With a single output there is nothing to put back.
+std::vector<fs::path> OutputTransaction::keep_old_targets() const {
+    std::vector<fs::path> backups(entries_.size());
+    if (entries_.size() < 2) return backups;
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        std::error_code ec;
+        if (!fs::exists(entries_[i]->target, ec)) continue;
+        backups[i] = temporary_beside(entries_[i]->target, false);
+        fs::create_hard_link(entries_[i]->target, backups[i], ec);
+        if (ec) {
+            std::error_code ignored;
+            for (std::size_t j = 0; j < i; ++j)
+                if (!backups[j].empty()) fs::remove(backups[j], ignored);
+            throw std::runtime_error("cannot replace '" + entries_[i]->target.string() + "': " + ec.message());
+        }
+    }
+    return backups;
+}
+
+// Undoes the first `renamed` renames: the old file back where there was one, else none.
+void OutputTransaction::restore_old_targets(const std::vector<fs::path>& backups, std::size_t renamed) const {
+    std::error_code ignored;
+    for (std::size_t j = 0; j < backups.size(); ++j) {
+        if (j < renamed) {
+            if (backups[j].empty())
+                fs::remove(entries_[j]->target, ignored);
+            else
+                fs::rename(backups[j], entries_[j]->target, ignored);
+        } else if (!backups[j].empty()) {
+            fs::remove(backups[j], ignored);
+        }
+    }
 }
 
 AtomicFile::AtomicFile(fs::path path) : stream_(transaction_.stage(path)) {}

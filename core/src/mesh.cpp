@@ -49,9 +49,14 @@ void validate_topology(const Topology& topo, std::size_t vertex_count, const std
 }
 
 void validate_positions(const std::vector<Vec3f>& positions, const std::string& what) {
-    for (std::size_t i = 0; i < positions.size(); ++i)
+    for (std::size_t i = 0; i < positions.size(); ++i) {
         if (!positions[i].allFinite())
             throw InputError(what + ": vertex " + std::to_string(i) + " is not a finite position");
+        if (positions[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
+            throw InputError(what + ": vertex " + std::to_string(i) + " lies " +
+                             std::to_string(positions[i].cwiseAbs().maxCoeff()) +
+                             " from the origin on an axis (coordinates must be within +-1e6, docs/inputs.md)");
+    }
 }
 }  // namespace
 

@@ -62,6 +62,7 @@ GarmentData from_animation(Animation anim, double scale) {
     GarmentData g;
     for (auto& frame : anim.frames)
         for (Vec3f& v : frame) v *= static_cast<float>(scale);
+    validate(anim, "garment (after garment.scale = " + std::to_string(scale) + ")");
     g.animation = std::move(anim);
     for (std::size_t f = 0; f < g.animation.frame_count(); ++f)
         g.fold_sign.push_back(fold_sign_from_geometry(g.animation.frame_mesh(f)));

@@ -9,6 +9,7 @@
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <thread>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -112,7 +113,10 @@ TraceSettings trace_settings(const SceneSpec& scene, const RenderOptions& option
     settings.height = options.height > 0 ? options.height : scene.height;
     settings.spp = options.spp > 0 ? options.spp : scene.spp;
     settings.seed = options.seed.value_or(scene.seed);
-    settings.threads = options.threads;
+    // More threads than the machine has buy nothing (the image is the same for any count)
+    // and make TBB print a warning of its own.
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    settings.threads = options.threads > 0 ? std::min(options.threads, cores) : 0;
     settings.aovs = options.aovs;
     settings.denoise = options.denoise;
     settings.keep_raw = options.keep_raw;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,13 +17,12 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/serve.hpp"
 #include "link.hpp"
+#include "gated_server.hpp"
 
 namespace foldcast::serve {
 namespace {
 namespace fs = std::filesystem;
 
-constexpr std::size_t kMaxHeaders = 64;  // cpp-httplib bounds each line to 8 KiB, not their number
-constexpr std::size_t kMaxHeaderBytes = 16 * 1024;
 constexpr std::size_t kMaxRanges = 8;
 constexpr std::size_t kMaxListed = 10000;
 constexpr std::size_t kChunkBytes = 16 * 1024;
@@ -38,11 +38,56 @@ std::string content_type(const fs::path& file) {
     if (ext == ".png") return "image/png";
     return "application/octet-stream";
 }
+// RFC 9110 14.1.2: a last position at or past the end means the end, a suffix longer than
+// the file is the file, and a range that starts at or past the end is unsatisfiable (416
+// when none is left).  cpp-httplib applies req.ranges after the handler as they are, without
+// clamping (a Content-Length of the range asked for, not of the bytes sent): the handler
+// writes the clamped ranges back into the Request, cpp-httplib's own non-const local.
+bool satisfiable_ranges(const httplib::Request& req, std::size_t size) {
+    auto& ranges = const_cast<httplib::Request&>(req).ranges;
+    if (ranges.empty()) return true;
+    httplib::Ranges asked;
+    asked.swap(ranges);  // out of the Request, so that a 416 has none applied to its own body
+    if (asked.size() > kMaxRanges) return false;
+    const auto end = static_cast<ssize_t>(size);  // a file size fits: it is an off_t
+    httplib::Ranges kept;
+    for (auto [first, last] : asked) {
+        if (first < 0) {  // "-N": the last N bytes (cpp-httplib: first -1, last N)
+            if (last <= 0 || end == 0) continue;
+            first = end - std::min(last, end);
+            last = end - 1;
+        } else {
+            if (last >= 0 && last < first) return false;  // "B-A": not a range
+            if (first >= end) continue;
+            last = last < 0 ? end - 1 : std::min(last, end - 1);
+        }
+        kept.emplace_back(first, last);
+    }
+    if (kept.empty()) return false;
+    ranges = std::move(kept);
+    return true;
+}
+
+// A URL path for a file name: unreserved bytes and '/' as they are, every other byte %XX.
+std::string percent_encoded(const std::string& name) {
+    static constexpr char kHex[] = "0123456789ABCDEF";
+    std::string out;
+    for (const unsigned char c : name) {
+        if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~' || c == '/') {
+            out += static_cast<char>(c);
+        } else {
+            out += '%';
+            out += kHex[c >> 4];
+            out += kHex[c & 15];
+        }
+    }
+    return out;
+}
 }  // namespace
 
 struct Server::Impl {
     Options options;
-    httplib::Server http;
+    GatedServer http{GateLimits{}};
     std::unique_ptr<Link> link;
     int port = 0;
 
@@ -55,19 +100,10 @@ struct Server::Impl {
             res.status = 404;
             return;
         }
-        if (req.ranges.size() > kMaxRanges) {
+        if (!satisfiable_ranges(req, size)) {
             res.status = 416;
+            res.set_header("Content-Range", "bytes */" + std::to_string(size));
             return;
-        }
-        for (const auto& [first, last] : req.ranges) {
-            // cpp-httplib gives -1 for an open end (or, for a suffix range, an open start).
-            const bool bad = (first >= 0 && static_cast<std::size_t>(first) >= size) ||
-                             (first >= 0 && last >= 0 && last < first) || (first < 0 && last <= 0);
-            if (bad) {
-                res.status = 416;
-                res.set_header("Content-Range", "bytes */" + std::to_string(size));
-                return;
-            }
         }
         auto in = std::make_shared<std::ifstream>(file, std::ios::binary);
         if (!*in) {
@@ -92,32 +128,32 @@ struct Server::Impl {
                                  });
     }
 
+    // Every readable .fca file below root: an entry that cannot be read (a symlink loop, a
+    // dangling link, no permission) is left out, never the rest of the listing.
     std::string listing() const {
         nlohmann::json files = nlohmann::json::array();
         std::error_code ec;
         std::vector<std::pair<std::string, std::uintmax_t>> found;
-        for (auto it =
-                 fs::recursive_directory_iterator(options.root, fs::directory_options::skip_permission_denied, ec);
-             !ec && it != fs::recursive_directory_iterator() && found.size() < kMaxListed; it.increment(ec)) {
+        fs::recursive_directory_iterator it(options.root, fs::directory_options::skip_permission_denied, ec);
+        for (; !ec && it != fs::recursive_directory_iterator() && found.size() < kMaxListed; it.increment(ec)) {
             if (it->path().extension() != ".fca") continue;
-            const std::string name = fs::relative(it->path(), options.root, ec).generic_string();
-            if (ec) break;
-            const auto inside = resolve_inside(options.root, name);  // drops symlinks that lead out
-            if (inside) found.emplace_back(name, fs::file_size(*inside, ec));
+            std::error_code entry_ec;
+            const std::string name = it->path().lexically_relative(options.root).generic_string();
+            const auto inside = resolve_inside(options.root, name);  // drops symlinks that lead out, and loops
+            if (!inside) continue;
+            const std::uintmax_t bytes = fs::file_size(*inside, entry_ec);
+            if (!entry_ec) found.emplace_back(name, bytes);
         }
         std::sort(found.begin(), found.end());
-        for (const auto& [name, bytes] : found) files.push_back({{"name", name}, {"bytes", bytes}});
-        return files.dump();
+        for (const auto& [name, bytes] : found)
+            files.push_back({{"name", name}, {"url", "files/" + percent_encoded(name)}, {"bytes", bytes}});
+        // A name that is not UTF-8 is shown with U+FFFD; its url still names the file's bytes.
+        return files.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     }
 
     void routes() {
         http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
-            std::size_t header_bytes = 0;
-            for (const auto& [key, value] : req.headers) header_bytes += key.size() + value.size() + 4;
-            if (req.headers.size() > kMaxHeaders || header_bytes > kMaxHeaderBytes) {
-                res.status = 431;
-                return httplib::Server::HandlerResponse::Handled;
-            }
+            // The head's limits were enforced by the gate before cpp-httplib read it.
             // GET and HEAD carry no body; cpp-httplib would not read one, and nor do we.
             if (req.has_header("Transfer-Encoding") || std::atoll(req.get_header_value("Content-Length").c_str()) > 0) {
                 res.status = 413;
@@ -158,6 +194,10 @@ struct Server::Impl {
             }
             send_file(req, res, *file, false);  // the player's assets: cached after a first visit, not throttled
         });
+        // An exception's text would go out in cpp-httplib's EXCEPTION_WHAT header: none does.
+        http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+            res.status = 500;
+        });
         http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
             if (res.body.empty() && res.status >= 400) res.set_content(std::to_string(res.status) + "\n", "text/plain");
         });
@@ -182,7 +222,13 @@ Server::Server(Options options) : impl_(std::make_unique<Impl>()) {
     s.options = std::move(options);
     if (s.options.throttle_kbps) s.link = std::make_unique<Link>(*s.options.throttle_kbps);
     const std::size_t workers = s.options.workers, queued = s.options.queued;
-    s.http.new_task_queue = [workers, queued] { return new BoundedPool(workers, queued); };
+    // The workers serve the connections the gate hands over (GatedServer), through the
+    // server's own task queue.
+    s.http.new_task_queue = [workers, queued, &s] {
+        auto* pool = new BoundedPool(workers, queued);
+        s.http.set_enqueue([pool](std::function<void()> job) { pool->enqueue(std::move(job)); });
+        return pool;
+    };
     s.http.set_payload_max_length(1024);  // requests carry no body
     // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second server
     // on the same port would bind silently and take half of the connections.
@@ -215,6 +261,7 @@ bool Server::running() const { return impl_->http.is_running(); }
 
 void Server::stop() {
     if (impl_->link) impl_->link->stop();
+    impl_->http.stop_gate();
     impl_->http.stop();
 }
 

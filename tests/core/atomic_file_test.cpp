@@ -134,5 +134,25 @@ TEST(InterruptCleanup, DeferralHoldsTheSignalUntilItEnds) {
     EXPECT_EQ(read_all(dir / "after-signal.txt"), "written");
 }
 
+// Files that belong together (a PC2 and its OBJ): when the second rename fails (here its
+// target became a directory; `chattr +i` on a real one), the first is undone, so the old pair
+// stays as it was.  The first rename used to stay, leaving a new PC2 beside the old OBJ.
+TEST(AtomicFile, AFailedSecondRenamePutsTheFirstBack) {
+    const auto dir = test::temp_dir();
+    write_file_atomically(dir / "x.pc2", "old pc2");
+    {
+        OutputTransaction pair;
+        pair.stage(dir / "x.pc2") << "new pc2";
+        pair.stage(dir / "x.obj") << "new obj";
+        std::filesystem::create_directory(dir / "x.obj");  // the second target can no longer be replaced
+        EXPECT_THROW(pair.commit(), std::runtime_error);
+    }
+    std::ifstream in(dir / "x.pc2");
+    std::string s;
+    std::getline(in, s);
+    EXPECT_EQ(s, "old pc2");
+    EXPECT_EQ(entries(dir), 2u) << "a temporary or backup was left behind";  // x.pc2 and the directory
+}
+
 }  // namespace
 }  // namespace foldcast

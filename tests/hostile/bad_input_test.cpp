@@ -195,5 +195,25 @@ TEST_F(BadInput, ManifestValuesThatUsedToBeIgnored) {
     EXPECT_FALSE(fs::exists(dir_ / "cat" / "a" / "linen" / "front.png")) << "the default scene was rendered";
 }
 
+// An output that is one of the inputs: a render over its own texture replaced the texture,
+// an encode over its own .fca re-encoded it lossily in place (both exit 0).
+TEST_F(BadInput, RenderAndEncodeRefuseToOverwriteTheirInputs) {
+    fs::copy_file(fs::path(FOLDCAST_SOURCE_DIR) / "tests/golden/default.png", dir_ / "tex.png");
+    const fs::path scene =
+        write("tex.toml", "look = { base = \"linen\", appearance = { texture = \"" + (dir_ / "tex.png").string() +
+                              "\" } }\n[garment]\ngrid = [9, 9]\n");
+    const std::string texture = bytes_of(dir_ / "tex.png");
+    expect_refused({"render", scene.string(), "-o", (dir_ / "tex.png").string(), "--width", "16", "--height", "16",
+                    "--spp", "1", "--quiet"},
+                   2, "-o");
+    EXPECT_EQ(bytes_of(dir_ / "tex.png"), texture) << "the texture was replaced";
+    const std::string pc2 = (dir_ / "a.pc2").string(), fca = (dir_ / "a.fca").string();
+    ASSERT_EQ(run({"drape", "--grid", "5x5", "--frames", "3", "-q", "-o", pc2}).exit_code, 0);
+    ASSERT_EQ(run({"encode", pc2, "-q", "-o", fca}).exit_code, 0);
+    const std::string encoded = bytes_of(fca);
+    expect_refused({"encode", fca, "-q", "-o", fca}, 2, "-o");
+    EXPECT_EQ(bytes_of(fca), encoded) << "the input was re-encoded in place";
+}
+
 }  // namespace
 }  // namespace foldcast

@@ -147,5 +147,49 @@ TEST_F(FcaBattery, PaperHeaderClaimingManyFramesIsBoundedByItsBytes) {
     }
 }
 
+// A zstd frame that declares `content_bytes` (frame header with an 8-byte content size, one
+// segment) followed by `filler` bytes of empty raw blocks: it claims the size, holds nothing.
+std::string zstd_claiming(std::uint64_t content_bytes, std::size_t filler) {
+    std::string frame = {'\x28', '\xb5', '\x2f', '\xfd', '\xe0'};
+    frame.append(reinterpret_cast<const char*>(&content_bytes), 8);
+    frame.append(filler, '\0');
+    return frame;
+}
+
+// The bomb: a predictive header (fields kept up to the profile parameter) whose
+// topology block claims `raw_bytes` of triangles in a block of `block_bytes`.
+std::string topology_bomb(std::uint64_t raw_bytes, std::size_t block_bytes) {
+    const std::string good = encoded(codec::Profile::predictive, 6, 5, 10);
+    const Packet header = packets(good).front();
+    std::string payload = good.substr(header.offset + 5, 71);  // up to the triangle count
+    const std::uint32_t triangles = static_cast<std::uint32_t>(raw_bytes / 12);
+    const std::uint32_t vertices = triangles / 4 + 1, frames = 1;
+    std::memcpy(payload.data() + 3, &vertices, 4);
+    std::memcpy(payload.data() + 7, &frames, 4);
+    payload.append(reinterpret_cast<const char*>(&triangles), 4);
+    payload.push_back('\0');  // no UVs
+    payload += zstd_claiming(std::uint64_t(triangles) * 12, block_bytes);
+    std::string file(codec::kMagic, sizeof codec::kMagic);
+    codec::append_packet(file, codec::PacketType::header, payload);
+    file += good.substr(header.offset + 9 + header.payload_size);
+    const std::uint64_t total = file.size();
+    std::memcpy(file.data() + sizeof codec::kMagic + 5 + 43, &total, 8);
+    fix_crc(file, packets(file).front());
+    return file;
+}
+
+// Decoding must be bounded by the bytes that are there: a 131 KB (197 KB) file whose header
+// claims 2 GB (3 GB) of topology made the decoder allocate that much before decompressing
+// anything (std::bad_alloc, exit 1, under this cap); one claiming 250 MB, within the format's
+// limits, must fail on its missing bytes without allocating the claim.
+TEST_F(FcaBattery, TopologyBlockClaimingHugeSizeIsBoundedByItsBytes) {
+    const std::vector<std::pair<std::uint64_t, std::size_t>> claims = {
+        {2'000'000'000, 131'000}, {3'100'000'000, 197'000}, {250'000'000, 20'000}};
+    for (const auto& [raw, block] : claims) {
+        const test::Outcome o = decode(topology_bomb(raw, block), std::to_string(raw) + " bytes of topology claimed");
+        EXPECT_EQ(o.exit_code, 2) << o.err;
+    }
+}
+
 }  // namespace
 }  // namespace foldcast

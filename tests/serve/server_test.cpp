@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -230,6 +231,97 @@ TEST(Server, InvalidOptionsNameTheProblem) {
     Running busy;  // its port is taken: binding it again fails
     options.port = busy.port();
     EXPECT_THROW(Server{options}, InputError);
+}
+
+// RFC 9110 14.1.2: a last position past the end is the end; a range starting past the end is
+// unsatisfiable.  A Content-Length of the range asked for (1,000,000,000 for a 100,000-byte
+// file) left the client waiting for bytes that never came.
+TEST(Server, RangesPastTheEndAreClampedToTheFile) {
+    Running s;
+    const std::string size = std::to_string(s.a.size());
+    for (const std::string& asked :
+         std::vector<std::string>{"bytes=0-999999999", "bytes=0-" + size, "bytes=0-9223372036854775807"}) {
+        const auto reply = http_get(s.port(), "/files/a.fca", "Range: " + asked + "\r\n");
+        ASSERT_EQ(reply.status, 206) << asked;
+        EXPECT_EQ(reply.headers.at("content-length"), size) << asked;
+        EXPECT_EQ(reply.headers.at("content-range"), "bytes 0-" + std::to_string(s.a.size() - 1) + "/" + size) << asked;
+        EXPECT_EQ(reply.body, s.a) << asked;
+    }
+    auto reply = http_get(s.port(), "/files/a.fca", "Range: bytes=99990-99999999999\r\n");
+    ASSERT_EQ(reply.status, 206);
+    EXPECT_EQ(reply.body, s.a.substr(99990));
+    EXPECT_EQ(reply.headers.at("content-range"), "bytes 99990-99999/" + size);
+    reply = http_get(s.port(), "/files/a.fca", "Range: bytes=-999999999\r\n");  // a suffix longer than the file
+    ASSERT_EQ(reply.status, 206);
+    EXPECT_EQ(reply.body, s.a);
+    for (const char* unsatisfiable : {"bytes=100000-100000", "bytes=9223372036854775807-", "bytes=-0"}) {
+        reply = http_get(s.port(), "/files/a.fca", std::string("Range: ") + unsatisfiable + "\r\n");
+        EXPECT_EQ(reply.status, 416) << unsatisfiable;
+        EXPECT_EQ(reply.headers["content-range"], "bytes */" + size) << unsatisfiable;
+    }
+    // A number past 2^63 is not a range cpp-httplib can hold: refused, and the server lives on.
+    reply = http_get(s.port(), "/files/a.fca", "Range: bytes=0-99999999999999999999999\r\n");
+    EXPECT_TRUE(reply.status == 416 || reply.status == 200) << reply.status;
+    EXPECT_EQ(http_get(s.port(), "/files/a.fca").body, s.a);
+}
+
+// Clients that trickle a header line now and then (here one every 2 s, under the 5 s read
+// timeout) each held a worker for as long as they liked: 40 of them left no worker for
+// anyone else.  They now wait in the gate, which cuts each at its 10 s head deadline (408).
+TEST(Server, SlowClientsDoNotBlockOthers) {
+    Running s;
+    std::vector<int> slow;
+    for (int i = 0; i < 40; ++i) {
+        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(static_cast<std::uint16_t>(s.port()));
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        if (fd >= 0 && ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+            const std::string start = "GET /files/a.fca HTTP/1.1\r\n";
+            (void)::send(fd, start.data(), start.size(), MSG_NOSIGNAL);
+            slow.push_back(fd);
+        }
+    }
+    std::atomic<bool> trickling{true};
+    std::thread trickle([&] {
+        while (trickling) {
+            for (int fd : slow) (void)::send(fd, "X-Slow: 1\r\n", 11, MSG_NOSIGNAL);
+            for (int k = 0; k < 20 && trickling; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        }
+    });
+    int served = 0;
+    for (int i = 0; i < 5; ++i) served += http_get(s.port(), "/files/sub%20dir/b.fca").body == s.b;
+    trickling = false;
+    trickle.join();
+    EXPECT_EQ(served, 5) << "normal requests were left waiting behind slow clients";
+    // The slow clients' heads never complete: each is answered 408 at its deadline.
+    char reply[64] = {};
+    timeval timeout{15, 0};
+    ::setsockopt(slow.front(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    const ssize_t got = ::recv(slow.front(), reply, sizeof reply - 1, 0);
+    EXPECT_GT(got, 0);
+    EXPECT_EQ(std::string(reply).rfind("HTTP/1.1 408", 0), 0u) << reply;
+    for (int fd : slow) ::close(fd);
+}
+
+// Every readable .fca file is listed: a name that is not UTF-8 made the listing a 500 with the
+// JSON library's text, and a symlink loop named like an animation hid the files after it.
+TEST(Server, ListsEveryReadableFileWhateverItsName) {
+    Running s;
+    write(s.root / "\xff\xfe.fca", "odd name");
+    fs::create_symlink(s.root / "l2.fca", s.root / "l1.fca");
+    fs::create_symlink(s.root / "l1.fca", s.root / "l2.fca");
+    write(s.root / "z.fca", "last");
+    const auto reply = http_get(s.port(), "/api/files");
+    ASSERT_EQ(reply.status, 200) << reply.body;
+    EXPECT_EQ(reply.headers.count("exception_what"), 0u);
+    const auto files = nlohmann::json::parse(reply.body);
+    std::vector<std::string> urls;
+    for (const auto& f : files) urls.push_back(f["url"]);
+    EXPECT_EQ(urls, (std::vector<std::string>{"files/a.fca", "files/sub%20dir/b.fca", "files/z.fca",
+                                              "files/%FF%FE.fca"}));
+    EXPECT_EQ(http_get(s.port(), "/files/%FF%FE.fca").body, "odd name");
 }
 
 }  // namespace server_test

@@ -102,7 +102,8 @@ async function chooseFile() {
   const files = await response.json();
   if (!files.length) throw new Error('the server lists no .fca files');
   for (const f of files) {
-    const url = 'files/' + f.name.split('/').map(encodeURIComponent).join('/');
+    // The server's url names the file's bytes even when its name is not UTF-8.
+    const url = f.url ?? 'files/' + f.name.split('/').map(encodeURIComponent).join('/');
     $('file').add(new Option(`${f.name} (${fmtBytes(f.bytes)})`, url));
   }
   $('file').addEventListener('change', () => {

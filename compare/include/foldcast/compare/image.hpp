@@ -39,4 +39,8 @@ Image read_image(const std::filesystem::path& path);
 // the extension (.png, .jpg, ...).  Throws InputError for an unwritable path or extension.
 void write_image(const std::filesystem::path& path, const Image& image);
 
+// Silences OpenCV's own log lines (warnings it prints before a failed call returns): the
+// command line reports every failure in one line of its own.
+void silence_library_logging();
+
 }  // namespace foldcast::compare

@@ -41,6 +41,8 @@ public:
 private:
     struct Entry;
     Entry& add(const std::filesystem::path& path, bool keep_extension);
+    std::vector<std::filesystem::path> keep_old_targets() const;
+    void restore_old_targets(const std::vector<std::filesystem::path>& backups, std::size_t renamed) const;
     std::vector<std::unique_ptr<Entry>> entries_;
     std::mutex mutex_;
     bool committed_ = false;

@@ -26,6 +26,10 @@ struct Mesh {
     std::vector<Vec3f> normals;  // per vertex, unit length; empty if not computed
 };
 
+// The largest coordinate a mesh may have (metres in foldcast's own files; any unit in an
+// imported one): beyond it, products of coordinates overflow float in the ray tracer.
+inline constexpr float kMaxCoordinate = 1e6f;
+
 // T frames of N vertex positions sharing one topology.
 struct Animation {
     Topology topology;
