@@ -156,7 +156,7 @@ std::string zstd_claiming(std::uint64_t content_bytes, std::size_t filler) {
     return frame;
 }
 
-// The bomb: a predictive header (fields kept up to the profile parameter) whose
+// A decode bomb: a predictive header (fields kept up to the profile parameter) whose
 // topology block claims `raw_bytes` of triangles in a block of `block_bytes`.
 std::string topology_bomb(std::uint64_t raw_bytes, std::size_t block_bytes) {
     const std::string good = encoded(codec::Profile::predictive, 6, 5, 10);
