@@ -18,10 +18,10 @@
 // root grows with n, so the scan stops at the first n whose zig-zag is longer than h.
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape.hpp"
+#include "fold_geometry.hpp"
 #include "paper_closure.hpp"
 #include "root_finding.hpp"
 
@@ -32,13 +32,6 @@ namespace {
 // More folds than this are below any useful grid resolution; the scan stops there.
 constexpr int kMaxFolds = 1000;
 constexpr double kRootTolerance = 1e-13;  // |g| / h at which a root is accepted
-
-std::string fmt(double v, int precision = 4) {
-    std::ostringstream s;
-    s.precision(precision);
-    s << v;
-    return s.str();
-}
 
 // Z(b) and dZ/db for one fold count, and the shape for a given b.
 class ZigZag {
@@ -88,18 +81,12 @@ private:
     std::vector<double> r2_;
 };
 
-double zig_zag_length(const std::vector<double>& amplitudes, double zmax) {
-    double z = 0.0;
-    for (std::size_t i = 1; i < amplitudes.size(); ++i) z += std::hypot(amplitudes[i - 1] - amplitudes[i], 2.0 * zmax);
-    return z;
-}
-
 // Relative residuals of the two length equations, recomputed from the final a_i and zmax:
 // the top edge and the hem (y = -h + c (Z - a_0), z = c zmax) both as long as L.
 double residual(const ClothParams& p, const std::vector<double>& amplitudes, double zmax) {
     const double l = p.support_span_m();
     const double top = std::abs(top_edge_length_m(l, std::hypot(amplitudes.back(), zmax)) - p.width_m);
-    const double hem_lift = zig_zag_length(amplitudes, zmax) - amplitudes.front();
+    const double hem_lift = detail::zig_zag_length_m(amplitudes, zmax) - amplitudes.front();
     const double hem = std::abs(top_edge_length_m(l, std::hypot(hem_lift, zmax)) - p.width_m);
     return std::max(top, hem) / p.width_m;
 }
@@ -127,7 +114,7 @@ CandidateSolve solve_candidate(const ClothParams& p, double slack_a, double q, i
     double g_hi, slope;
     g(b_hi, g_hi, slope);
     if (g_hi > 0.0) {  // only where the cap bites: the zig-zag would be longer than 100 h
-        c.why_not = "its fold lines would hang more than " + fmt(100.0 * h) + " m low: too many folds";
+        c.why_not = "its fold lines would hang more than " + detail::format_number(100.0 * h) + " m low: too many folds";
         out.stop_scan = true;
         return out;
     }
@@ -143,11 +130,11 @@ CandidateSolve solve_candidate(const ClothParams& p, double slack_a, double q, i
     c.lowest_amplitude_m = out.amplitudes.front();
     c.top_amplitude_m = out.amplitudes.back();
     c.zmax_m = zmax;
-    c.fold_length_m = zig_zag_length(out.amplitudes, zmax);
+    c.fold_length_m = detail::zig_zag_length_m(out.amplitudes, zmax);
     c.residual = residual(p, out.amplitudes, zmax);
     if (c.fold_length_m > h) {
         c.why_not =
-            "its zig-zag (" + fmt(c.fold_length_m) + " m) is longer than the height " + fmt(h) + " m: too many folds";
+            "its zig-zag (" + detail::format_number(c.fold_length_m) + " m) is longer than the height " + detail::format_number(h) + " m: too many folds";
         out.stop_scan = true;
         return out;
     }
@@ -187,7 +174,7 @@ FoldSolution solve_folds(const ClothParams& params) {
         s.Q = 1.0;
         set_smooth_sag(s);
         s.residual = top_residual;
-        s.explanation = "S = " + fmt(s.stress_ratio) +
+        s.explanation = "S = " + detail::format_number(s.stress_ratio) +
                         " >= 1: the critical buckling stress exceeds the hanging stress, so the "
                         "cloth is too stiff to wrinkle and hangs as a smooth sag";
         return s;
@@ -224,13 +211,13 @@ FoldSolution solve_folds(const ClothParams& params) {
     s.amplitudes_m = amplitudes[best];
     s.residual = chosen.residual;
     const std::string head = std::to_string(s.folds) + (s.folds == 1 ? " fold" : " folds") +
-                             ": S = " + fmt(s.stress_ratio) + " < 1 so the cloth buckles with Q = " + fmt(s.Q) + "; ";
+                             ": S = " + detail::format_number(s.stress_ratio) + " < 1 so the cloth buckles with Q = " + detail::format_number(s.Q) + "; ";
     if (cut)
-        s.explanation = head + "even one fold's zig-zag (" + fmt(s.fold_length_m) + " m) is longer than the height " +
-                        fmt(p.height_m) + " m, so the hem cuts across it";
+        s.explanation = head + "even one fold's zig-zag (" + detail::format_number(s.fold_length_m) + " m) is longer than the height " +
+                        detail::format_number(p.height_m) + " m, so the hem cuts across it";
     else
-        s.explanation = head + "the most folds whose zig-zag (" + fmt(s.fold_length_m) + " m) fits the height " +
-                        fmt(p.height_m) + " m; the rest of the centre fibre hangs straight below the lowest fold line";
+        s.explanation = head + "the most folds whose zig-zag (" + detail::format_number(s.fold_length_m) + " m) fits the height " +
+                        detail::format_number(p.height_m) + " m; the rest of the centre fibre hangs straight below the lowest fold line";
     return s;
 }
 

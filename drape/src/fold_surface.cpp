@@ -8,24 +8,14 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/math.hpp"
+#include "fold_geometry.hpp"
 
 namespace foldcast::drape::detail {
-
-namespace {
-// Z of the centre fibre from the fold lines (the solver's fold_length_m; recomputed so a
-// solution edited by a caller stays consistent).
-double zig_zag_length_m(const FoldSolution& s) {
-    double z = 0.0;
-    for (std::size_t i = 1; i < s.amplitudes_m.size(); ++i)
-        z += std::hypot(s.amplitudes_m[i - 1] - s.amplitudes_m[i], 2.0 * s.zmax_m);
-    return z;
-}
-}  // namespace
 
 FoldSurface::FoldSurface(const ClothParams& params, const FoldSolution& solution)
     : span_(params.support_span_m()),
       pi_over_l_(kPi / params.support_span_m()),
-      zig_height_(solution.folds > 0 ? zig_zag_length_m(solution) : 0.0),
+      zig_height_(solution.folds > 0 ? zig_zag_length_m(solution.amplitudes_m, solution.zmax_m) : 0.0),
       zmax_(solution.folds > 0 ? solution.zmax_m : 0.0),
       lowest_amplitude_(solution.amplitudes_m.empty() ? 0.0 : solution.amplitudes_m.front()) {
     const int n = solution.folds;

@@ -10,9 +10,10 @@
 // and with it the top edge, monotonically, and the first step inside the 5 % band ends it.
 #include "paper_closure.hpp"
 
+#include "fold_geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "foldcast/core/math.hpp"
 
@@ -53,13 +54,6 @@ double folds_on_fibre(double a0, double q, double zmax, double height_m) {
     return 0.5 * (lo + hi);
 }
 
-std::string fmt(double v, int precision = 4) {
-    std::ostringstream s;
-    s.precision(precision);
-    s << v;
-    return s.str();
-}
-
 }  // namespace
 
 double top_edge_length_simpson_m(double span_m, double amplitude_m, int intervals) {
@@ -97,19 +91,17 @@ FoldSolution solve_paper_closure(const ClothParams& bay, FoldSolution s) {
     s.amplitudes_m.resize(std::size_t(n) + 1);
     for (int i = 0; i <= n; ++i) s.amplitudes_m[std::size_t(i)] = a0 * std::pow(s.Q, -i);
     s.amplitudes_m.back() = an;
-    s.fold_length_m = 0.0;
-    for (int i = 1; i <= n; ++i)
-        s.fold_length_m += std::hypot(s.amplitudes_m[std::size_t(i - 1)] - s.amplitudes_m[std::size_t(i)], 2.0 * zmax);
+    s.fold_length_m = zig_zag_length_m(s.amplitudes_m, zmax);
     s.feasible_folds = {n};
     // The paper's answer is within its 5 % bands, not a root: report how far it is from both
     // length equations (the top edge in closed form, the centre fibre).
     s.residual = std::max(std::abs(top_edge_length_m(span, std::hypot(an, zmax)) - width) / width,
                           std::abs(s.fold_length_m - h) / h);
     s.explanation = std::to_string(n) + (n == 1 ? " fold" : " folds") + " (the paper's closure): S = " +
-                    fmt(s.stress_ratio) + " < 1 gives Q = " + fmt(q) + "; from a_0 = 1.01 h, zmax rose to " +
-                    fmt(zmax) + " m in " + std::to_string(step) + " steps of 1 %, the centre fibre holding " +
-                    fmt(folds_real) + " folds, until the top edge (Simpson, " + fmt(top) +
-                    " m) was within 5 % of L = " + fmt(width) + " m; n rounded, Q = (a_0/a_n)^(1/n) = " + fmt(s.Q);
+                    format_number(s.stress_ratio) + " < 1 gives Q = " + format_number(q) + "; from a_0 = 1.01 h, zmax rose to " +
+                    format_number(zmax) + " m in " + std::to_string(step) + " steps of 1 %, the centre fibre holding " +
+                    format_number(folds_real) + " folds, until the top edge (Simpson, " + format_number(top) +
+                    " m) was within 5 % of L = " + format_number(width) + " m; n rounded, Q = (a_0/a_n)^(1/n) = " + format_number(s.Q);
     return s;
 }
 
