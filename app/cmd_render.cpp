@@ -70,12 +70,7 @@ Command render_command(CLI::App& app) {
                 if (!scene.look.appearance.texture.empty())
                     check_not_input(args->out, scene.look.appearance.texture, "-o");
                 if (!scene.garment.path.empty()) check_not_input(args->out, scene.garment.path, "-o");
-                if (scene.garment.source == render::GarmentSpec::Source::drape)
-                    check_drape_work(scene.garment.grid_nu, scene.garment.grid_nv,
-                                     std::max(1, scene.garment.animation_frames),
-                                     args->scene + ": garment.grid = [" + std::to_string(scene.garment.grid_nu) + ", " +
-                                         std::to_string(scene.garment.grid_nv) + "]",
-                                     args->force);
+                check_scene_drape_work(scene, args->scene, args->force);
                 check_render_work(options.width ? options.width : scene.width,
                                   options.height ? options.height : scene.height,
                                   options.spp ? options.spp : scene.spp, 1, 1, "render " + args->out, args->force);

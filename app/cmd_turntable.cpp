@@ -124,12 +124,7 @@ Command turntable_command(CLI::App& app) {
                     if (!args->quiet) std::fprintf(stderr, "wrote %s (%d frames)\n", args->out.c_str(), total);
                     return 0;
                 }
-                if (scene.garment.source == render::GarmentSpec::Source::drape)
-                    check_drape_work(scene.garment.grid_nu, scene.garment.grid_nv,
-                                     std::max(1, scene.garment.animation_frames),
-                                     args->scene + ": garment.grid = [" + std::to_string(scene.garment.grid_nu) + ", " +
-                                         std::to_string(scene.garment.grid_nv) + "]",
-                                     args->force);
+                check_scene_drape_work(scene, args->scene, args->force);
                 {
                     const long long total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
                     const long long count = options.last_frame > options.first_frame

@@ -3,12 +3,14 @@
 // machine cannot hold, or would work on for more than an hour (drape) or a day (a render), is
 // refused up front with the estimate (exit 2),
 // `--force` to try anyway.  Figures measured on the project's 2-core VM (docs/inputs.md).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/resources.hpp"
+#include "foldcast/render.hpp"
 
 namespace foldcast::app {
 
@@ -22,6 +24,16 @@ inline void check_drape_work(int nu, int nv, int frames, const std::string& what
     if (hours > 1.0 && !force)
         throw InputError(what + " would take about " + std::to_string(static_cast<long long>(hours)) +
                          " hours here (512x512 takes 40 s); a smaller grid, or --force to try anyway");
+}
+
+// A scene whose garment is draped: the same estimate for its grid and frames, named by the
+// scene file and key.
+inline void check_scene_drape_work(const render::SceneSpec& scene, const std::string& scene_path, bool force) {
+    if (scene.garment.source != render::GarmentSpec::Source::drape) return;
+    check_drape_work(scene.garment.grid_nu, scene.garment.grid_nv, std::max(1, scene.garment.animation_frames),
+                     scene_path + ": garment.grid = [" + std::to_string(scene.garment.grid_nu) + ", " +
+                         std::to_string(scene.garment.grid_nv) + "]",
+                     force);
 }
 
 // render / turntable: about 128 bytes per pixel for the image, its layers and the denoiser
