@@ -125,15 +125,16 @@ void remove_stale_frames(const fs::path& dir, int total) {
 }
 }  // namespace
 
-TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, const TurntableOptions& options,
-                                 const ProgressFn& progress) {
-    const auto start = std::chrono::steady_clock::now();
-    const int total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
-    const int first = options.first_frame;
-    const int last = options.last_frame < 0 ? total : options.last_frame;
-    if (first < 0 || first >= last || last > total)
-        throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) +
-                         ": need 0 <= first < last <= " + std::to_string(total) + " (the turntable's frame count)");
+namespace {
+
+// Where a turntable goes: a video (its frames in OUT_frames/ beside it) or a folder of frames.
+// Checked, and the frame folder made, before any rendering.
+struct TurntableTarget {
+    bool to_video = false;
+    fs::path frame_dir;
+};
+
+TurntableTarget prepare_target(const fs::path& out, const TurntableOptions& options) {
     const std::string ext = out.extension().string();
     const bool to_mp4 = ext == ".mp4" || ext == ".webm";
     const std::string out_s = out.string();
@@ -144,12 +145,47 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     if (!to_mp4 && (options.video.crf >= 0 || options.video.bitrate_kbps > 0 || !options.video.preset.empty()))
         throw InputError("turntable output '" + out_s +
                          "': video quality, bitrate and preset need OUT.mp4 or OUT.webm");
-    fs::path dir = to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out;
+    TurntableTarget target{to_mp4, to_mp4 ? fs::path(out).replace_extension("").concat("_frames") : out};
     std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir))
-        throw InputError("turntable output '" + out_s + "': cannot create the frame directory " + dir.string());
+    fs::create_directories(target.frame_dir, ec);
+    if (!fs::is_directory(target.frame_dir))
+        throw InputError("turntable output '" + out_s + "': cannot create the frame directory " +
+                         target.frame_dir.string());
     if (to_mp4) check_writable(out);
+    return target;
+}
+
+// What the render loop traces with: when the finishing thread denoises, the trace keeps the
+// features that guide it and judges its packets as for denoising.
+TraceSettings frame_trace_settings(const TraceSettings& settings, const TurntableOptions& options,
+                                   bool denoise_in_finish) {
+    TraceSettings trace_only = settings;
+    if (denoise_in_finish) {
+        trace_only.denoise = false;
+        trace_only.keep_raw = false;
+        trace_only.denoised_later = true;  // adaptive sampling judges the packets as for denoise
+        trace_only.keep_features = true;   // what the finishing thread's denoiser is guided by
+    }
+    // Frames traced in order with one camera and seed: each takes the previous frame's paths
+    // that the turned garment and supports still miss (the same bytes, less tracing).
+    if (!options.preview && !options.temporal) trace_only.reuse = render::make_path_reuse();
+    return trace_only;
+}
+
+}  // namespace
+
+TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, const TurntableOptions& options,
+                                 const ProgressFn& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    const int total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
+    const int first = options.first_frame;
+    const int last = options.last_frame < 0 ? total : options.last_frame;
+    if (first < 0 || first >= last || last > total)
+        throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) +
+                         ": need 0 <= first < last <= " + std::to_string(total) + " (the turntable's frame count)");
+    const TurntableTarget target = prepare_target(out, options);
+    const bool to_mp4 = target.to_video;
+    const fs::path& dir = target.frame_dir;
     keep_freed_frame_buffers();
 
     const StudioSetup setup(scene, load_garment(scene));
@@ -178,16 +214,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     // At most one frame is in flight, so memory stays at two frames and a failed write stops
     // the loop.  Each step's output depends only on its input: the same bytes as in sequence.
     const bool denoise_in_finish = settings.denoise && !options.preview && !options.temporal;
-    TraceSettings trace_only = settings;
-    if (denoise_in_finish) {
-        trace_only.denoise = false;
-        trace_only.keep_raw = false;
-        trace_only.denoised_later = true;  // adaptive sampling judges the packets as for denoise
-        trace_only.keep_features = true;   // what the finishing thread's denoiser is guided by
-    }
-    // Frames traced in order with one camera and seed: each takes the previous frame's paths
-    // that the turned garment and supports still miss (the same bytes, less tracing).
-    if (!options.preview && !options.temporal) trace_only.reuse = render::make_path_reuse();
+    const TraceSettings trace_only = frame_trace_settings(settings, options, denoise_in_finish);
     SceneSpec opaque = setup.lit_scene();
     opaque.transparent = false;  // video frames have no alpha
     // The whole orbit to an MP4: each frame is encoded right after its PNG is written.
