@@ -17,7 +17,7 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 #include "foldcast/gltf.hpp"
 #include "foldcast/looks.hpp"
 #include "gltf_report.hpp"

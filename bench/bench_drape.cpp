@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "foldcast/drape.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 
 namespace {
 using namespace foldcast::drape;

@@ -192,7 +192,7 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
     const int width = options.render.width > 0 ? options.render.width : scene.width;
     const int height = options.render.height > 0 ? options.render.height : scene.height;
     // Its frames are denoised by denoise_traced or the temporal filter, without the stills'
-    // stages (render/src/denoise.hpp).
+    // stages (render/src/denoise/denoise.hpp).
     const TraceSettings settings = trace_settings(scene, options.render);
     const bool animated = setup.frame_count() > 1;
     auto garment_frame = [&](int f) {

@@ -13,7 +13,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 #include "fold_surface.hpp"
 #include "foldcast/core/math.hpp"
 

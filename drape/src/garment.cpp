@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "foldcast/drape.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 #include "fold_surface.hpp"
 
 namespace foldcast::drape {

@@ -1,4 +1,4 @@
-// Measures of a garment grid's shape (foldcast/drape_relax.hpp): the folds along its centre
+// Measures of a garment grid's shape (foldcast/drape/relax.hpp): the folds along its centre
 // fibre and how much its surface turns between neighbouring quads.  What the tests and the
 // benchmarks hold the relaxation to.
 #include <Eigen/Geometry>
@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 #include "fold_surface.hpp"
 
 namespace foldcast::drape {

@@ -13,7 +13,7 @@
 #include <utility>
 
 #include "camera_model.hpp"
-#include "denoise.hpp"
+#include "denoise/denoise.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/math.hpp"
 

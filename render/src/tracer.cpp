@@ -27,7 +27,7 @@
 #include "pixel_layers.hpp"
 #include "pixel_sums.hpp"
 #include "sobol_sampler.hpp"
-#include "denoise.hpp"
+#include "denoise/denoise.hpp"
 #include "foldcast/core/colour.hpp"
 #include "shading.hpp"
 

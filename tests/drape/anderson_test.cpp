@@ -1,4 +1,4 @@
-// The relaxation's Anderson step (drape/src/anderson.hpp) against a plain implementation of the
+// The relaxation's Anderson step (drape/relax/anderson.hpp) against a plain implementation of the
 // same arithmetic: the residual and differences in separate passes, each dot product over each
 // chunk of 8192 entries, the chunks summed in order: in double by Eigen's dot(), in float a
 // value at a time in the step's order (four lanes, float sums over blocks of 16 entries added

@@ -9,7 +9,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/drape.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 
 namespace foldcast::drape {
 namespace {

@@ -1,4 +1,4 @@
-// The relaxation's global step by DCT (drape/src/grid_solver.hpp) against a dense solve of
+// The relaxation's global step by DCT (drape/relax/grid_solver.hpp) against a dense solve of
 // the same system with the pinned vertices eliminated.
 #include <gtest/gtest.h>
 

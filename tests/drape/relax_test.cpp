@@ -1,4 +1,4 @@
-// Relaxation towards isometry (drape_relax.hpp): the cloth keeps its length, the model's
+// Relaxation towards isometry (foldcast/drape/relax.hpp): the cloth keeps its length, the model's
 // fold layout survives, the supports stay exactly where the model puts them.
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/math.hpp"
 #include "foldcast/drape.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 #include "foldcast/looks.hpp"
 
 namespace foldcast::drape {

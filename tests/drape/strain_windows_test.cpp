@@ -1,4 +1,4 @@
-// Strain limiting in windows (drape/src/strain_windows.hpp): the edges beyond the bound are
+// Strain limiting in windows (drape/relax/strain_windows.hpp): the edges beyond the bound are
 // brought back, nothing outside the windows and no pinned vertex moves, and the result does
 // not depend on the thread count.
 #include <gtest/gtest.h>

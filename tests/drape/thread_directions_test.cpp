@@ -1,4 +1,4 @@
-// The relaxation's smoothed thread directions (drape/src/thread_directions.hpp).
+// The relaxation's smoothed thread directions (drape/relax/thread_directions.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "denoise.hpp"
+#include "denoise/denoise.hpp"
 #include "random_stream.hpp"
 
 namespace foldcast::render {

@@ -1,4 +1,4 @@
-// A still's mixed pixels (render/src/mixed_pixels.hpp): where the tracer kept two layers, a
+// A still's mixed pixels (render/src/denoise/mixed_pixels.hpp): where the tracer kept two layers, a
 // silhouette's pixels are rebuilt from each layer's light as its neighbours of the same
 // surface have it, which the a-trous passes and regressions cannot do with the pixels'
 // averaged features; pixels mostly on metal, and frames, are left as they were.
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "denoise.hpp"
+#include "denoise/denoise.hpp"
 #include "pixel_layers.hpp"
 #include "random_stream.hpp"
 

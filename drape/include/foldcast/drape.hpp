@@ -135,7 +135,7 @@ struct Garment {
 };
 
 // Needs (grid.nu - 1) divisible by the bays, so that every support is a grid vertex.
-// relax: bring the analytical grid towards isometry (drape_relax.hpp), every support pinned;
+// relax: bring the analytical grid towards isometry (foldcast/drape/relax.hpp), every support pinned;
 // false keeps the model's surface as it is.
 Garment build_garment(const ClothParams& params, const FoldSolution& solution, GridSize grid, bool relax = true);
 

@@ -69,7 +69,7 @@ private:
 // frame traced with keep_features (and denoised_later, so that adaptive sampling judged it
 // alike): keeps the image as `raw` when asked, then denoises it as a frame, without the
 // stages only a still can afford (the turntable's 40 s budget, issue #16;
-// render/src/denoise.hpp).  A turntable calls it on one thread for frame f while frame f+1
+// render/src/denoise/denoise.hpp).  A turntable calls it on one thread for frame f while frame f+1
 // traces on the others.
 void denoise_traced(RenderResult& result, bool keep_raw, int threads);
 

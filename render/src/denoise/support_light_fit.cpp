@@ -1,4 +1,4 @@
-#include "support_regression.hpp"
+#include "support_light_fit.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "cloth_regression.hpp"
+#include "denoise/cloth_light_fit.hpp"
 #include "random_stream.hpp"
 
 namespace foldcast::render {
@@ -325,7 +325,7 @@ TEST(ClothRegression, SameFloatsWhereverThePixelLies) {
     for (const bool still : {false, true}) {
         p.depth_regressor = moved.depth_regressor = still;
         const std::vector<V3> a = regressed(p), b = regressed(moved);
-        constexpr int kRadius = 4;  // cloth_regression.cpp's window
+        constexpr int kRadius = 4;  // cloth_light_fit.cpp's window
         int compared = 0;
         for (int y = 0; y < kH; ++y)
             for (int x = kRadius; x + 1 + kRadius < kW; ++x) {

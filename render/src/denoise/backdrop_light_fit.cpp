@@ -1,4 +1,4 @@
-#include "backdrop_regression.hpp"
+#include "backdrop_light_fit.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

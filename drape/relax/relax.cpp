@@ -20,7 +20,7 @@
 #include <type_traits>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape_relax.hpp"
+#include "foldcast/drape/relax.hpp"
 #include "thread_directions.hpp"
 #include "anderson.hpp"
 #include "fold_surface.hpp"

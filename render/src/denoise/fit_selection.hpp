@@ -1,6 +1,6 @@
 #pragma once
 // A still's last stage: each cloth and backdrop pixel blended between two settings of its
-// regression (cloth_regression.hpp, backdrop_regression.hpp) by weights fitted to the
+// regression (cloth_light_fit.hpp, backdrop_light_fit.hpp) by weights fitted to the
 // tracer's two half buffers (after Rousselle et al. 2012 and Bitterli et al. 2016).  No one
 // setting is best everywhere: a wider window and more of the passes' result help flat cloth
 // and blur folds.  Each setting is also run on either half alone; the halves' noise is
@@ -8,14 +8,14 @@
 // blend F0 + alpha (F1 - F0) whose halves come closest to the other half, over a small window
 // (one pixel's difference is mostly noise), is the blend with the least error.  The cloth's
 // blend of the two settings' averaged fits is blended again, the same way, with the same blend
-// of each pixel's own fits (cloth_regression.hpp's average_fits and own_fits).  Measured in
+// of each pixel's own fits (cloth_light_fit.hpp's average_fits and own_fits).  Measured in
 // docs/benchmarks.md ("The regressions' settings blended per pixel by the halves").
 #include <cstdint>
 #include <vector>
 
-#include "backdrop_regression.hpp"
+#include "backdrop_light_fit.hpp"
 #include "cloth_bsdf.hpp"
-#include "cloth_regression.hpp"
+#include "cloth_light_fit.hpp"
 
 namespace foldcast::render {
 
@@ -26,7 +26,7 @@ struct RegressionSetting {
     float noisy_share, sigma_scale;
 };
 // The cloth's two: the still's window fitting the noisy light alone (its fits averaged over
-// the window, cloth_regression.hpp, they are no longer blotchy), and twice that window fitting
+// the window, cloth_light_fit.hpp, they are no longer blotchy), and twice that window fitting
 // half of it (before the averaging: half in the still's window, three quarters in twice it).
 // The backdrop's: a quarter of the noisy light (the single setting before, chosen against
 // blotches at 1280x720 with adaptive sampling) and all of it.  Chosen on the default scene at

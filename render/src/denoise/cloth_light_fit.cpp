@@ -1,4 +1,4 @@
-#include "cloth_regression.hpp"
+#include "cloth_light_fit.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -67,7 +67,7 @@ constexpr int kAverageRadius = 2;
 // cloth a sheen lobe turns faster than a fit linear (or quadratic) in the normal follows, a
 // neighbour's fit extrapolated to the pixel is biased there, and the mean backs off to the
 // pixel's own.  The default scene in each look, seeds 1-3, silk charmeuse with the own fits' blend
-// (regression_selection.cpp): 52.77 without, 52.38 / 52.19 at 3 / 1; the default scene 18.12
+// (fit_selection.cpp): 52.77 without, 52.38 / 52.19 at 3 / 1; the default scene 18.12
 // / 18.13 / 18.13; alone (without that blend) 0.1 / 0.3 / 1: silk 52.99 / 53.40 / 54.27, the
 // default scene 18.17 / 18.13 / 18.11 (docs/benchmarks.md, "Glossy looks: the averaging backs off").
 constexpr float kAgreement = 1.0f;

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "cloth_bsdf.hpp"
-#include "regression_input.hpp"
+#include "fit_input.hpp"
 
 namespace foldcast::render {
 
@@ -29,7 +29,7 @@ struct ClothRegressionInput : RegressionInput {
     // evaluated at it, not its own fit alone (stills: a second sweep of the window).
     bool average_fits = false;
     // With the depth regressor: where to write each cloth pixel's own fit as well (with
-    // average_fits the halves' blend chooses between the two, regression_selection.hpp); null
+    // average_fits the halves' blend chooses between the two, fit_selection.hpp); null
     // for none.  Pixels whose own fit fails or does not fit keep what it holds.
     std::vector<V3>* own_fits = nullptr;
     // The window's Gaussian weights, in pixels (3 for turntable frames; a still's from

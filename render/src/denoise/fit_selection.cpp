@@ -1,4 +1,4 @@
-#include "regression_selection.hpp"
+#include "fit_selection.hpp"
 
 #include <opencv2/imgproc.hpp>
 #include <tbb/blocked_range.h>
@@ -25,7 +25,7 @@ constexpr float kWindowImagePixels = 320.0f * 180.0f;
 // than either (320x180, seeds 1-3: [0, 1] 23.38, [-0.5, 1] 23.30, [-1, 1] 23.32, [-0.5, 1.5]
 // 23.41 before the backdrop's blend).
 constexpr float kMinBlendAlpha = -0.5f, kMaxBlendAlpha = 1.0f;
-// The cloth's averaged fits (cloth_regression.hpp) blended with each pixel's own fit by the
+// The cloth's averaged fits (cloth_light_fit.hpp) blended with each pixel's own fit by the
 // halves as the settings are, over the same window: the averaging lowers the noise of the
 // flat cloth and biases a glossy sheen lobe, which a neighbour's fit extrapolated to the pixel
 // misses.  The share of the own fit may go up to a step beyond it, away from the averaged:

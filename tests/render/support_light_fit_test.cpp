@@ -9,7 +9,7 @@
 #include <cstring>
 
 #include "random_stream.hpp"
-#include "support_regression.hpp"
+#include "denoise/support_light_fit.hpp"
 
 namespace foldcast::render {
 namespace support_regression_test {

@@ -13,11 +13,11 @@
 #include <optional>
 #include <utility>
 
-#include "backdrop_regression.hpp"
-#include "cloth_regression.hpp"
+#include "backdrop_light_fit.hpp"
+#include "cloth_light_fit.hpp"
 #include "pixel_sums.hpp"
-#include "regression_selection.hpp"
-#include "support_regression.hpp"
+#include "fit_selection.hpp"
+#include "support_light_fit.hpp"
 #include "tap_weights.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/core/fast_math.hpp"
@@ -520,7 +520,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         }
 
     // A still's halves as the passes start (their noisy light and its variance), for the
-    // regressions' choice of setting (regression_selection.hpp).
+    // regressions' choice of setting (fit_selection.hpp).
     std::vector<V3> noisy_a, noisy_b;
     std::vector<float> noise_a, noise_b;
     if (b && budget == DenoiseBudget::still)
@@ -545,7 +545,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         filter.pass(1 << pass, a, b ? &*b : nullptr);
     }
     // A still's halves after the cross passes, finished apart for the regressions' choice
-    // of setting (regression_selection.hpp).
+    // of setting (fit_selection.hpp).
     std::optional<Buffer> half_a, half_b;
     if (b) {
         if (budget == DenoiseBudget::still) half_a.emplace(a), half_b.emplace(*b);
@@ -554,7 +554,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
     finish(a);
     if (half_a) finish(*half_a), finish(*half_b);
     {
-        // The cloth's first-order regression (cloth_regression.hpp), its colour weight from
+        // The cloth's first-order regression (cloth_light_fit.hpp), its colour weight from
         // what the passes made of the light.  It fits kRegressionNoisyShare of the noisy light
         // and the rest of the passes' result: fitted to the noisy light alone, the fit's own
         // noise, shared by neighbours whose windows overlap, showed as blotches on the flat
@@ -579,7 +579,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
             std::size_t cloth_pixels = 0;
             for (std::size_t i = 0; i < count; ++i) cloth_pixels += guide.cloth[i] != 0;
             in.spatial_sigma = still_spatial_sigma(cloth_pixels);
-            // A still's backdrop regression (backdrop_regression.hpp) fits the same blend with
+            // A still's backdrop regression (backdrop_light_fit.hpp) fits the same blend with
             // the same guide: fitted to the noisy light alone, it lowered the error at 320x180
             // more but left blotches on the backdrop of the 1280x720 render with adaptive
             // sampling, which the passes' result there does not have (docs/benchmarks.md, "The
@@ -612,7 +612,7 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
                 select.error_weight = &error_weight;
                 filter.execute([&] { regress_still_by_halves(select, a.light); });
             }
-            // And the supports' regression along their axis (support_regression.hpp), on the
+            // And the supports' regression along their axis (support_light_fit.hpp), on the
             // same blend: pixels with samples on the rod, a clip or a wire and none on the garment.
             std::vector<std::int32_t> support(count);
             for (std::size_t i = 0; i < count; ++i)

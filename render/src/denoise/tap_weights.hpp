@@ -1,6 +1,6 @@
 #pragma once
-// The tap weights the denoiser's stages share (denoise.cpp's passes, cloth_regression.*,
-// support_regression.*): a neighbour one stage refuses as another surface, mixture or light,
+// The tap weights the denoiser's stages share (denoise.cpp's passes, cloth_light_fit.*,
+// support_light_fit.*): a neighbour one stage refuses as another surface, mixture or light,
 // the next refuses alike.
 
 namespace foldcast::render {

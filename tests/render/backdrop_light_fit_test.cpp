@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "backdrop_regression.hpp"
+#include "denoise/backdrop_light_fit.hpp"
 #include "random_stream.hpp"
 
 namespace foldcast::render {

@@ -9,7 +9,7 @@
 #include <cstring>
 
 #include "random_stream.hpp"
-#include "regression_selection.hpp"
+#include "denoise/fit_selection.hpp"
 
 namespace foldcast::render {
 namespace regression_selection_test {

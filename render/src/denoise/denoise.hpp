@@ -13,13 +13,13 @@
 // kept; the halves are then merged and, after the last two passes, one more pass at step 1
 // is guided by the merged light.  Last, every cloth pixel's light is fitted afresh from its
 // neighbourhood's (a quarter the noisy light, the rest the passes' result) as a linear
-// function of the normal and the position (cloth_regression.hpp), with the passes' result
+// function of the normal and the position (cloth_light_fit.hpp), with the passes' result
 // deciding which neighbours lie across a shadow's edge, and, in a still, every backdrop
 // pixel's from the same blend over a wider window as a linear function of the position and
-// the depth (backdrop_regression.hpp), and every pixel of the garment's supports (the rod,
-// clips, wires) from the same blend along the support's axis (support_regression.hpp).  A
+// the depth (backdrop_light_fit.hpp), and every pixel of the garment's supports (the rod,
+// clips, wires) from the same blend along the support's axis (support_light_fit.hpp).  A
 // still with half buffers runs the cloth's and the backdrop's regressions under two settings
-// and blends them per pixel by weights fitted to the halves (regression_selection.hpp).  After
+// and blends them per pixel by weights fitted to the halves (fit_selection.hpp).  After
 // the albedo is multiplied back, a still's pixels that saw two surfaces (a silhouette, a
 // fold's front over its back) are rebuilt from the tracer's two layers (mixed_pixels.hpp).
 // Each output pixel depends only on the inputs, so the result is the same for any thread
@@ -43,9 +43,9 @@ inline float demodulation_divisor(float albedo) {
 
 // What a frame may spend on denoising.  A still takes the stages that a turntable's frames
 // leave out so that the 36-frame 640x640 turntable stays within its 40 s (issue #16): the
-// backdrop's regression (backdrop_regression.hpp; on frames it took that turntable's median
+// backdrop's regression (backdrop_light_fit.hpp; on frames it took that turntable's median
 // from 38.8 s to 41.0 s), the cloth regression's depth regressor and window by the
-// garment's size (cloth_regression.hpp), the supports' regression (support_regression.hpp)
+// garment's size (cloth_light_fit.hpp), the supports' regression (support_light_fit.hpp)
 // and the mixed pixels' rebuild from the tracer's two layers, which frames do not keep
 // (mixed_pixels.hpp).  Frames keep the bytes they had without them.
 enum class DenoiseBudget { frame, still };

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "cloth_bsdf.hpp"
-#include "regression_input.hpp"
+#include "fit_input.hpp"
 
 namespace foldcast::render {
 
