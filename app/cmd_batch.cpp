@@ -7,8 +7,8 @@
 
 #include "commands.hpp"
 #include "validators.hpp"
-#include "foldcast/looks.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/looks/looks.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/batch/catalogue.hpp"
 #include "progress_bar.hpp"
 

@@ -7,13 +7,13 @@
 #include <optional>
 
 #include "commands.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/core/resources.hpp"
-#include "foldcast/gltf.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/export/gltf.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "gltf_report.hpp"
 
 namespace foldcast::app {

@@ -12,14 +12,14 @@
 #include <string>
 
 #include "commands.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh_io.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/drape/relax.hpp"
-#include "foldcast/gltf.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/export/gltf.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "gltf_report.hpp"
 #include "progress_bar.hpp"
 #include "resource_estimates.hpp"

@@ -7,8 +7,8 @@
 #include "commands.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/gltf.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/export/gltf.hpp"
+#include "foldcast/render/render.hpp"
 #include "gltf_report.hpp"
 #include "progress_bar.hpp"
 

@@ -12,7 +12,7 @@
 #include "validators.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/looks/look_json.hpp"
 #include "foldcast/batch/swatches.hpp"
 #include "foldcast/looks/look_keys.hpp"

@@ -14,7 +14,7 @@
 #include "commands.hpp"
 #include "foldcast/compare/photo_overlay.hpp"
 #include "foldcast/core/atomic_file.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "validators.hpp"
 
 namespace foldcast::app {

@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "foldcast/core/atomic_file.hpp"
-#include "foldcast/preview.hpp"
+#include "foldcast/preview/preview.hpp"
 
 namespace foldcast::app {
 

@@ -7,7 +7,7 @@
 #include "commands.hpp"
 #include "validators.hpp"
 #include "foldcast/core/atomic_file.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "progress_bar.hpp"
 #include "resource_estimates.hpp"
 

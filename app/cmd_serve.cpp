@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
-#include "foldcast/serve.hpp"
+#include "foldcast/serve/serve.hpp"
 
 namespace foldcast::app {
 

@@ -5,7 +5,7 @@
 
 #include "commands.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/batch/turntable.hpp"
 #include "progress_bar.hpp"
 #include "resource_estimates.hpp"

@@ -3,7 +3,7 @@
 // share.
 #include <string>
 
-#include "foldcast/gltf.hpp"
+#include "foldcast/export/gltf.hpp"
 
 namespace foldcast::app {
 

@@ -10,7 +10,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/resources.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::app {
 

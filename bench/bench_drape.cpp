@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/drape/relax.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/looks/weave.hpp"
 
 using namespace foldcast::looks;

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/codec.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/codec/codec.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/core/mesh_io.hpp"
 
 using namespace foldcast;

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 using namespace foldcast;
 

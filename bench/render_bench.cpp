@@ -18,7 +18,7 @@
 #include <string>
 
 #include "camera_model.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/render/studio_setup.hpp"
 #include "foldcast/render/tracer.hpp"
 

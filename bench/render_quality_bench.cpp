@@ -36,7 +36,7 @@
 #include "foldcast/compare/diff.hpp"
 #include "foldcast/core/colour.hpp"
 #include "foldcast/batch/turntable.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 using namespace foldcast;
 namespace fs = std::filesystem;

@@ -10,8 +10,8 @@
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/batch/catalogue.hpp"
-#include "foldcast/looks.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/looks/looks.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::batch {
 namespace fs = std::filesystem;

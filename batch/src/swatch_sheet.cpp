@@ -13,7 +13,7 @@
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/core/math.hpp"
 
 namespace foldcast::batch {

@@ -17,7 +17,7 @@
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/batch/turntable.hpp"
-#include "foldcast/preview.hpp"
+#include "foldcast/preview/preview.hpp"
 #include "foldcast/render/studio_setup.hpp"
 #include "foldcast/render/tracer.hpp"
 #include "video_stream.hpp"

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "garment_surface.hpp"
 #include "foldcast/render/studio_setup.hpp"
 

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "foldcast/core/colour.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 using namespace foldcast;
 using namespace foldcast::render;

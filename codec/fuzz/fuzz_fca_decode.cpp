@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "materialise.hpp"
 

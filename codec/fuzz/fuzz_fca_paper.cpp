@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "materialise.hpp"
 #include "paper_container.hpp"

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <string>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 
 using namespace foldcast;
 

@@ -6,7 +6,7 @@
 // Any single allocation beyond -malloc_limit_mb is then one the input's bytes did not justify.
 #include <cstdint>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 
 namespace foldcast::codec::fuzz {
 

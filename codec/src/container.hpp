@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/mesh.hpp"
 
 namespace foldcast::codec {

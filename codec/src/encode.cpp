@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "container.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "paper_profile.hpp"
 #include "predictive_profile.hpp"

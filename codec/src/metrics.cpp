@@ -2,7 +2,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "container.hpp"

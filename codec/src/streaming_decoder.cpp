@@ -7,7 +7,7 @@
 #include "byte_io.hpp"
 #include "container.hpp"
 #include "crc32.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "profile_decoder.hpp"
 
 namespace foldcast::codec {

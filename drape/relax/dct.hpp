@@ -12,7 +12,7 @@
 // read and write contiguous lines.
 #include <memory>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape::detail {
 

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape::detail {
 

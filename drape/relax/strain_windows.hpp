@@ -13,7 +13,7 @@
 // Sequential in row-major order, so the result does not depend on the thread count.
 #include <vector>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape::detail {
 

@@ -6,7 +6,7 @@
 #include <array>
 #include <vector>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape::detail {
 

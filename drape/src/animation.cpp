@@ -12,7 +12,7 @@
 #include <string>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/drape/relax.hpp"
 #include "fold_surface.hpp"
 #include "foldcast/core/math.hpp"

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/core/math.hpp"
 
 namespace foldcast::drape {

@@ -20,7 +20,7 @@
 #include <cmath>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "fold_geometry.hpp"
 #include "paper_closure.hpp"
 #include "root_finding.hpp"

@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape::detail {
 

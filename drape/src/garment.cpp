@@ -2,7 +2,7 @@
 // fold signs, its fixed support vertices and its stretch, relaxed towards isometry.
 #include <algorithm>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/drape/relax.hpp"
 #include "fold_surface.hpp"
 

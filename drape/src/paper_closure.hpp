@@ -1,7 +1,7 @@
 #pragma once
 // The original paper's closure (docs/drape.md, "The paper's closure"), kept so that a reader
 // can reproduce the published tables.
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape::detail {
 

@@ -5,7 +5,7 @@
 // E the complete elliptic integral of the second kind (std::comp_ellint_2 takes sqrt(m)).
 #include <cmath>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "root_finding.hpp"
 #include "foldcast/core/math.hpp"
 

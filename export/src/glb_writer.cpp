@@ -9,7 +9,7 @@
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/gltf.hpp"
+#include "foldcast/export/gltf.hpp"
 #include "glb_builder.hpp"
 #include "material.hpp"
 #include "tangents.hpp"

@@ -5,7 +5,7 @@
 // metres), KHR_materials_sheen, KHR_materials_anisotropy, KHR_materials_specular.
 #include <optional>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "glb_builder.hpp"
 
 namespace foldcast::gltf {

@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::gltf {
 

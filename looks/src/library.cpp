@@ -5,7 +5,7 @@
 #include <string>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 #ifndef FOLDCAST_LOOKS_DATA_DIR
 #error "FOLDCAST_LOOKS_DATA_DIR must name the shipped looks/data folder (looks/CMakeLists.txt)"

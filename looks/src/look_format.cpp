@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "colour.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/looks/look_json.hpp"
 #include "foldcast/looks/look_keys.hpp"
 

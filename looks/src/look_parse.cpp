@@ -14,7 +14,7 @@
 #include "colour.hpp"
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/toml_section.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/looks/look_keys.hpp"
 
 namespace foldcast::looks {

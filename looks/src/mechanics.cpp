@@ -1,5 +1,5 @@
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/core/math.hpp"
 
 namespace foldcast::looks {

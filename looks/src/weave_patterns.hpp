@@ -3,7 +3,7 @@
 // weave.cpp filters these by the pixel footprint.
 #include <Eigen/Core>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::looks::detail {
 

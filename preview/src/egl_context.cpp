@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/preview.hpp"
+#include "foldcast/preview/preview.hpp"
 
 namespace foldcast::preview {
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "egl_context.hpp"
-#include "foldcast/preview.hpp"
+#include "foldcast/preview/preview.hpp"
 #include "preview_shaders.hpp"
 #include "foldcast/core/math.hpp"
 

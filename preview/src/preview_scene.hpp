@@ -1,8 +1,8 @@
 #pragma once
 // Turns the path tracer's view of a frame (studio geometry, lit scene, camera) into the
 // rasteriser's, so previews and renders show the same thing.
-#include "foldcast/render.hpp"
-#include "foldcast/preview.hpp"
+#include "foldcast/render/render.hpp"
+#include "foldcast/preview/preview.hpp"
 
 namespace foldcast::preview {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/core/math.hpp"
 
 namespace foldcast::render {

@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/core/math.hpp"
 #include "vec3_div.hpp"
 

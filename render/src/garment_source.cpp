@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
-#include "foldcast/drape.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/drape/drape.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
 namespace fs = std::filesystem;

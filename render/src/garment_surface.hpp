@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "cloth_bsdf.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::render {
 

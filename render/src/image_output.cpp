@@ -14,7 +14,7 @@
 
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "srgb_encode.hpp"
 
 namespace foldcast::render {

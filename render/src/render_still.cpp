@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/render/studio_setup.hpp"
 #include "foldcast/render/tracer.hpp"
 

@@ -9,7 +9,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/toml_section.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "foldcast/serve.hpp"
+#include "foldcast/serve/serve.hpp"
 
 namespace foldcast::serve {
 

@@ -15,7 +15,7 @@
 
 #include "bounded_pool.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/serve.hpp"
+#include "foldcast/serve/serve.hpp"
 #include "link.hpp"
 #include "gated_server.hpp"
 

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "run_command.hpp"
 #include "test_paths.hpp"

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "test_animations.hpp"
 

@@ -2,9 +2,9 @@
 // Only the test links drape; the codec library itself never does.
 #include <gtest/gtest.h>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/mesh_io.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "run_command.hpp"
 #include "test_paths.hpp"
 

@@ -8,7 +8,7 @@
 #include <iterator>
 #include <string>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "paper_container.hpp"
 
 namespace foldcast {

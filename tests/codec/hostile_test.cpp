@@ -5,7 +5,7 @@
 
 #include "container.hpp"
 #include "crc32.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "test_animations.hpp"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "container.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "predictive_profile.hpp"
 #include "profile_decoder.hpp"

@@ -23,8 +23,8 @@
 #include <filesystem>
 
 #include "foldcast/compare/overlay.hpp"
-#include "foldcast/drape.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/drape/drape.hpp"
+#include "foldcast/render/render.hpp"
 #include "render_photo.hpp"
 
 namespace foldcast {

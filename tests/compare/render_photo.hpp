@@ -2,7 +2,7 @@
 // A path-traced render as the compare library reads a photo: 8-bit sRGB (exposure applied,
 // no alpha) scaled to 0-1.  Shared by the tests that use foldcast's own renders as photos.
 #include "foldcast/compare/image.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::test {
 

@@ -13,8 +13,8 @@
 
 #include "foldcast/compare/folds.hpp"
 #include "foldcast/compare/photo_overlay.hpp"
-#include "foldcast/drape.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/drape/drape.hpp"
+#include "foldcast/render/render.hpp"
 #include "render_photo.hpp"
 
 namespace foldcast {

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/drape/relax.hpp"
 
 namespace foldcast::drape {

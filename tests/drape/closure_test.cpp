@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape {
 namespace closure_test {

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "foldcast/core/mesh_io.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "run_command.hpp"
 #include "test_paths.hpp"
 

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape {
 namespace {

@@ -7,7 +7,7 @@
 #include <functional>
 #include <vector>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape {
 namespace monotonic_test {

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "paper_closure.hpp"
 
 namespace foldcast::drape {

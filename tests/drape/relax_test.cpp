@@ -12,9 +12,9 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/math.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/drape/relax.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::drape {
 namespace {

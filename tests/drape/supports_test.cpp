@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::drape {
 namespace {

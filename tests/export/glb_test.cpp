@@ -12,7 +12,7 @@
 #include <filesystem>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/gltf.hpp"
+#include "foldcast/export/gltf.hpp"
 #include "glb_reader.hpp"
 #include "shipped_looks.hpp"
 #include "test_paths.hpp"

@@ -13,7 +13,7 @@
 #include "byte_io.hpp"
 #include "container.hpp"
 #include "crc32.hpp"
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "run_command.hpp"
 #include "spawn.hpp"
 #include "test_paths.hpp"

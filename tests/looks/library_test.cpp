@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/looks/look_json.hpp"
 
 namespace fs = std::filesystem;

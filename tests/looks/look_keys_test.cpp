@@ -7,7 +7,7 @@
 #include <sstream>
 #include <toml++/toml.h>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/looks/look_json.hpp"
 #include "foldcast/looks/look_keys.hpp"
 #include "shipped_looks.hpp"

@@ -5,8 +5,8 @@
 
 #include <cstdio>
 
-#include "foldcast/drape.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/drape/drape.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "shipped_looks.hpp"
 
 using namespace foldcast;

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace fs = std::filesystem;
 using foldcast::InputError;

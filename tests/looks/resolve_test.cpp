@@ -3,7 +3,7 @@
 #include <toml++/toml.h>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "shipped_looks.hpp"
 
 using foldcast::InputError;

@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "foldcast/looks/weave.hpp"
 
 using namespace foldcast::looks;

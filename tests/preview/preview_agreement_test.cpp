@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "foldcast/render.hpp"
-#include "foldcast/preview.hpp"
+#include "foldcast/render/render.hpp"
+#include "foldcast/preview/preview.hpp"
 
 namespace foldcast::preview {
 using render::Image;

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "foldcast/preview.hpp"
+#include "foldcast/preview/preview.hpp"
 
 namespace foldcast::preview {
 namespace {

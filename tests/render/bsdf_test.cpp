@@ -11,7 +11,7 @@
 #include "cloth_bsdf.hpp"
 #include "foldcast/core/math.hpp"
 #include "foldcast/core/sampling.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 #include "garment_surface.hpp"
 #include "random_stream.hpp"
 

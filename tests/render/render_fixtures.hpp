@@ -5,7 +5,7 @@
 
 #include "test_paths.hpp"
 #include "foldcast/core/mesh_io.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::test {
 

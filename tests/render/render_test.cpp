@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/core/error.hpp"
 #include "render_fixtures.hpp"

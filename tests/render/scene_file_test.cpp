@@ -5,7 +5,7 @@
 
 #include "test_paths.hpp"
 #include "foldcast/core/error.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
 namespace {

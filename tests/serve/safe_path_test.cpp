@@ -3,7 +3,7 @@
 #include <fstream>
 #include <vector>
 
-#include "foldcast/serve.hpp"
+#include "foldcast/serve/serve.hpp"
 #include "test_paths.hpp"
 
 namespace foldcast::serve {

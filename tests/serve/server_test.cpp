@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "foldcast/core/error.hpp"
-#include "foldcast/serve.hpp"
+#include "foldcast/serve/serve.hpp"
 #include "http_test_client.hpp"
 #include "test_paths.hpp"
 

@@ -3,7 +3,7 @@
 // through FOLDCAST_LOOKS_DIR: these tests check the files in the repository).
 #include <filesystem>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::test {
 

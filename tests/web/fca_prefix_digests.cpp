@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 
 namespace {
 std::string hex(const unsigned char* bytes, unsigned n) {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "foldcast/codec.hpp"
+#include "foldcast/codec/codec.hpp"
 
 namespace {
 struct Player {

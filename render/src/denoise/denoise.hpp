@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "cloth_bsdf.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
 

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "cloth_bsdf.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "foldcast/core/progress.hpp"
-#include "foldcast/looks.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/looks/looks.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::batch {
 

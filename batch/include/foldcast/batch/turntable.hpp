@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "foldcast/core/progress.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::batch {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "foldcast/compare/folds.hpp"
-#include "foldcast/drape.hpp"
+#include "foldcast/drape/drape.hpp"
 
 namespace foldcast::compare {
 

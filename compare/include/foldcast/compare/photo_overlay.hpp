@@ -10,7 +10,7 @@
 
 #include "foldcast/compare/legend_layout.hpp"
 #include "foldcast/compare/overlay.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::compare {
 

@@ -2,7 +2,7 @@
 // JSON form of a look (every value, with units in the key names), for `--json` reports.
 #include <nlohmann/json_fwd.hpp>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::looks {
 

@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "foldcast/core/toml_section.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::looks {
 

@@ -9,7 +9,7 @@
 // 5-harness satin 5 x 5 (move number 2), jersey knit 1 x 1 (one V loop per wale and course).
 #include <Eigen/Core>
 
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::looks {
 

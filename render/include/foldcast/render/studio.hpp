@@ -3,7 +3,7 @@
 // or clips at the supports, and the key/fill/rim light preset.
 #include <vector>
 
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
 

@@ -2,7 +2,7 @@
 // Places a loaded garment in the studio: garment frames (optionally turned about their
 // vertical axis, which is the same as the camera rig orbiting them), the cyclorama sized to
 // clear the garment at every turn, the support hardware and the resolved lights.
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/render/tracer.hpp"
 
 namespace foldcast::render {

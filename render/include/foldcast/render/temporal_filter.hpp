@@ -16,7 +16,7 @@
 // averaged; frame f's own albedo is multiplied back, so the weave stays sharp.
 #include <vector>
 
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
 

@@ -4,7 +4,7 @@
 #include <memory>
 #include <vector>
 
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/render/studio.hpp"
 
 namespace foldcast::render {

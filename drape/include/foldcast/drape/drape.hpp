@@ -9,7 +9,7 @@
 
 #include "foldcast/core/mesh.hpp"
 #include "foldcast/core/progress.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::drape {
 

@@ -6,7 +6,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh.hpp"
-#include "foldcast/render.hpp"
+#include "foldcast/render/render.hpp"
 #include "foldcast/render/tracer.hpp"
 
 namespace foldcast::preview {

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "foldcast/core/mesh.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast::gltf {
 

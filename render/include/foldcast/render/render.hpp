@@ -15,7 +15,7 @@
 
 #include "foldcast/core/mesh.hpp"
 #include "foldcast/core/progress.hpp"
-#include "foldcast/looks.hpp"
+#include "foldcast/looks/looks.hpp"
 
 namespace foldcast {
 class OutputTransaction;  // foldcast/core/atomic_file.hpp
