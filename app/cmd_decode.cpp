@@ -47,7 +47,7 @@ Command decode_command(CLI::App& app) {
         bool uncompressed = false;
         double max_error_m = 0.0;
         std::string input, output, frames;
-        bool json = false, force = false;
+        bool json = false, force = false, quiet = false;
     };
     auto o = std::make_shared<Options>();
     sub->add_option("input", o->input, "an .fca file (a truncated one decodes to a coarser animation)")->required();
@@ -64,6 +64,7 @@ Command decode_command(CLI::App& app) {
         ->excludes("--uncompressed");
     sub->add_option("--frames", o->frames, "A:B: only frames A..B-1");
     sub->add_flag("--json", o->json, "print a JSON report on stdout");
+    sub->add_flag("-q,--quiet", o->quiet, "print nothing on success (warnings and errors still go to stderr)");
     sub->add_flag("--force", o->force, "decode even when the estimated memory exceeds what this process can use");
 
     return {sub, [o]() {
@@ -108,7 +109,7 @@ Command decode_command(CLI::App& app) {
                     summary = gltf::write_glb(o->output, anim, glb_options);
                 else
                     write_pc2_animation(o->output, anim);
-                if (summary && !o->json) print_glb_summary(o->output, *summary, false, o->look);
+                if (summary && !o->json && !o->quiet) print_glb_summary(o->output, *summary, false, o->look);
                 if (o->json) {
                     nlohmann::json j{{"output", o->output},
                                      {"frames", anim.frame_count()},

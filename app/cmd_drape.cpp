@@ -45,7 +45,7 @@ struct DrapeOptions {
 };
 
 struct Flags {  // which options the user gave (they override a look)
-    CLI::Option *thickness, *young, *gsm, *weight, *poisson, *load, *frames;
+    CLI::Option *thickness, *young, *gsm, *weight, *poisson, *load, *frames, *grid;
 };
 
 std::string number(double v) {
@@ -238,11 +238,15 @@ void print_text(const drape::ClothParams& p, const drape::FoldSolution& s, const
 int run_drape(const DrapeOptions& o, const Flags& flags) {
     const OutputKind kind = output_kind(o.output);
     const drape::ClothParams params = cloth_params(o, flags);
-    const drape::GridSize grid = parse_grid(o.grid);
+    // Without --grid, the default grid widened until every support is a vertex.
+    const drape::GridSize grid = flags.grid->count()
+                                     ? parse_grid(o.grid)
+                                     : drape::grid_with_supports_on_vertices(parse_grid(o.grid), params.supports);
+    const std::string grid_text = std::to_string(grid.nu) + "x" + std::to_string(grid.nv);
     require(o.frames >= 1 && o.frames <= 100000, "--frames", o.frames, "1..100000");
     const bool frames_kept = kind == OutputKind::pc2 || kind == OutputKind::fca;
     check_drape_work(grid.nu, grid.nv, frames_kept ? o.frames : 1,
-                     "--grid " + o.grid + (frames_kept ? " with --frames " + std::to_string(o.frames) : std::string()),
+                     "--grid " + grid_text + (frames_kept ? " with --frames " + std::to_string(o.frames) : std::string()),
                      o.force);
     require(std::isfinite(o.fps) && o.fps > 0.0 && o.fps <= 1000.0, "--fps", o.fps, "> 0 and <= 1000");
     require(std::isfinite(o.sway_m) && o.sway_m >= 0.0, "--sway-m", o.sway_m, "a finite number >= 0");
@@ -361,7 +365,10 @@ Command drape_command(CLI::App& app) {
     flags->poisson = sub->add_option("--poisson", o->poisson, "Poisson's ratio nu")->capture_default_str();
     flags->load = sub->add_option("--load-constant", o->load_constant, "Load constant c (default 23.9 pi^2 / 12)")
                       ->capture_default_str();
-    sub->add_option("--grid", o->grid, "Material grid NUxNV (vertices across x down)")->capture_default_str();
+    flags->grid = sub->add_option("--grid", o->grid,
+                                  "Material grid NUxNV (vertices across x down); without it, with --supports N, NU "
+                                  "is the nearest above the default that puts every support on a vertex")
+                      ->capture_default_str();
     flags->frames =
         sub->add_option("--frames", o->frames,
                         "Animation frames, supports moving in from d = 0 (for -o x.pc2, x.fca, x.glb or --sway-m)")

@@ -1,5 +1,5 @@
 // bench_render_quality: what the denoiser and the sampler buy, against high-spp references
-// (docs/benchmarks.md, "render: noise, denoiser, adaptive sampling").  Prints
+// (docs/benchmarks.md, "render: image quality").  Prints
 //   rmse:    the default scene at 320x180, plain and --denoise at several spp, RMSE of the
 //            sRGB-encoded RGB against a --ref-spp reference;
 //   twill:   a 5 cm close-up of denim's 3/1 twill (bench/scenes/twill_closeup.toml), SSIM
@@ -45,7 +45,7 @@ namespace {
 
 struct Args {
     std::string part = "all";
-    fs::path out = "bench-quality";
+    fs::path out = fs::path(FOLDCAST_BINARY_DIR) / "bench-quality";  // references kept in the build tree
     int threads = 2;
     int ref_spp = 2048;
     int flicker_size = 96;  // the flicker part's frame side in pixels

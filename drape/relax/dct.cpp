@@ -6,6 +6,8 @@
 // FFT of V, and REDFT01(X) = 2 v put back in the original order.
 #include "dct.hpp"
 
+#include "foldcast/core/math.hpp"
+
 #include <fftw3.h>
 #include <tbb/parallel_for.h>
 
@@ -68,7 +70,7 @@ struct Lines {
     Lines(int length, int lines)
         : n(length), half(length / 2 + 1), cos_k(std::size_t(length)), sin_k(std::size_t(length)) {
         for (int k = 0; k < n; ++k) {
-            const double angle = M_PI * k / (2.0 * n);
+            const double angle = kPi * k / (2.0 * n);
             cos_k[std::size_t(k)] = std::cos(angle), sin_k[std::size_t(k)] = std::sin(angle);
         }
         FftwArray<double> v{std::size_t(n) * kBlock};

@@ -14,6 +14,7 @@
 
 #include "dct.hpp"
 #include "foldcast/core/error.hpp"
+#include "foldcast/core/math.hpp"
 
 namespace foldcast::drape::detail {
 
@@ -66,7 +67,7 @@ GridSolver::GridSolver(GridSize grid, double anchor, std::vector<int> pinned) : 
     for (int q = 0; q < grid.nv; ++q)
         for (int p = 0; p < grid.nu; ++p) {
             const double eigenvalue =
-                anchor + (2.0 - 2.0 * std::cos(M_PI * p / grid.nu)) + (2.0 - 2.0 * std::cos(M_PI * q / grid.nv));
+                anchor + (2.0 - 2.0 * std::cos(kPi * p / grid.nu)) + (2.0 - 2.0 * std::cos(kPi * q / grid.nv));
             m.inverse_eigenvalues[p * grid.nv + q] = 1.0 / (eigenvalue * scale);
         }
     m.dct = std::make_unique<GridDct>(grid);

@@ -9,6 +9,7 @@
 
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/toml_section.hpp"
+#include "foldcast/drape/drape.hpp"
 #include "foldcast/render/render.hpp"
 
 namespace foldcast::render {
@@ -73,6 +74,8 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
     if (const auto grid = s.integers("grid", 2, 2, 4096)) {
         g.grid_nu = static_cast<int>((*grid)[0]);
         g.grid_nv = static_cast<int>((*grid)[1]);
+    } else {  // the default grid widened until every support is a vertex
+        g.grid_nu = drape::grid_with_supports_on_vertices({g.grid_nu, g.grid_nv}, g.supports).nu;
     }
     if ((g.grid_nu - 1) % (g.supports - 1) != 0)
         throw InputError("garment.grid = [" + std::to_string(g.grid_nu) + ", " + std::to_string(g.grid_nv) +

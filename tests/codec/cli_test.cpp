@@ -147,5 +147,29 @@ TEST(CodecCli, ErrorsExitTwo) {
     EXPECT_FALSE(std::filesystem::exists(dir / "y.pc2"));
 }
 
+// encode and decode both take -q/--quiet: decode then prints nothing on success (its .glb
+// summary goes), while a truncated file's warning still reaches stderr.
+TEST(CodecCli, DecodeQuietPrintsNothing) {
+    const auto dir = test::temp_dir();
+    const auto fca = dir / "q.fca";
+    ASSERT_EQ(run("encode " + q(test::test_data("animations/basicCloth.pc2")) + " -o " + q(fca) + " --quiet").exit_code,
+              0);
+    const test::CommandResult loud = run("decode " + q(fca) + " -o " + q(dir / "loud.glb"));
+    ASSERT_EQ(loud.exit_code, 0);
+    EXPECT_FALSE(loud.out.empty());
+    for (const char* flag : {"--quiet", "-q"}) {
+        const test::CommandResult quiet = run("decode " + q(fca) + " -o " + q(dir / "quiet.glb") + " " + flag);
+        ASSERT_EQ(quiet.exit_code, 0) << flag;
+        EXPECT_EQ(quiet.out, "") << flag;
+        EXPECT_TRUE(std::filesystem::exists(dir / "quiet.glb"));
+    }
+    const std::string bytes = codec::read_fca(fca);
+    std::ofstream(dir / "half.fca", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
+    const test::CommandResult half = test::run_command(test::foldcast_binary() + " decode " + q(dir / "half.fca") +
+                                                       " -o " + q(dir / "half.pc2") + " --quiet 2>&1");
+    ASSERT_EQ(half.exit_code, 0);
+    EXPECT_NE(half.out.find("warning"), std::string::npos) << half.out;
+}
+
 }  // namespace
 }  // namespace foldcast

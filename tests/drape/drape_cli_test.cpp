@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "foldcast/core/mesh_io.hpp"
 #include "foldcast/drape/drape.hpp"
@@ -181,6 +183,22 @@ TEST(DrapeCli, PaperClosureReproducesTheFirstTableRow) {
     const Result hem = run("--json --grid 24x24", dir);
     ASSERT_EQ(hem.status, 0) << hem.err;
     EXPECT_EQ(nlohmann::json::parse(hem.out)["closure"], "hem");
+}
+
+// Supports without --grid: the default 64 columns widened to the nearest count that puts
+// every support on a vertex ((nu - 1) a multiple of the bays); two supports keep 64x64.
+TEST(DrapeCli, SupportsWithoutGridPutEverySupportOnAVertex) {
+    const fs::path dir = foldcast::test::temp_dir();
+    const std::vector<std::pair<int, int>> supports_nu{{2, 64}, {3, 65}, {4, 64}, {5, 65}, {9, 65}, {11, 71}};
+    for (const auto& [supports, nu] : supports_nu) {
+        const Result r =
+            run("--json --width-m 1.2 --height-m 1 --inset-m 0.08 --supports " + std::to_string(supports), dir);
+        ASSERT_EQ(r.status, 0) << supports << ": " << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["grid"][0].get<int>(), nu) << supports;
+        EXPECT_EQ(j["grid"][1].get<int>(), 64) << supports;
+    }
+    fs::remove_all(dir);
 }
 
 TEST(DrapeCli, SupportsAndDrop) {

@@ -120,6 +120,14 @@ struct GridSize {
     int nv = 64;  // vertices down
 };
 
+// The grid with at least grid.nu columns that puts every one of `supports` supports on a
+// vertex ((nu - 1) a multiple of the bays): what a user who gives supports but no grid gets.
+inline GridSize grid_with_supports_on_vertices(GridSize grid, int supports) {
+    const int bays = supports > 1 ? supports - 1 : 1;
+    grid.nu = 1 + (grid.nu - 1 + bays - 1) / bays * bays;
+    return grid;
+}
+
 struct Stretch {
     double mean = 0.0;  // mean |len/rest - 1| over grid edges
     double max = 0.0;
