@@ -12,6 +12,7 @@
 #include <future>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "foldcast/core/atomic_file.hpp"
@@ -172,17 +173,24 @@ TraceSettings frame_trace_settings(const TraceSettings& settings, const Turntabl
     return trace_only;
 }
 
+// The frames this run renders, [first, last) of the turntable's `total`.
+std::pair<int, int> frame_range(const TurntableOptions& options, int total) {
+    const int first = options.first_frame;
+    const int last = options.last_frame < 0 ? total : options.last_frame;
+    if (first < 0 || first >= last || last > total)
+        throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) +
+                         ": need 0 <= first < last <= " + std::to_string(total) + " (the turntable's frame count)");
+    return {first, last};
+}
+
 }  // namespace
 
 TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, const TurntableOptions& options,
                                  const ProgressFn& progress) {
     const auto start = std::chrono::steady_clock::now();
     const int total = options.total_frames > 0 ? options.total_frames : scene.turntable_frames;
-    const int first = options.first_frame;
-    const int last = options.last_frame < 0 ? total : options.last_frame;
-    if (first < 0 || first >= last || last > total)
-        throw InputError("turntable frames " + std::to_string(first) + ":" + std::to_string(last) +
-                         ": need 0 <= first < last <= " + std::to_string(total) + " (the turntable's frame count)");
+    const std::pair<int, int> range = frame_range(options, total);
+    const int first = range.first, last = range.second;
     const TurntableTarget target = prepare_target(out, options);
     const bool to_mp4 = target.to_video;
     const fs::path& dir = target.frame_dir;

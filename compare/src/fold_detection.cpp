@@ -467,82 +467,49 @@ void validate(const FoldDetectionOptions& o) {
           "allowed: a finite length >= 0 px (0 = automatic)");
 }
 
-FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDetectionOptions& options) {
-    validate(options);
-    if (mask.width != photo.width || mask.height != photo.height)
-        throw InputError("fold detection: the mask is " + std::to_string(mask.width) + "x" +
-                         std::to_string(mask.height) + ", the photo " + std::to_string(photo.width) + "x" +
-                         std::to_string(photo.height) + "; they must be the same size");
-    if (std::none_of(mask.values.begin(), mask.values.end(), [](float v) { return v > 0.5f; }))
-        throw InputError("fold detection: the cloth mask is empty (no pixel above half scale); nothing to search");
-    FoldDetection out;
-    out.mask = mask;
-    const int w = photo.width, h = photo.height;
-    const double diagonal = std::hypot(w, h);
-    out.sigmas_px = options.sigmas_px;
-    if (out.sigmas_px.empty()) {
-        const double s0 = std::max(1.5, diagonal / 600.0);
-        for (int i = 0; i < 5; ++i) out.sigmas_px.push_back(s0 * std::pow(std::sqrt(2.0), i));
-    }
-    const double sigma_max = *std::max_element(out.sigmas_px.begin(), out.sigmas_px.end());
+namespace {
 
-    // Search region: the cloth, away from its outline (the silhouette is a strong "ridge"),
-    // without the prints' outlines.  The luma the ridge filter sees is the shading: each
-    // print colour scaled to the cloth's brightness (a fold through a print stays visible),
-    // and where the colour changes filled in from around it (Telea), so that the outlines of
-    // letters and logos are not ridges at any scale.
-    cv::Mat cloth;
-    detail::to_mat(mask).convertTo(cloth, CV_8U, 255.0);
-    cloth = cloth > 127;
-    cv::Mat luma = detail::luma_of(photo);
-    cv::Mat prints = cv::Mat::zeros(luma.size(), CV_8U), unreadable = prints.clone();
-    if (options.exclude_prints && photo.channels >= 3) {
-        const PrintLayers layers = print_layers(photo, cloth, static_cast<int>(std::ceil(out.sigmas_px.front())) + 1);
-        prints = layers.prints;
-        unreadable = layers.outline;
-        luma = luma.mul(layers.gain);
-        if (cv::countNonZero(unreadable) > 0) {
-            // Through 16 bits: OpenCV's Telea fills 8- and 16-bit images (float ones pass
-            // through unchanged in 4.6); scaled so that a gain above 1 does not clip.
-            double top = 1.0;
-            cv::minMaxLoc(luma, nullptr, &top);
-            top = std::max(1.0, top);
-            cv::Mat luma16, filled;
-            luma.convertTo(luma16, CV_16U, 65535.0 / top);
-            cv::inpaint(luma16, unreadable, filled, 3.0, cv::INPAINT_TELEA);
-            filled.convertTo(luma, CV_32F, top / 65535.0);
-        }
-    }
-    // The ridge filter runs on the relative shading (see relative_shading); the floor of the
-    // threshold is checked on the luma itself, where a photo's noise (8-bit steps, JPEG's
-    // blocks) has the same size on every cloth: a fold on a dark cloth must still change the
-    // stored values by more than that.
-    const cv::Mat shading = relative_shading(luma, cloth);
-    const RidgeField field = ridge_field(shading, out.sigmas_px, options.gamma);
-    const cv::Mat stored_strength = ridge_field(luma, out.sigmas_px, options.gamma, RidgeParts::strength).strength;
-    cv::Mat region;
-    const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
-    cv::erode(cloth, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
-              cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    region &= ~unreadable;
-    {
-        cv::Mat r;
-        region.convertTo(r, CV_32F, 1.0 / 255.0);
-        out.search_region = detail::from_mat(r);
-        prints.convertTo(r, CV_32F, 1.0 / 255.0);
-        out.print_mask = detail::from_mat(r);
-        unreadable.convertTo(r, CV_32F, 1.0 / 255.0);
-        out.print_outline = detail::from_mat(r);
-        out.shading = detail::from_mat(shading);
-        out.luma = detail::from_mat(luma);
-    }
+// The cloth, the luma the ridge filter reads and the prints' layers.  The luma is the
+// shading: each print colour scaled to the cloth's brightness (a fold through a print stays
+// visible), and where the colour changes filled in from around it (Telea), so that the
+// outlines of letters and logos are not ridges at any scale.
+struct SearchImages {
+    cv::Mat cloth, luma, prints, unreadable;
+};
 
-    // Non-maximum suppression across the line, with a parabolic sub-pixel offset.
-    cv::Mat candidate = cv::Mat::zeros(luma.size(), CV_8U);
-    cv::Mat offset = cv::Mat::zeros(luma.size(), CV_32F);
+SearchImages search_images(const Image& photo, const Image& mask, const FoldDetectionOptions& options,
+                           double finest_sigma) {
+    SearchImages in;
+    detail::to_mat(mask).convertTo(in.cloth, CV_8U, 255.0);
+    in.cloth = in.cloth > 127;
+    in.luma = detail::luma_of(photo);
+    in.prints = cv::Mat::zeros(in.luma.size(), CV_8U), in.unreadable = in.prints.clone();
+    if (!(options.exclude_prints && photo.channels >= 3)) return in;
+    const PrintLayers layers = print_layers(photo, in.cloth, static_cast<int>(std::ceil(finest_sigma)) + 1);
+    in.prints = layers.prints;
+    in.unreadable = layers.outline;
+    in.luma = in.luma.mul(layers.gain);
+    if (cv::countNonZero(in.unreadable) > 0) {
+        // Through 16 bits: OpenCV's Telea fills 8- and 16-bit images (float ones pass
+        // through unchanged in 4.6); scaled so that a gain above 1 does not clip.
+        double top = 1.0;
+        cv::minMaxLoc(in.luma, nullptr, &top);
+        top = std::max(1.0, top);
+        cv::Mat luma16, filled;
+        in.luma.convertTo(luma16, CV_16U, 65535.0 / top);
+        cv::inpaint(luma16, in.unreadable, filled, 3.0, cv::INPAINT_TELEA);
+        filled.convertTo(in.luma, CV_32F, top / 65535.0);
+    }
+    return in;
+}
+
+// Ridge candidates: non-maximum suppression across the line, with a parabolic sub-pixel
+// offset.  False when there are none.
+bool ridge_candidates(const RidgeField& field, const cv::Mat& region, const std::vector<double>& sigmas_px,
+                      cv::Mat& candidate, cv::Mat& offset) {
     bool any_candidate = false;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
+    for (int y = 0; y < region.rows; ++y)
+        for (int x = 0; x < region.cols; ++x) {
             if (!region.at<uchar>(y, x)) continue;
             const float s = field.strength.at<float>(y, x);
             if (s <= 0) continue;
@@ -552,7 +519,7 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             // A true crest is brighter (a valley darker) than both sides at its own scale; the
             // side lobes of the second derivative beside a strong line are not.
             const int si = field.scale.at<uchar>(y, x);
-            const double reach = 1.5 * out.sigmas_px[si];
+            const double reach = 1.5 * sigmas_px[si];
             const cv::Mat& smooth = field.smooth[si];
             const float centre = smooth.at<float>(y, x);
             const float side_a = sample(smooth, static_cast<float>(x + reach * nx), static_cast<float>(y + reach * ny));
@@ -564,26 +531,17 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             candidate.at<uchar>(y, x) = 1;
             any_candidate = true;
         }
-    if (!any_candidate) return out;
-    // Automatic threshold: well above the typical response of the cloth (its texture and
-    // noise, measured on the relative shading), and never below a floor on the luma's own
-    // response (0.006: the photo's noise floor; on s3, a dark navy shirt, the bump below its
-    // deep crease responds 0.0056 and is no fold, while the studio looks' folds clear it).
-    std::vector<float> region_strengths;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (region.at<uchar>(y, x)) region_strengths.push_back(field.strength.at<float>(y, x));
-    const double typical_strength = median(region_strengths);
-    out.high_threshold = options.high_threshold > 0 ? options.high_threshold : 4.0 * typical_strength;
-    out.low_threshold = options.low_ratio * out.high_threshold;
-    out.high_floor = 0.006;
-    out.low_floor = options.low_ratio * out.high_floor;
+    return any_candidate;
+}
+
+// Hysteresis: grow from strong candidates through weaker ones of the same sign.
+cv::Mat grow_by_hysteresis(const RidgeField& field, const cv::Mat& candidate, const cv::Mat& stored_strength,
+                   const FoldDetection& out) {
+    const int w = candidate.cols, h = candidate.rows;
     const auto clears = [&](int x, int y, double threshold, double floor) {
         return field.strength.at<float>(y, x) >= threshold && stored_strength.at<float>(y, x) >= floor;
     };
-
-    // Hysteresis: grow from strong candidates through weaker ones of the same sign.
-    cv::Mat kept = cv::Mat::zeros(luma.size(), CV_8U);
+    cv::Mat kept = cv::Mat::zeros(candidate.size(), CV_8U);
     std::deque<cv::Point> queue;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
@@ -604,61 +562,88 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             queue.emplace_back(qx, qy);
         }
     }
+    return kept;
+}
 
-    // Linking: walk from line ends (one neighbour) first, then whatever is left (loops),
-    // preferring the neighbour that continues the current direction.
-    auto neighbours = [&](int x, int y, const cv::Mat& available) {
+// Linking the kept pixels into folds: walk from line ends (one neighbour) first, then
+// whatever is left (loops), preferring the neighbour that continues the current direction.
+class FoldLinker {
+public:
+    FoldLinker(const RidgeField& field, const cv::Mat& kept, const cv::Mat& offset, const cv::Mat& unreadable,
+               double min_length, FoldDetection& out)
+        : field_(field),
+          kept_(kept),
+          offset_(offset),
+          unreadable_(unreadable),
+          min_length_(min_length),
+          out_(out),
+          w_(kept.cols),
+          h_(kept.rows),
+          unvisited_(kept.clone()),
+          finest_(static_cast<size_t>(std::min_element(out.sigmas_px.begin(), out.sigmas_px.end()) -
+                                      out.sigmas_px.begin())) {}
+
+    void link() {
+        for (int pass = 0; pass < 2; ++pass)
+            for (int y = 0; y < h_; ++y)
+                for (int x = 0; x < w_; ++x) {
+                    if (!unvisited_.at<uchar>(y, x)) continue;
+                    if (pass == 0 && neighbours(x, y, kept_).size() != 1) continue;
+                    trace(cv::Point(x, y));
+                }
+    }
+
+private:
+    std::vector<cv::Point> neighbours(int x, int y, const cv::Mat& available) const {
         std::vector<cv::Point> n;
         for (int k = 0; k < 8; ++k) {
             const int qx = x + kDx[k], qy = y + kDy[k];
-            if (qx < 0 || qy < 0 || qx >= w || qy >= h || !available.at<uchar>(qy, qx)) continue;
-            if (field.sign.at<schar>(qy, qx) != field.sign.at<schar>(y, x)) continue;
+            if (qx < 0 || qy < 0 || qx >= w_ || qy >= h_ || !available.at<uchar>(qy, qx)) continue;
+            if (field_.sign.at<schar>(qy, qx) != field_.sign.at<schar>(y, x)) continue;
             n.emplace_back(qx, qy);
         }
         return n;
-    };
-    const double min_length = options.min_length_px > 0 ? options.min_length_px : std::max(10.0, 0.03 * diagonal);
-    cv::Mat unvisited = kept.clone();
-    const size_t finest =
-        static_cast<size_t>(std::min_element(out.sigmas_px.begin(), out.sigmas_px.end()) - out.sigmas_px.begin());
+    }
+
     // A point whose profile across the fold (out to 2.5x its scale, as band_centre reads it)
     // crosses a print's outline reads the inpainted fill there, not the photo: its position
     // is not a measurement, so the line is cut at it.
-    auto profile_reads_print = [&](cv::Point p, float nx, float ny) {
-        const double reach = 2.5 * out.sigmas_px[field.scale.at<uchar>(p.y, p.x)];
+    bool profile_reads_print(cv::Point p, float nx, float ny) const {
+        const double reach = 2.5 * out_.sigmas_px[field_.scale.at<uchar>(p.y, p.x)];
         for (double t = -reach; t <= reach; t += 0.5) {
-            const int qx = std::clamp(static_cast<int>(std::lround(p.x + t * nx)), 0, w - 1);
-            const int qy = std::clamp(static_cast<int>(std::lround(p.y + t * ny)), 0, h - 1);
-            if (unreadable.at<uchar>(qy, qx)) return true;
+            const int qx = std::clamp(static_cast<int>(std::lround(p.x + t * nx)), 0, w_ - 1);
+            const int qy = std::clamp(static_cast<int>(std::lround(p.y + t * ny)), 0, h_ - 1);
+            if (unreadable_.at<uchar>(qy, qx)) return true;
         }
         return false;
-    };
-    auto trace = [&](cv::Point start) {
+    }
+
+    void trace(cv::Point start) {
         DetectedFold fold;
-        fold.sign = field.sign.at<schar>(start.y, start.x);
+        fold.sign = field_.sign.at<schar>(start.y, start.x);
         double strength_sum = 0.0;
         auto finish_piece = [&] {
             if (!fold.points_px.empty()) {
                 fold.mean_strength = strength_sum / static_cast<double>(fold.points_px.size());
-                if (fold.length_px() >= min_length) out.folds.push_back(fold);
+                if (fold.length_px() >= min_length_) out_.folds.push_back(fold);
             }
             fold.points_px.clear();
             strength_sum = 0.0;
         };
         cv::Point p = start, dir(0, 0);
         while (true) {
-            unvisited.at<uchar>(p.y, p.x) = 0;
-            const float nx = field.nx.at<float>(p.y, p.x), ny = field.ny.at<float>(p.y, p.x);
+            unvisited_.at<uchar>(p.y, p.x) = 0;
+            const float nx = field_.nx.at<float>(p.y, p.x), ny = field_.ny.at<float>(p.y, p.x);
             if (profile_reads_print(p, nx, ny)) {
                 finish_piece();
             } else {
-                const float o = band_centre(field.smooth[finest], static_cast<float>(p.x), static_cast<float>(p.y), nx,
-                                            ny, out.sigmas_px[field.scale.at<uchar>(p.y, p.x)], fold.sign)
-                                    .value_or(offset.at<float>(p.y, p.x));
+                const float o = band_centre(field_.smooth[finest_], static_cast<float>(p.x), static_cast<float>(p.y),
+                                            nx, ny, out_.sigmas_px[field_.scale.at<uchar>(p.y, p.x)], fold.sign)
+                                    .value_or(offset_.at<float>(p.y, p.x));
                 fold.points_px.emplace_back(p.x + o * nx, p.y + o * ny);
-                strength_sum += field.strength.at<float>(p.y, p.x);
+                strength_sum += field_.strength.at<float>(p.y, p.x);
             }
-            const auto next = neighbours(p.x, p.y, unvisited);
+            const auto next = neighbours(p.x, p.y, unvisited_);
             if (next.empty()) break;
             const cv::Point* best = &next[0];
             double best_score = -1e9;
@@ -676,14 +661,86 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
             p = *best;
         }
         finish_piece();
-    };
-    for (int pass = 0; pass < 2; ++pass)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                if (!unvisited.at<uchar>(y, x)) continue;
-                if (pass == 0 && neighbours(x, y, kept).size() != 1) continue;
-                trace(cv::Point(x, y));
-            }
+    }
+
+    const RidgeField& field_;
+    const cv::Mat& kept_;
+    const cv::Mat& offset_;
+    const cv::Mat& unreadable_;
+    const double min_length_;
+    FoldDetection& out_;
+    const int w_, h_;
+    cv::Mat unvisited_;
+    const size_t finest_;
+};
+
+}  // namespace
+
+FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDetectionOptions& options) {
+    validate(options);
+    if (mask.width != photo.width || mask.height != photo.height)
+        throw InputError("fold detection: the mask is " + std::to_string(mask.width) + "x" +
+                         std::to_string(mask.height) + ", the photo " + std::to_string(photo.width) + "x" +
+                         std::to_string(photo.height) + "; they must be the same size");
+    if (std::none_of(mask.values.begin(), mask.values.end(), [](float v) { return v > 0.5f; }))
+        throw InputError("fold detection: the cloth mask is empty (no pixel above half scale); nothing to search");
+    FoldDetection out;
+    out.mask = mask;
+    const int w = photo.width, h = photo.height;
+    const double diagonal = std::hypot(w, h);
+    out.sigmas_px = options.sigmas_px;
+    if (out.sigmas_px.empty()) {
+        const double s0 = std::max(1.5, diagonal / 600.0);
+        for (int i = 0; i < 5; ++i) out.sigmas_px.push_back(s0 * std::pow(std::sqrt(2.0), i));
+    }
+    const double sigma_max = *std::max_element(out.sigmas_px.begin(), out.sigmas_px.end());
+
+    // Search region: the cloth, away from its outline (the silhouette is a strong "ridge"),
+    // without the prints' outlines.
+    const SearchImages in = search_images(photo, mask, options, out.sigmas_px.front());
+    // The ridge filter runs on the relative shading (see relative_shading); the floor of the
+    // threshold is checked on the luma itself, where a photo's noise (8-bit steps, JPEG's
+    // blocks) has the same size on every cloth: a fold on a dark cloth must still change the
+    // stored values by more than that.
+    const cv::Mat shading = relative_shading(in.luma, in.cloth);
+    const RidgeField field = ridge_field(shading, out.sigmas_px, options.gamma);
+    const cv::Mat stored_strength = ridge_field(in.luma, out.sigmas_px, options.gamma, RidgeParts::strength).strength;
+    cv::Mat region;
+    const int margin = static_cast<int>(std::ceil(2.0 * sigma_max));
+    cv::erode(in.cloth, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
+              cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    region &= ~in.unreadable;
+    {
+        cv::Mat r;
+        region.convertTo(r, CV_32F, 1.0 / 255.0);
+        out.search_region = detail::from_mat(r);
+        in.prints.convertTo(r, CV_32F, 1.0 / 255.0);
+        out.print_mask = detail::from_mat(r);
+        in.unreadable.convertTo(r, CV_32F, 1.0 / 255.0);
+        out.print_outline = detail::from_mat(r);
+        out.shading = detail::from_mat(shading);
+        out.luma = detail::from_mat(in.luma);
+    }
+
+    cv::Mat candidate = cv::Mat::zeros(in.luma.size(), CV_8U);
+    cv::Mat offset = cv::Mat::zeros(in.luma.size(), CV_32F);
+    if (!ridge_candidates(field, region, out.sigmas_px, candidate, offset)) return out;
+    // Automatic threshold: well above the typical response of the cloth (its texture and
+    // noise, measured on the relative shading), and never below a floor on the luma's own
+    // response (0.006: the photo's noise floor; on s3, a dark navy shirt, the bump below its
+    // deep crease responds 0.0056 and is no fold, while the studio looks' folds clear it).
+    std::vector<float> region_strengths;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (region.at<uchar>(y, x)) region_strengths.push_back(field.strength.at<float>(y, x));
+    const double typical_strength = median(region_strengths);
+    out.high_threshold = options.high_threshold > 0 ? options.high_threshold : 4.0 * typical_strength;
+    out.low_threshold = options.low_ratio * out.high_threshold;
+    out.high_floor = 0.006;
+    out.low_floor = options.low_ratio * out.high_floor;
+    const cv::Mat kept = grow_by_hysteresis(field, candidate, stored_strength, out);
+    const double min_length = options.min_length_px > 0 ? options.min_length_px : std::max(10.0, 0.03 * diagonal);
+    FoldLinker(field, kept, offset, in.unreadable, min_length, out).link();
     return out;
 }
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <utility>
 #include <opencv2/imgproc.hpp>
 
 #include "foldcast/compare/overlay.hpp"
@@ -101,37 +102,35 @@ FoldScore score_folds(const std::vector<PredictedLine>& predicted, const FoldDet
     return s;
 }
 
-CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixels& supports) {
-    CentreLine out;
-    // The relative shading, on which the thresholds are, and the luma, on which the floors are.
+namespace {
+
+// The profiles from the support line down to the lowest cloth pixel of the centre fibre: the
+// band's mean shading and mean luma over its cloth pixels, whether the band is cloth and
+// whether it crosses a print's outline, and the first and last depth on cloth.
+struct CentreProfiles {
+    std::vector<double> shading, luma;
+    std::vector<bool> on_cloth, on_print;
+    int first = -1, last = -1;
+};
+
+CentreProfiles centre_profiles(const FoldDetection& detection, const Eigen::Vector2d& mid, const Eigen::Vector2d& down,
+                               const Eigen::Vector2d& ex, int offsets) {
     const Image& shading = detection.shading;
-    const Image& luma = detection.luma;
-    const Image& mask = detection.mask;
-    if (shading.empty() || luma.empty() || detection.sigmas_px.empty()) return out;
-    const double d = supports.distance_px();
-    const Eigen::Vector2d ex = (supports.second - supports.first) / d, down(-ex.y(), ex.x());
-    const Eigen::Vector2d mid = 0.5 * (supports.first + supports.second);
-    const double half_band = std::max(1.0, 0.02 * d);
-    const int offsets = static_cast<int>(std::floor(half_band));
     auto value = [&](const Image& img, const Eigen::Vector2d& p, float* v) {
         const long x = std::lround(p.x()), y = std::lround(p.y());
         if (x < 0 || y < 0 || x >= img.width || y >= img.height) return false;
         *v = img.at(int(x), int(y), 0);
         return true;
     };
-    // The profiles from the support line down to the lowest cloth pixel of the fibre: the
-    // band's mean shading and mean luma over its cloth pixels.
-    std::vector<double> profile, luma_profile;
-    std::vector<bool> on_cloth, on_print;
+    CentreProfiles out;
     const int max_depth = static_cast<int>(std::ceil(std::hypot(shading.width, shading.height)));
-    int first = -1, last = -1;
     for (int depth = 0; depth < max_depth; ++depth) {
         double sum = 0.0, luma_sum = 0.0;
         int n = 0, printed = 0;
         for (int k = -offsets; k <= offsets; ++k) {
             const Eigen::Vector2d p = mid + depth * down + k * ex;
             float m = 0.0f, v = 0.0f, l = 0.0f, pm = 0.0f;
-            if (value(mask, p, &m) && m > 0.5f && value(shading, p, &v) && value(luma, p, &l)) {
+            if (value(detection.mask, p, &m) && m > 0.5f && value(shading, p, &v) && value(detection.luma, p, &l)) {
                 if (!detection.print_outline.empty() && value(detection.print_outline, p, &pm) && pm > 0.5f) {
                     ++printed;
                     continue;
@@ -142,17 +141,84 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
             }
         }
         const bool cloth = 2 * (n + printed) > 2 * offsets + 1;  // most of the band is cloth
-        profile.push_back(n > 0 ? sum / n : 0.0);
-        luma_profile.push_back(n > 0 ? luma_sum / n : 0.0);
-        on_cloth.push_back(cloth);
+        out.shading.push_back(n > 0 ? sum / n : 0.0);
+        out.luma.push_back(n > 0 ? luma_sum / n : 0.0);
+        out.on_cloth.push_back(cloth);
         // A print's outline is filled in: no fold can be read there (inside a print of one
         // colour the shading is read, scaled to the cloth's brightness).
-        on_print.push_back(printed > 0);
+        out.on_print.push_back(printed > 0);
         if (cloth) {
-            if (first < 0) first = depth;
-            last = depth;
+            if (out.first < 0) out.first = depth;
+            out.last = depth;
         }
     }
+    return out;
+}
+
+// Gaussian smoothing of a profile, reflected ends.
+std::vector<double> smoothed_profile(const std::vector<double>& q, double sigma) {
+    const int n = static_cast<int>(q.size());
+    const int radius = static_cast<int>(std::ceil(3 * sigma));
+    std::vector<double> kernel(2 * radius + 1);
+    double ksum = 0.0;
+    for (int k = -radius; k <= radius; ++k) ksum += kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
+    std::vector<double> result(n, 0.0);
+    for (int i = 0; i < n; ++i) {
+        double acc = 0.0;
+        for (int k = -radius; k <= radius; ++k) {
+            int j = i + k;
+            while (j < 0 || j >= n) j = j < 0 ? -j : 2 * (n - 1) - j;
+            acc += kernel[k + radius] * q[std::clamp(j, 0, n - 1)];
+        }
+        result[i] = acc / ksum;
+    }
+    return result;
+}
+
+struct CentreExtremum {
+    int depth;
+    int sign;
+    double strength;
+    double sigma;
+};
+
+// One extremum per place (the strongest scale), then strict alternation: two crests in
+// a row without a valley between them are one broad crest.
+std::vector<CentreExtremum> alternating_extrema(std::vector<CentreExtremum> found) {
+    std::sort(found.begin(), found.end(), [](const CentreExtremum& a, const CentreExtremum& b) {
+        return a.depth != b.depth ? a.depth < b.depth : a.strength > b.strength;
+    });
+    std::vector<CentreExtremum> merged;
+    for (const auto& e : found) {
+        if (!merged.empty() && (e.depth - merged.back().depth < 2.0 * std::max(e.sigma, merged.back().sigma) ||
+                                e.sign == merged.back().sign)) {
+            if (e.strength > merged.back().strength) merged.back() = e;
+            continue;
+        }
+        merged.push_back(e);
+    }
+    return merged;
+}
+
+}  // namespace
+
+CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixels& supports) {
+    CentreLine out;
+    // The relative shading, on which the thresholds are, and the luma, on which the floors are.
+    const Image& shading = detection.shading;
+    const Image& luma = detection.luma;
+    if (shading.empty() || luma.empty() || detection.sigmas_px.empty()) return out;
+    const double d = supports.distance_px();
+    const Eigen::Vector2d ex = (supports.second - supports.first) / d, down(-ex.y(), ex.x());
+    const Eigen::Vector2d mid = 0.5 * (supports.first + supports.second);
+    const double half_band = std::max(1.0, 0.02 * d);
+    const int offsets = static_cast<int>(std::floor(half_band));
+    const CentreProfiles profiles = centre_profiles(detection, mid, down, ex, offsets);
+    const std::vector<double>& profile = profiles.shading;
+    const std::vector<double>& luma_profile = profiles.luma;
+    const std::vector<bool>& on_cloth = profiles.on_cloth;
+    const std::vector<bool>& on_print = profiles.on_print;
+    const int first = profiles.first, last = profiles.last;
     if (first < 0) return out;
     out.top_edge_depth_px = first;
     out.hem_depth_px = last;
@@ -190,35 +256,11 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
         }
         return false;
     };
-    struct Extremum {
-        int depth;
-        int sign;
-        double strength;
-        double sigma;
-    };
-    std::vector<Extremum> found;
+    std::vector<CentreExtremum> found;
     const int n = static_cast<int>(p.size());
-    // Gaussian smoothing, reflected ends.
-    const auto smoothed = [n](const std::vector<double>& q, double sigma) {
-        const int radius = static_cast<int>(std::ceil(3 * sigma));
-        std::vector<double> kernel(2 * radius + 1);
-        double ksum = 0.0;
-        for (int k = -radius; k <= radius; ++k) ksum += kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
-        std::vector<double> result(n, 0.0);
-        for (int i = 0; i < n; ++i) {
-            double acc = 0.0;
-            for (int k = -radius; k <= radius; ++k) {
-                int j = i + k;
-                while (j < 0 || j >= n) j = j < 0 ? -j : 2 * (n - 1) - j;
-                acc += kernel[k + radius] * q[std::clamp(j, 0, n - 1)];
-            }
-            result[i] = acc / ksum;
-        }
-        return result;
-    };
     const auto second_difference = [](const std::vector<double>& q, int i) { return q[i + 1] - 2 * q[i] + q[i - 1]; };
     for (double sigma : detection.sigmas_px) {
-        const std::vector<double> smooth = smoothed(p, sigma), smooth_luma = smoothed(pl, sigma);
+        const std::vector<double> smooth = smoothed_profile(p, sigma), smooth_luma = smoothed_profile(pl, sigma);
         const double norm = std::pow(sigma * sigma, 0.75);  // the detector's gamma-normalisation
         for (int i = std::max(1, from - first); i < std::min(n - 1, to - first + 1); ++i) {
             if (unreadable[size_t(i)]) continue;
@@ -234,20 +276,7 @@ CentreLine measure_centre_line(const FoldDetection& detection, const SupportPixe
             found.push_back({first + i, sign, strength, sigma});
         }
     }
-    // One extremum per place (the strongest scale), then strict alternation: two crests in
-    // a row without a valley between them are one broad crest.
-    std::sort(found.begin(), found.end(), [](const Extremum& a, const Extremum& b) {
-        return a.depth != b.depth ? a.depth < b.depth : a.strength > b.strength;
-    });
-    std::vector<Extremum> merged;
-    for (const auto& e : found) {
-        if (!merged.empty() && (e.depth - merged.back().depth < 2.0 * std::max(e.sigma, merged.back().sigma) ||
-                                e.sign == merged.back().sign)) {
-            if (e.strength > merged.back().strength) merged.back() = e;
-            continue;
-        }
-        merged.push_back(e);
-    }
+    const std::vector<CentreExtremum> merged = alternating_extrema(std::move(found));
     for (const auto& e : merged) {
         out.depths_px.push_back(e.depth);
         out.signs.push_back(e.sign);

@@ -79,17 +79,19 @@ void validate(const OverlayRequest& r, int photo_width, int photo_height) {
                          std::to_string(photo_height));
 }
 
-OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
-    validate(r, photo.width, photo.height);
-    OverlayResult out;
-    const SupportPixels& supports = r.supports;
-    out.mask = r.mask ? *r.mask : estimate_cloth_mask(photo, supports);
-    out.extent = measure_cloth(out.mask, supports);
-    const double d_px = supports.distance_px();
+namespace {
+
+// The cloth's size in metres and the photo's scale: from the request where it gives them,
+// else read off the mask (each such reading added to `assumptions`).
+struct PhotoGeometry {
+    double width_m = 0.0, inset_m = 0.0, px_per_m = 0.0, height_m = 0.0;
+};
+
+PhotoGeometry photo_geometry(const OverlayRequest& r, const ClothExtent& extent, double d_px,
+                             std::vector<std::string>& assumptions) {
     // The inset seen on the photo: how far the cloth reaches beyond the supports along their
     // line (a lower bound: a corner hanging down reaches less far than it would flat).
-    const double inset_px = std::max(0.0, 0.5 * (out.extent.width_px - d_px));
-
+    const double inset_px = std::max(0.0, 0.5 * (extent.width_px - d_px));
     double width_m = 0.0, inset_m = 0.0, px_per_m = 0.0;
     if (r.scale_px_per_m) {
         px_per_m = *r.scale_px_per_m;
@@ -103,16 +105,16 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         } else {
             inset_m = r.inset_m ? *r.inset_m : inset_px / px_per_m;
             width_m = span_m + 2.0 * inset_m;
-            out.assumptions.push_back(r.inset_m ? "width = span + 2 inset" : "width and inset from the mask");
+            assumptions.push_back(r.inset_m ? "width = span + 2 inset" : "width and inset from the mask");
         }
     } else {
         width_m = r.width_m.value_or(kAssumedWidthM);
-        if (!r.width_m) out.assumptions.push_back("width assumed");
+        if (!r.width_m) assumptions.push_back("width assumed");
         if (r.inset_m) {
             inset_m = *r.inset_m;
         } else {
             inset_m = width_m * inset_px / (d_px + 2.0 * inset_px);
-            out.assumptions.push_back("inset from the mask");
+            assumptions.push_back("inset from the mask");
         }
         if (!(width_m - 2.0 * inset_m > 0))
             throw InputError("overlay: inset_m = " + fixed(inset_m, 3) +
@@ -123,9 +125,81 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
     if (r.height_m) {
         height_m = *r.height_m;
     } else {
-        height_m = out.extent.height_px / px_per_m;
-        out.assumptions.push_back("height from mask");
+        height_m = extent.height_px / px_per_m;
+        assumptions.push_back("height from mask");
     }
+    return {width_m, inset_m, px_per_m, height_m};
+}
+
+// The fit's legend lines.  A value the photo does not decide (its 5 % range is the whole box)
+// is shown as "?" with the box, not as a precise-looking number; "*": the best lies on a bound.
+void add_fit_legend(const FitResult& f, double px_per_m, std::vector<std::string>& legend) {
+    auto value = [](const FittedValue& v, double unit, int digits, const std::string& name) {
+        if (!v.constrained)
+            return "? " + name + " [" + fixed(v.bound_min / unit, digits) + ", " + fixed(v.bound_max / unit, digits) +
+                   "]";
+        return fixed(v.best / unit, digits) + (v.on_bound ? "*" : "") + " " + name + " [" +
+               fixed(v.low / unit, digits) + ", " + fixed(v.high / unit, digits) + "]";
+    };
+    legend.push_back("fit: E " + value(f.young_pa, 1e6, 2, "MPa") + ", inset " + value(f.inset_m, 0.01, 1, "cm"));
+    if ((f.young_pa.on_bound && f.young_pa.constrained) || (f.inset_m.on_bound && f.inset_m.constrained))
+        legend.push_back("* on a bound of the search");
+    if (!f.young_pa.constrained || !f.inset_m.constrained)
+        legend.push_back("? not decided: the whole search range scores within 5 %");
+    // Why nothing matched, when the model's reach says so: that line replaces the plain
+    // "only n fitted" (the legend has to fit beside the cloth).
+    if (f.nothing_matched && !(f.reach && f.reach->outside)) legend.push_back("no line on a detected fold: only n fitted");
+    if (f.reach && f.reach->outside) {
+        // The model cannot put the measured folds where the photo has them (in this box).
+        const double cm = 100.0 / px_per_m;
+        const auto& rc = *f.reach;
+        const std::string n = std::to_string(rc.folds);
+        if (rc.sets == 0)
+            legend.push_back("model: no set in the box has n = " + n);
+        else if (rc.measured_px < rc.lowest_min_px)
+            legend.push_back("model: n = " + n + " folds lie >= " + fixed(rc.lowest_min_px * cm, 1) +
+                             " cm down, photo " + fixed(rc.measured_px * cm, 1) + " cm");
+        else
+            legend.push_back("model: n = " + n + " folds lie <= " + fixed(rc.lowest_max_px * cm, 1) +
+                             " cm down, photo " + fixed(rc.measured_px * cm, 1) + " cm");
+    }
+}
+
+// Legend: predicted against measured first, the numbers a textile engineer compares;
+// short lines, so that it fits beside the cloth (where layout_legend puts it).
+void add_legend(OverlayResult& out, const OverlayRequest& r, const drape::ClothParams& params) {
+    const auto& s = out.solution;
+    out.legend.push_back(s.folds > 0 ? "predicted: n = " + std::to_string(s.folds) + ", Q = " + fixed(s.Q, 2) +
+                                           " (zmax " + fixed(100 * s.zmax_m, 1) + " cm)"
+                                     : "predicted: no folds (" + no_folds_reason(s, params) + ")");
+    const CentreLine& c = *out.centre;
+    out.legend.push_back("measured: n = " + std::to_string(c.folds) +
+                         (c.Q ? ", Q = " + fixed(*c.Q, 2) : std::string(", Q n/a")) + " (centre line)");
+    if (out.score)
+        out.legend.push_back("P " + fixed(out.score->precision, 2) + "  R " + fixed(out.score->recall, 2) + "  F1 " +
+                             fixed(out.score->f1, 2) + " (within " + fixed(out.score->tolerance_cm, 1) + " cm)");
+    if (out.fit) add_fit_legend(*out.fit, out.map.px_per_m, out.legend);
+    out.legend.push_back(r.look_name + ": " + fixed(100 * params.width_m, 0) + " x " + fixed(100 * params.height_m, 0) +
+                         " cm, inset " + fixed(100 * params.inset_m, 1) + " cm");
+    if (!out.assumptions.empty()) {
+        std::string line;
+        for (size_t i = 0; i < out.assumptions.size(); ++i) line += (i ? "; " : "") + out.assumptions[i];
+        out.legend.push_back(line);
+    }
+}
+
+}  // namespace
+
+OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
+    validate(r, photo.width, photo.height);
+    OverlayResult out;
+    const SupportPixels& supports = r.supports;
+    out.mask = r.mask ? *r.mask : estimate_cloth_mask(photo, supports);
+    out.extent = measure_cloth(out.mask, supports);
+    const double d_px = supports.distance_px();
+    const PhotoGeometry geometry = photo_geometry(r, out.extent, d_px, out.assumptions);
+    const double width_m = geometry.width_m, inset_m = geometry.inset_m, px_per_m = geometry.px_per_m,
+                 height_m = geometry.height_m;
     drape::ClothParams params = drape::cloth_from_look(r.mechanics, width_m, height_m, inset_m);
     drape::validate(params);
 
@@ -179,61 +253,7 @@ OverlayResult overlay_photo(const Image& photo, const OverlayRequest& r) {
         out.score->agreement = agreement(out.score->f1, out.score->count_error);
     }
 
-    // Legend: predicted against measured first, the numbers a textile engineer compares;
-    // short lines, so that it fits beside the cloth (where layout_legend puts it).
-    const auto& s = out.solution;
-    out.legend.push_back(s.folds > 0 ? "predicted: n = " + std::to_string(s.folds) + ", Q = " + fixed(s.Q, 2) +
-                                           " (zmax " + fixed(100 * s.zmax_m, 1) + " cm)"
-                                     : "predicted: no folds (" + no_folds_reason(s, params) + ")");
-    const CentreLine& c = *out.centre;
-    out.legend.push_back("measured: n = " + std::to_string(c.folds) +
-                         (c.Q ? ", Q = " + fixed(*c.Q, 2) : std::string(", Q n/a")) + " (centre line)");
-    if (out.score)
-        out.legend.push_back("P " + fixed(out.score->precision, 2) + "  R " + fixed(out.score->recall, 2) + "  F1 " +
-                             fixed(out.score->f1, 2) + " (within " + fixed(out.score->tolerance_cm, 1) + " cm)");
-    if (out.fit) {
-        const auto& f = *out.fit;
-        // A value the photo does not decide (its 5 % range is the whole box) is shown as "?"
-        // with the box, not as a precise-looking number; "*": the best lies on a bound.
-        auto value = [](const FittedValue& v, double unit, int digits, const std::string& name) {
-            if (!v.constrained)
-                return "? " + name + " [" + fixed(v.bound_min / unit, digits) + ", " +
-                       fixed(v.bound_max / unit, digits) + "]";
-            return fixed(v.best / unit, digits) + (v.on_bound ? "*" : "") + " " + name + " [" +
-                   fixed(v.low / unit, digits) + ", " + fixed(v.high / unit, digits) + "]";
-        };
-        out.legend.push_back("fit: E " + value(f.young_pa, 1e6, 2, "MPa") + ", inset " +
-                             value(f.inset_m, 0.01, 1, "cm"));
-        if ((f.young_pa.on_bound && f.young_pa.constrained) || (f.inset_m.on_bound && f.inset_m.constrained))
-            out.legend.push_back("* on a bound of the search");
-        if (!f.young_pa.constrained || !f.inset_m.constrained)
-            out.legend.push_back("? not decided: the whole search range scores within 5 %");
-        // Why nothing matched, when the model's reach says so: that line replaces the plain
-        // "only n fitted" (the legend has to fit beside the cloth).
-        if (f.nothing_matched && !(f.reach && f.reach->outside))
-            out.legend.push_back("no line on a detected fold: only n fitted");
-        if (f.reach && f.reach->outside) {
-            // The model cannot put the measured folds where the photo has them (in this box).
-            const double cm = 100.0 / out.map.px_per_m;
-            const auto& rc = *f.reach;
-            const std::string n = std::to_string(rc.folds);
-            if (rc.sets == 0)
-                out.legend.push_back("model: no set in the box has n = " + n);
-            else if (rc.measured_px < rc.lowest_min_px)
-                out.legend.push_back("model: n = " + n + " folds lie >= " + fixed(rc.lowest_min_px * cm, 1) +
-                                     " cm down, photo " + fixed(rc.measured_px * cm, 1) + " cm");
-            else
-                out.legend.push_back("model: n = " + n + " folds lie <= " + fixed(rc.lowest_max_px * cm, 1) +
-                                     " cm down, photo " + fixed(rc.measured_px * cm, 1) + " cm");
-        }
-    }
-    out.legend.push_back(r.look_name + ": " + fixed(100 * params.width_m, 0) + " x " + fixed(100 * params.height_m, 0) +
-                         " cm, inset " + fixed(100 * params.inset_m, 1) + " cm");
-    if (!out.assumptions.empty()) {
-        std::string line;
-        for (size_t i = 0; i < out.assumptions.size(); ++i) line += (i ? "; " : "") + out.assumptions[i];
-        out.legend.push_back(line);
-    }
+    add_legend(out, r, params);
     out.legend_layout = layout_legend(out.legend, photo.width, photo.height, out.mask, out.lines, supports);
     out.picture = draw_overlay(photo, out.lines, supports, out.legend, out.legend_layout);
     return out;

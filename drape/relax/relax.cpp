@@ -57,6 +57,9 @@ struct GridRelaxer::Impl {
 
     template <typename T>
     RelaxReport relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const;
+    // One relax() call's iterations, in their steps (below).
+    template <typename T>
+    struct Run;
 };
 
 // T: the per-vertex arrays' type (RelaxSettings::single_precision).  An iteration is a few
@@ -279,93 +282,89 @@ double pull_energy(const T* y, const T* z, const T* ty, const T* tz, const T* pu
 
 }  // namespace
 
+// One relax() call: the workspace it holds, where the pins are held, the fold-line pulls and
+// the iteration count, and the steps of the local/global iteration.
 template <typename T>
-RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const {
-    const Impl& m = *this;
-    const GridSize grid = m.grid;
-    const std::size_t n = std::size_t(grid.nu) * std::size_t(grid.nv);
-    if (positions.size() != n || targets.size() != n)
-        throw InputError("relaxation: positions and targets must have one entry per grid vertex");
-    const ClothParams rest_params = [&] {
-        ClothParams p;
-        p.width_m = m.rest_u * (grid.nu - 1);
-        p.height_m = m.rest_v * (grid.nv - 1);
-        return p;
-    }();
-    RelaxReport report;
-    if (m.settings.report_stretch) report.before = detail::grid_stretch(targets, rest_params, grid);
-    const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
+struct GridRelaxer::Impl::Run {
+    struct Local {
+        double energy, mean, max;
+    };
+    static constexpr int kSoftenEvery = 30;
+    static constexpr int kMaxWindowFixes = 3;
+    static constexpr double kWindowAim = 0.98, kWindowSettle = 0.8;
 
-    std::unique_ptr<Workspace<T>> workspace;
-    {
-        const std::lock_guard<std::mutex> hold(m.spare_lock);
-        workspace = std::move(m.spare<T>());
-    }
-    if (!workspace) workspace = std::make_unique<Workspace<T>>(n, grid.nv);
-    Workspace<T>& w = *workspace;
+    const Impl& m;
+    Workspace<T>& w;
+    const GridSize grid;
+    const std::size_t n;
+    const std::vector<double>& crest;
+    const double anchor;
+    const int nu, nv;
+    const double rest_u, rest_v;
+    const T anchor_t;
+    double anchor_scale = 1.0;
+    int iteration = 0;  // the local step reads it: in the smoothing phase or not
+    // Where the pinned vertices are held: fixed for the whole relaxation.
+    std::array<Eigen::VectorXd, 3> pinned_positions;
+
+    Run(const Impl& impl, Workspace<T>& workspace, const std::vector<double>& crest_weights)
+        : m(impl),
+          w(workspace),
+          grid(impl.grid),
+          n(std::size_t(impl.grid.nu) * std::size_t(impl.grid.nv)),
+          crest(crest_weights),
+          anchor(impl.anchor),
+          nu(impl.grid.nu),
+          nv(impl.grid.nv),
+          rest_u(impl.rest_u),
+          rest_v(impl.rest_v),
+          anchor_t(T(impl.anchor)) {}
+
     // Per-vertex set-up and the result below, a row at a time: run on one thread, an
     // animation frame's passes over the grid outside the iterations left the other core idle.
-    const auto each_row = [&](auto&& body) {
+    template <typename Body>
+    void each_row(Body&& body) const {
         tbb::parallel_for(0, grid.nv, [&](int j) {
             const std::size_t row = std::size_t(j) * std::size_t(grid.nu);
             for (std::size_t k = row; k < row + std::size_t(grid.nu); ++k) body(k);
         });
-    };
-    each_row([&](std::size_t k) {
-        const Vec3f& start = m.is_pinned[k] ? targets[k] : positions[k];
-        for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = T(start(Eigen::Index(c)));
-        w.target_y[k] = T(targets[k].y()), w.target_z[k] = T(targets[k].z());
-    });
-    const double anchor = m.anchor;
-
-    // Local step at x: the right-hand side of the global step, the energy
-    //   sum_edges (len - rest)^2 + anchor sum_fold-line vertices |x - target|^2
-    // and the stretch.  Every vertex has the anchor term in the matrix: a fold-line vertex
-    // is pulled to its target, any other to where it is (a proximal term: the same fixed
-    // points, and the matrix stays the same for every frame).  Gathered per row, summed in
-    // row order: the result does not depend on the thread count.
-    // Where the pinned vertices are held: fixed for the whole relaxation.
-    std::array<Eigen::VectorXd, 3> pinned_positions;
-    for (std::size_t c = 0; c < 3; ++c) {
-        pinned_positions[c].resize(Eigen::Index(m.pinned_vertices.size()));
-        for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
-            pinned_positions[c][Eigen::Index(i)] = double(w.current[c * n + std::size_t(m.pinned_vertices[i])]);
     }
-    double anchor_scale = 1.0;
-    constexpr int kSoftenEvery = 30;
-    constexpr int kMaxWindowFixes = 3;
-    constexpr double kWindowAim = 0.98, kWindowSettle = 0.8;
-    struct Local {
-        double energy, mean, max;
-    };
-    // Each edge's length, computed once per local step (the edge to the right of and the one
-    // below each vertex) instead of once from each end and again for the stretch: |x_k - x_o|
-    // and |x_o - x_k| are the same bits, so the result is too.  Likewise rest / length.
-    std::vector<T>&right_len = w.right_len, &down_len = w.down_len;
-    std::vector<T>&right_factor = w.right_factor, &down_factor = w.down_factor;
+
+    void start(const std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) {
+        each_row([&](std::size_t k) {
+            const Vec3f& start = m.is_pinned[k] ? targets[k] : positions[k];
+            for (std::size_t c = 0; c < 3; ++c) w.current[c * n + k] = T(start(Eigen::Index(c)));
+            w.target_y[k] = T(targets[k].y()), w.target_z[k] = T(targets[k].z());
+        });
+        for (std::size_t c = 0; c < 3; ++c) {
+            pinned_positions[c].resize(Eigen::Index(m.pinned_vertices.size()));
+            for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
+                pinned_positions[c][Eigen::Index(i)] = double(w.current[c * n + std::size_t(m.pinned_vertices[i])]);
+        }
+        set_pull();
+    }
+
     // Each vertex's pull towards its fold-line target (crest weight x anchor_scale), 0 where
     // it has none: set again whenever anchor_scale changes.
-    const auto set_pull = [&] {
+    void set_pull() {
         each_row([&](std::size_t k) {
             w.pull[k] =
                 !m.is_pinned[k] && crest[k] > 0.0 ? T(crest[k] / m.settings.proximal_share * anchor_scale) : T(0);
         });
-    };
-    set_pull();
-    const int nu = grid.nu, nv = grid.nv;
-    const double rest_u = m.rest_u, rest_v = m.rest_v;
+    }
+
     // One coordinate of one row of the global step's right-hand side:
     //   anchor (x_k + pull (t_k - x_k)) + sum over the edges (x_k - x_o) rest / len
     // (left, right, up, down, the same operations in the same order as a vertex at a time;
     // a zero pull or factor adds an exact zero).  Up and Down: whether the row has rows
     // above and below.  Branch-free inside the row, so it vectorises.
-    const T anchor_t = T(anchor);
-    const auto rhs_row = [&](auto up, auto down, const T* __restrict x, const T* __restrict target, std::size_t row,
-                             T* __restrict out) {
+    template <typename Up, typename Down>
+    void rhs_row(Up, Down, const T* __restrict x, const T* __restrict target, std::size_t row,
+                 T* __restrict out) const {
         const T* __restrict const pull = w.pull.data();
-        const T* __restrict const rf = right_factor.data();
-        const T* __restrict const df = down_factor.data();
-        constexpr bool kUp = decltype(up)::value, kDown = decltype(down)::value;
+        const T* __restrict const rf = w.right_factor.data();
+        const T* __restrict const df = w.down_factor.data();
+        constexpr bool kUp = Up::value, kDown = Down::value;
         const std::size_t stride = std::size_t(nu);
         const auto vertex = [&](std::size_t k, bool left, bool right) {
             T b = x[k];
@@ -398,9 +397,93 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
         else
             interior(std::false_type{});
         if (nu > 1) vertex(end, true, false);
-    };
-    int iteration = 0;  // the local step reads it: in the smoothing phase or not
-    const auto local = [&](const T* positions_now) -> Local {
+    }
+
+    // Row j's edge lengths and rest / length factors (each edge's length computed once per
+    // local step, the edge to the right of and the one below each vertex, instead of once
+    // from each end and again for the stretch: |x_k - x_o| and |x_o - x_k| are the same bits,
+    // so the result is too), then the row's stretch and energy.
+    void row_lengths_and_energy(int j, const T* px, const T* py, const T* pz, T factor_u, T factor_v, T omega) {
+        const std::size_t row = std::size_t(j) * std::size_t(nu);
+        // |x_o - x_k| as Eigen's norm() sums it, (dx^2 + dy^2) + dz^2, for the edges from
+        // `first` to the vertex `step` further on; rest / |x_o - x_k| beside it (no
+        // division by 0, so that the loop vectorises).
+        const auto lengths = [&](std::size_t first, std::size_t count, std::size_t step, T rest, T* __restrict len_out,
+                                 T* __restrict factor_out) {
+            const T* __restrict x = px + first;
+            const T* __restrict y = py + first;
+            const T* __restrict z = pz + first;
+            len_out += first, factor_out += first;
+            for (std::size_t e = 0; e < count; ++e) {
+                const T dx = x[e + step] - x[e], dy = y[e + step] - y[e], dz = z[e + step] - z[e];
+                len_out[e] = dx * dx + dy * dy + dz * dz;
+            }
+            // Eigen's packet square root (std::sqrt's errno check keeps the loop scalar).
+            Eigen::Map<Eigen::Array<T, Eigen::Dynamic, 1>> squared(len_out, Eigen::Index(count));
+            squared = squared.sqrt();
+            rest_over(len_out, count, rest, omega, factor_out);
+        };
+        lengths(row, std::size_t(nu) - 1, 1, factor_u, w.right_len.data(), w.right_factor.data());
+        if (j + 1 < nv) lengths(row, std::size_t(nu), std::size_t(nu), factor_v, w.down_len.data(), w.down_factor.data());
+        // The row's stretch and energy from the lengths just computed (each edge once: to
+        // the right and below), then the fold-line terms.
+        const Sums right = edge_sums(w.right_len.data() + row, std::size_t(nu) - 1, T(rest_u));
+        const Sums down = j + 1 < nv ? edge_sums(w.down_len.data() + row, std::size_t(nu), T(rest_v)) : Sums{};
+        const double pulled = pull_energy(py + row, pz + row, w.target_y.data() + row, w.target_z.data() + row,
+                                          w.pull.data() + row, std::size_t(nu));
+        w.row_sum[std::size_t(j)] = right.sum + down.sum;
+        w.row_max[std::size_t(j)] = std::max(right.max, down.max);
+        w.row_energy[std::size_t(j)] = (right.energy + down.energy) + anchor * pulled;
+    }
+
+    // Row j's right-hand side, a coordinate at a time (x has no fold-line pull).  Pinned
+    // vertices get one too, set to 0 by local().
+    void row_right_hand_side(int j, const T* px, const T* py, const T* pz) {
+        const std::size_t row = std::size_t(j) * std::size_t(nu);
+        const auto rows = [&](auto up, auto down) {
+            rhs_row(up, down, px, nullptr, row, w.global_rhs[0].data());
+            rhs_row(up, down, py, w.target_y.data(), row, w.global_rhs[1].data());
+            rhs_row(up, down, pz, w.target_z.data(), row, w.global_rhs[2].data());
+        };
+        using Yes = std::true_type;
+        using No = std::false_type;
+        if (j > 0 && j + 1 < nv)
+            rows(Yes{}, Yes{});
+        else if (j > 0)
+            rows(Yes{}, No{});
+        else if (j + 1 < nv)
+            rows(No{}, Yes{});
+        else
+            rows(No{}, No{});
+    }
+
+    // The smoothing phase's edge terms: each edge at its rest length along its blended
+    // direction d, +d for the edge arriving at a vertex, -d for the one leaving it.
+    void add_thread_directions(const T* px, const T* py, const T* pz) {
+        detail::thread_directions(px, py, pz, grid, m.settings.smoothing, w.directions);
+        const detail::ThreadDirections<T>& d = w.directions;
+        tbb::parallel_for(0, nv, [&](int j) {
+            for (int i = 0; i < nu; ++i) {
+                const std::size_t k = std::size_t(j) * std::size_t(nu) + std::size_t(i);
+                for (std::size_t c = 0; c < 3; ++c) {
+                    double b = 0.0;
+                    if (i > 0) b += rest_u * double(d.right[c][k - 1]);
+                    if (i + 1 < nu) b -= rest_u * double(d.right[c][k]);
+                    if (j > 0) b += rest_v * double(d.down[c][k - std::size_t(nu)]);
+                    if (j + 1 < nv) b -= rest_v * double(d.down[c][k]);
+                    w.global_rhs[c][k] = T(double(w.global_rhs[c][k]) + b);
+                }
+            }
+        });
+    }
+
+    // Local step at x: the right-hand side of the global step, the energy
+    //   sum_edges (len - rest)^2 + anchor sum_fold-line vertices |x - target|^2
+    // and the stretch.  Every vertex has the anchor term in the matrix: a fold-line vertex
+    // is pulled to its target, any other to where it is (a proximal term: the same fixed
+    // points, and the matrix stays the same for every frame).  Gathered per row, summed in
+    // row order: the result does not depend on the thread count.
+    Local local(const T* positions_now) {
         const T* const px = positions_now;
         const T* const py = positions_now + n;
         const T* const pz = positions_now + 2 * n;
@@ -409,78 +492,9 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
         // the rows' right-hand sides get the anchor terms only (rest 0 gives factors 0).
         const T factor_u = smoothing ? T(0) : T(rest_u), factor_v = smoothing ? T(0) : T(rest_v);
         const T omega = smoothing ? T(1) : T(m.settings.over_relaxation);
-        tbb::parallel_for(0, nv, [&](int j) {
-            const std::size_t row = std::size_t(j) * std::size_t(nu);
-            // |x_o - x_k| as Eigen's norm() sums it, (dx^2 + dy^2) + dz^2, for the edges from
-            // `first` to the vertex `step` further on; rest / |x_o - x_k| beside it (no
-            // division by 0, so that the loop vectorises).
-            const auto lengths = [&](std::size_t first, std::size_t count, std::size_t step, T rest,
-                                     T* __restrict len_out, T* __restrict factor_out) {
-                const T* __restrict x = px + first;
-                const T* __restrict y = py + first;
-                const T* __restrict z = pz + first;
-                len_out += first, factor_out += first;
-                for (std::size_t e = 0; e < count; ++e) {
-                    const T dx = x[e + step] - x[e], dy = y[e + step] - y[e], dz = z[e + step] - z[e];
-                    len_out[e] = dx * dx + dy * dy + dz * dz;
-                }
-                // Eigen's packet square root (std::sqrt's errno check keeps the loop scalar).
-                Eigen::Map<Eigen::Array<T, Eigen::Dynamic, 1>> squared(len_out, Eigen::Index(count));
-                squared = squared.sqrt();
-                rest_over(len_out, count, rest, omega, factor_out);
-            };
-            lengths(row, std::size_t(nu) - 1, 1, factor_u, right_len.data(), right_factor.data());
-            if (j + 1 < nv)
-                lengths(row, std::size_t(nu), std::size_t(nu), factor_v, down_len.data(), down_factor.data());
-            // The row's stretch and energy from the lengths just computed (each edge once: to
-            // the right and below), then the fold-line terms.
-            const Sums right = edge_sums(right_len.data() + row, std::size_t(nu) - 1, T(rest_u));
-            const Sums down = j + 1 < nv ? edge_sums(down_len.data() + row, std::size_t(nu), T(rest_v)) : Sums{};
-            const double pulled = pull_energy(py + row, pz + row, w.target_y.data() + row, w.target_z.data() + row,
-                                              w.pull.data() + row, std::size_t(nu));
-            w.row_sum[std::size_t(j)] = right.sum + down.sum;
-            w.row_max[std::size_t(j)] = std::max(right.max, down.max);
-            w.row_energy[std::size_t(j)] = (right.energy + down.energy) + anchor * pulled;
-        });
-        tbb::parallel_for(0, nv, [&](int j) {
-            const std::size_t row = std::size_t(j) * std::size_t(nu);
-            // The right-hand side, a coordinate at a time (x has no fold-line pull).  Pinned
-            // vertices get one too, set to 0 below.
-            const auto rows = [&](auto up, auto down) {
-                rhs_row(up, down, px, nullptr, row, w.global_rhs[0].data());
-                rhs_row(up, down, py, w.target_y.data(), row, w.global_rhs[1].data());
-                rhs_row(up, down, pz, w.target_z.data(), row, w.global_rhs[2].data());
-            };
-            using Yes = std::true_type;
-            using No = std::false_type;
-            if (j > 0 && j + 1 < nv)
-                rows(Yes{}, Yes{});
-            else if (j > 0)
-                rows(Yes{}, No{});
-            else if (j + 1 < nv)
-                rows(No{}, Yes{});
-            else
-                rows(No{}, No{});
-        });
-        if (smoothing) {
-            // Each edge at its rest length along its blended direction d: +d for the edge
-            // arriving at a vertex, -d for the one leaving it.
-            detail::thread_directions(px, py, pz, grid, m.settings.smoothing, w.directions);
-            const detail::ThreadDirections<T>& d = w.directions;
-            tbb::parallel_for(0, nv, [&](int j) {
-                for (int i = 0; i < nu; ++i) {
-                    const std::size_t k = std::size_t(j) * std::size_t(nu) + std::size_t(i);
-                    for (std::size_t c = 0; c < 3; ++c) {
-                        double b = 0.0;
-                        if (i > 0) b += rest_u * double(d.right[c][k - 1]);
-                        if (i + 1 < nu) b -= rest_u * double(d.right[c][k]);
-                        if (j > 0) b += rest_v * double(d.down[c][k - std::size_t(nu)]);
-                        if (j + 1 < nv) b -= rest_v * double(d.down[c][k]);
-                        w.global_rhs[c][k] = T(double(w.global_rhs[c][k]) + b);
-                    }
-                }
-            });
-        }
+        tbb::parallel_for(0, nv, [&](int j) { row_lengths_and_energy(j, px, py, pz, factor_u, factor_v, omega); });
+        tbb::parallel_for(0, nv, [&](int j) { row_right_hand_side(j, px, py, pz); });
+        if (smoothing) add_thread_directions(px, py, pz);
         // The pins' right-hand sides, which the solve ignores, as +0: then it need not copy
         // the rest to zero them.
         for (const int p : m.pinned_vertices)
@@ -492,32 +506,11 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
         const double edges = double(grid.nu - 1) * grid.nv + double(grid.nv - 1) * grid.nu;
         out.mean /= edges;
         return out;
-    };
+    }
 
-    // Anderson acceleration of the local/global fixed-point map (anderson.hpp), with the
-    // plain step whenever the accelerated one would raise the energy.
-    detail::Anderson<T>& anderson = w.anderson;
-    anderson.restart();
-    Local state = local(w.current.data());
-    double accepted_energy = state.energy;
-    while (!(state.mean <= m.settings.target_mean && state.max <= m.settings.target_max) &&
-           iteration < m.settings.max_iterations) {
-        // Not there yet after every kSoftenEvery iterations: the targets ask for more than the
-        // cloth can give, so soften them.  After the smoothing phase: plain projections.
-        const bool soften = iteration > 0 && iteration % kSoftenEvery == 0;
-        const bool smoothing_over = iteration > 0 && iteration == m.settings.smoothing_iterations;
-        if (soften || smoothing_over) anderson.forget();  // a new fixed-point map: the history goes
-        // The last local step already projected plainly (it ran with the phase's last
-        // iteration counted): only a softened pull changes what it computed.
-        if (soften) {
-            anchor_scale *= 0.5, set_pull();
-            state = local(w.current.data());
-            accepted_energy = state.energy;
-        }
-        ++iteration;
-        // The global step, g = G(current), a coordinate at a time, the pins exactly where
-        // they are held (the solve meets them to rounding).
-        T* const g = anderson.g();
+    // The global step, g = G(current), a coordinate at a time, the pins exactly where they
+    // are held (the solve meets them to rounding).
+    void global_step(T* const g) {
         tbb::parallel_for(0, 3, [&](int c) {
             T* const solved = g + std::size_t(c) * n;
             m.solver->solve(w.global_rhs[std::size_t(c)].data(), pinned_positions[std::size_t(c)], solved,
@@ -525,40 +518,104 @@ RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::v
             for (std::size_t i = 0; i < m.pinned_vertices.size(); ++i)
                 solved[m.pinned_vertices[i]] = T(pinned_positions[std::size_t(c)][Eigen::Index(i)]);
         });
-        const bool accelerated = anderson.step(w.current.data(), w.next.data());
-        state = local(accelerated ? w.next.data() : anderson.last_g());
-        bool plain = !accelerated;
-        if (accelerated && !(state.energy <= accepted_energy)) {  // fall back to the plain step
-            state = local(anderson.last_g());
-            anderson.forget();
-            plain = true;
-        }
-        accepted_energy = state.energy;
-        if (plain)
-            std::copy(anderson.last_g(), anderson.last_g() + 3 * n, w.current.begin());
-        else
-            w.current.swap(w.next);
-        // A few edges left beyond the max: strain limiting in windows around them.  Aimed
-        // a little inside the bound (the global step nudges them back out), each window's
-        // edges settled within 0.8 of that (docs/benchmarks.md, "Windows that settle into a
-        // band").  Three tries at most per relaxation; a window that cannot settle (a pinned
-        // edge's neighbours) is left to the global iterations.
-        if (m.settings.window_fix_below_max > 0.0 && report.window_fixes < kMaxWindowFixes &&
-            iteration >= m.settings.smoothing_iterations && state.mean <= m.settings.target_mean &&
-            state.max > m.settings.target_max && state.max <= m.settings.window_fix_below_max) {
-            ++report.window_fixes;
-            m.windows.limit(w.current.data(), w.current.data() + n, w.current.data() + 2 * n,
-                            kWindowAim * m.settings.target_max, kWindowSettle * kWindowAim * m.settings.target_max,
-                            w.windows);
-            anderson.forget();
-            state = local(w.current.data());
+    }
+
+    // A few edges left beyond the max: strain limiting in windows around them.  Aimed a
+    // little inside the bound (the global step nudges them back out), each window's edges
+    // settled within 0.8 of that (docs/benchmarks.md, "Windows that settle into a band").
+    // Three tries at most per relaxation; a window that cannot settle (a pinned edge's
+    // neighbours) is left to the global iterations.  True when it ran.
+    bool window_fix(RelaxReport& report, const Local& state) {
+        if (!(m.settings.window_fix_below_max > 0.0 && report.window_fixes < kMaxWindowFixes &&
+              iteration >= m.settings.smoothing_iterations && state.mean <= m.settings.target_mean &&
+              state.max > m.settings.target_max && state.max <= m.settings.window_fix_below_max))
+            return false;
+        ++report.window_fixes;
+        m.windows.limit(w.current.data(), w.current.data() + n, w.current.data() + 2 * n,
+                        kWindowAim * m.settings.target_max, kWindowSettle * kWindowAim * m.settings.target_max,
+                        w.windows);
+        return true;
+    }
+
+    // Anderson acceleration of the local/global fixed-point map (anderson.hpp), with the
+    // plain step whenever the accelerated one would raise the energy.
+    void iterate(RelaxReport& report) {
+        detail::Anderson<T>& anderson = w.anderson;
+        anderson.restart();
+        Local state = local(w.current.data());
+        double accepted_energy = state.energy;
+        while (!(state.mean <= m.settings.target_mean && state.max <= m.settings.target_max) &&
+               iteration < m.settings.max_iterations) {
+            // Not there yet after every kSoftenEvery iterations: the targets ask for more than
+            // the cloth can give, so soften them.  After the smoothing phase: plain projections.
+            const bool soften = iteration > 0 && iteration % kSoftenEvery == 0;
+            const bool smoothing_over = iteration > 0 && iteration == m.settings.smoothing_iterations;
+            if (soften || smoothing_over) anderson.forget();  // a new fixed-point map: the history goes
+            // The last local step already projected plainly (it ran with the phase's last
+            // iteration counted): only a softened pull changes what it computed.
+            if (soften) {
+                anchor_scale *= 0.5, set_pull();
+                state = local(w.current.data());
+                accepted_energy = state.energy;
+            }
+            ++iteration;
+            global_step(anderson.g());
+            const bool accelerated = anderson.step(w.current.data(), w.next.data());
+            state = local(accelerated ? w.next.data() : anderson.last_g());
+            bool plain = !accelerated;
+            if (accelerated && !(state.energy <= accepted_energy)) {  // fall back to the plain step
+                state = local(anderson.last_g());
+                anderson.forget();
+                plain = true;
+            }
             accepted_energy = state.energy;
+            if (plain)
+                std::copy(anderson.last_g(), anderson.last_g() + 3 * n, w.current.begin());
+            else
+                w.current.swap(w.next);
+            if (window_fix(report, state)) {
+                anderson.forget();
+                state = local(w.current.data());
+                accepted_energy = state.energy;
+            }
         }
     }
-    each_row([&](std::size_t k) {
-        positions[k] = Vec3f(float(w.current[k]), float(w.current[n + k]), float(w.current[2 * n + k]));
-    });
-    report.iterations = iteration;
+
+    void store(std::vector<Vec3f>& positions) const {
+        each_row([&](std::size_t k) {
+            positions[k] = Vec3f(float(w.current[k]), float(w.current[n + k]), float(w.current[2 * n + k]));
+        });
+    }
+};
+
+template <typename T>
+RelaxReport GridRelaxer::Impl::relax(std::vector<Vec3f>& positions, const std::vector<Vec3f>& targets) const {
+    const Impl& m = *this;
+    const GridSize grid = m.grid;
+    const std::size_t n = std::size_t(grid.nu) * std::size_t(grid.nv);
+    if (positions.size() != n || targets.size() != n)
+        throw InputError("relaxation: positions and targets must have one entry per grid vertex");
+    const ClothParams rest_params = [&] {
+        ClothParams p;
+        p.width_m = m.rest_u * (grid.nu - 1);
+        p.height_m = m.rest_v * (grid.nv - 1);
+        return p;
+    }();
+    RelaxReport report;
+    if (m.settings.report_stretch) report.before = detail::grid_stretch(targets, rest_params, grid);
+    const std::vector<double> crest = fold_line_vertices(targets, grid, m.rest_v);
+
+    std::unique_ptr<Workspace<T>> workspace;
+    {
+        const std::lock_guard<std::mutex> hold(m.spare_lock);
+        workspace = std::move(m.spare<T>());
+    }
+    if (!workspace) workspace = std::make_unique<Workspace<T>>(n, grid.nv);
+    Run<T> run(m, *workspace, crest);
+    run.start(positions, targets);
+    run.iterate(report);
+    run.store(positions);
+    report.iterations = run.iteration;
     if (m.settings.report_stretch) report.after = detail::grid_stretch(positions, rest_params, grid);
     const std::lock_guard<std::mutex> hold(m.spare_lock);
     m.spare<T>() = std::move(workspace);

@@ -49,10 +49,9 @@ LookKey file_key(LookKey key, std::filesystem::path Appearance::*member) {
     return key;
 }
 
-std::vector<LookKey> make_keys() {
+// [mechanics]: what the drape model reads.
+void add_mechanics_keys(std::vector<LookKey>& keys) {
     constexpr auto mech = LookSection::mechanics;
-    constexpr auto app = LookSection::appearance;
-    std::vector<LookKey> keys;
     keys.push_back(number_key({.section = mech,
                                .name = "thickness_mm",
                                .range = {0.0, 50.0, false, true, "mm"},
@@ -103,7 +102,11 @@ std::vector<LookKey> make_keys() {
                                .default_text = "23.9 pi^2/12 = 19.657",
                                .meaning = "plate buckling coefficient c"},
                               &Look::mechanics, &Mechanics::load_constant));
+}
 
+// [appearance]: the yarns' colours and the weave.
+void add_colour_and_weave_keys(std::vector<LookKey>& keys) {
+    constexpr auto app = LookSection::appearance;
     keys.push_back(colour_key({.name = "base_colour",
                                .required = true,
                                .alternative = "texture",
@@ -148,6 +151,11 @@ std::vector<LookKey> make_keys() {
          .get = [](const Look& l) -> LookValue { return static_cast<long long>(l.appearance.twill_float); },
          .set = [](Look& l,
                    const LookValue& v) { l.appearance.twill_float = static_cast<int>(std::get<long long>(v)); }});
+}
+
+// [appearance]: the surface's BSDF and its perturbation.
+void add_surface_keys(std::vector<LookKey>& keys) {
+    constexpr auto app = LookSection::appearance;
     keys.push_back(number_key({.section = app,
                                .name = "repeat_mm",
                                .range = {0.0, 1000.0, false, true, "mm"},
@@ -209,6 +217,13 @@ std::vector<LookKey> make_keys() {
                                .default_text = "1",
                                .meaning = "scales the procedural/normal-map perturbation"},
                               &Look::appearance, &Appearance::bump_strength));
+}
+
+std::vector<LookKey> make_keys() {
+    std::vector<LookKey> keys;
+    add_mechanics_keys(keys);
+    add_colour_and_weave_keys(keys);
+    add_surface_keys(keys);
     return keys;
 }
 

@@ -158,6 +158,100 @@ GLuint attach_renderbuffer(GLenum attachment, GLenum format, int samples, int wi
     return buffer;
 }
 
+
+// The scene's bounding sphere: it fixes the depth range and the key light's far plane.
+struct SceneBounds {
+    Vec3f centre;
+    float radius;
+};
+
+SceneBounds scene_bounds(const PreviewScene& scene) {
+    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max());
+    Vec3f hi = -lo;
+    for (const PreviewObject& object : scene.objects)
+        for (const Vec3f& p : object.mesh->positions) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+    if (scene.objects.empty()) lo = hi = Vec3f::Zero();
+    return {0.5f * (lo + hi), std::max(0.5f * (hi - lo).norm(), 1e-3f)};
+}
+
+Eigen::Matrix4f camera_view_proj(const PreviewCamera& camera, const SceneBounds& bounds, int width, int height) {
+    const float to_centre = (bounds.centre - camera.position).norm();
+    const float near_m = std::max(to_centre - 1.05f * bounds.radius, 1e-3f * bounds.radius);
+    const float far_m = to_centre + 1.05f * bounds.radius;
+    const float fov = camera.vertical_fov_deg * kPiF / 180.0f;
+    return perspective(fov, static_cast<float>(width) / static_cast<float>(height), near_m, far_m) *
+           look_at(camera.position, camera.target, camera.up);
+}
+
+// The key light's shadow map: its frustum, size and PCF tap spacing.
+struct ShadowSetup {
+    Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
+    bool has_shadow = false;
+    int map_size = kMinShadowMapSize;
+    float step = 0.0f;  // PCF tap spacing in texture coordinates
+};
+
+// The key light's shadow frustum covers the shadow casters only (receivers outside it
+// are lit), so a large backdrop does not dilute the shadow map's resolution.
+ShadowSetup shadow_setup(const PreviewScene& scene, float radius) {
+    Vec3f caster_lo = Vec3f::Constant(std::numeric_limits<float>::max());
+    Vec3f caster_hi = -caster_lo;
+    for (const PreviewObject& object : scene.objects)
+        if (object.casts_shadow)
+            for (const Vec3f& p : object.mesh->positions) {
+                caster_lo = caster_lo.cwiseMin(p);
+                caster_hi = caster_hi.cwiseMax(p);
+            }
+    ShadowSetup out;
+    if (scene.lights.empty() || !(caster_lo.x() <= caster_hi.x())) return out;
+    const Vec3f caster_centre = 0.5f * (caster_lo + caster_hi);
+    const float caster_radius = std::max(0.5f * (caster_hi - caster_lo).norm(), 1e-3f);
+    const Vec3f key = scene.lights.front().position;
+    const float distance = (caster_centre - key).norm();
+    if (!(distance > caster_radius * 1.01f)) return out;
+    const float half_angle = std::asin(std::min(caster_radius / distance, 0.99f)) * 1.05f;
+    // The far plane reaches past the casters so receivers behind them compare correctly.
+    out.light_view_proj = perspective(2.0f * half_angle, 1.0f, distance - caster_radius, distance + 4.0f * radius) *
+                          look_at(key, caster_centre,
+                                  std::abs((caster_centre - key).normalized().y()) > 0.99f ? Vec3f(1.0f, 0.0f, 0.0f)
+                                                                                           : Vec3f(0.0f, 1.0f, 0.0f));
+    out.has_shadow = true;
+    // An area light's penumbra: about size/distance of the gap between occluder and
+    // receiver, taken at a typical fold-to-fold gap of 5 cm.  The 3x3 taps span it, one
+    // texel apart where the map's size allows, so the bilinear taps blend smoothly.
+    const float penumbra_m = scene.lights.front().size_m / distance * 0.05f;
+    const float frustum_m = 2.0f * std::tan(half_angle) * distance;
+    const float wanted = std::ceil(frustum_m / std::max(0.5f * penumbra_m, 1e-6f) / 32.0f) * 32.0f;
+    out.map_size = static_cast<int>(std::clamp(wanted, float(kMinShadowMapSize), float(kMaxShadowMapSize)));
+    const float texel_m = frustum_m / out.map_size;
+    out.step = std::clamp(0.5f * penumbra_m / texel_m, 1.0f, 24.0f) / out.map_size;
+    return out;
+}
+
+// The read-back colour and distance as an image: OpenGL's rows run bottom-up, images top-down.
+PreviewImage image_from_rows(int width, int height, const std::vector<float>& rgba,
+                             const std::vector<float>& distance) {
+    PreviewImage image;
+    image.width = width;
+    image.height = height;
+    const std::size_t row = static_cast<std::size_t>(width);
+    image.rgba.resize(rgba.size());
+    image.depth.resize(distance.size());  // empty without a depth pass
+    for (int y = 0; y < height; ++y) {
+        const std::size_t from = static_cast<std::size_t>(height - 1 - y) * row;
+        const std::size_t to = static_cast<std::size_t>(y) * row;
+        std::copy_n(rgba.begin() + 4 * from, 4 * row, image.rgba.begin() + 4 * to);
+        for (std::size_t x = 0; x < distance.size() / height; ++x) {
+            const float d = distance[from + x];
+            image.depth[to + x] = d >= 0.5f * kEmptyDistance ? std::numeric_limits<float>::infinity() : d;
+        }
+    }
+    return image;
+}
+
 }  // namespace
 
 struct PreviewRenderer::State {
@@ -263,66 +357,14 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     State& s = *state_;
     s.egl.make_current();
 
-    // Scene bounds fix the depth range and the key light's shadow frustum.
-    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max());
-    Vec3f hi = -lo;
-    for (const PreviewObject& object : scene.objects)
-        for (const Vec3f& p : object.mesh->positions) {
-            lo = lo.cwiseMin(p);
-            hi = hi.cwiseMax(p);
-        }
-    if (scene.objects.empty()) lo = hi = Vec3f::Zero();
-    const Vec3f centre = 0.5f * (lo + hi);
-    const float radius = std::max(0.5f * (hi - lo).norm(), 1e-3f);
-
+    const SceneBounds bounds = scene_bounds(scene);
     const PreviewCamera& camera = scene.camera;
-    const float to_centre = (centre - camera.position).norm();
-    const float near_m = std::max(to_centre - 1.05f * radius, 1e-3f * radius);
-    const float far_m = to_centre + 1.05f * radius;
-    const float fov = camera.vertical_fov_deg * kPiF / 180.0f;
-    const Eigen::Matrix4f view_proj =
-        perspective(fov, static_cast<float>(s.width) / static_cast<float>(s.height), near_m, far_m) *
-        look_at(camera.position, camera.target, camera.up);
-
-    // The key light's shadow frustum covers the shadow casters only (receivers outside it
-    // are lit), so a large backdrop does not dilute the shadow map's resolution.
-    Vec3f caster_lo = Vec3f::Constant(std::numeric_limits<float>::max());
-    Vec3f caster_hi = -caster_lo;
-    for (const PreviewObject& object : scene.objects)
-        if (object.casts_shadow)
-            for (const Vec3f& p : object.mesh->positions) {
-                caster_lo = caster_lo.cwiseMin(p);
-                caster_hi = caster_hi.cwiseMax(p);
-            }
-    Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
-    bool has_shadow = false;
-    int shadow_map_size = kMinShadowMapSize;
-    float shadow_step = 0.0f;  // PCF tap spacing in texture coordinates
-    if (!scene.lights.empty() && caster_lo.x() <= caster_hi.x()) {
-        const Vec3f caster_centre = 0.5f * (caster_lo + caster_hi);
-        const float caster_radius = std::max(0.5f * (caster_hi - caster_lo).norm(), 1e-3f);
-        const Vec3f key = scene.lights.front().position;
-        const float distance = (caster_centre - key).norm();
-        if (distance > caster_radius * 1.01f) {
-            const float half_angle = std::asin(std::min(caster_radius / distance, 0.99f)) * 1.05f;
-            // The far plane reaches past the casters so receivers behind them compare correctly.
-            light_view_proj =
-                perspective(2.0f * half_angle, 1.0f, distance - caster_radius, distance + 4.0f * radius) *
-                look_at(key, caster_centre,
-                        std::abs((caster_centre - key).normalized().y()) > 0.99f ? Vec3f(1.0f, 0.0f, 0.0f)
-                                                                                 : Vec3f(0.0f, 1.0f, 0.0f));
-            has_shadow = true;
-            // An area light's penumbra: about size/distance of the gap between occluder and
-            // receiver, taken at a typical fold-to-fold gap of 5 cm.  The 3x3 taps span it, one
-            // texel apart where the map's size allows, so the bilinear taps blend smoothly.
-            const float penumbra_m = scene.lights.front().size_m / distance * 0.05f;
-            const float frustum_m = 2.0f * std::tan(half_angle) * distance;
-            const float wanted = std::ceil(frustum_m / std::max(0.5f * penumbra_m, 1e-6f) / 32.0f) * 32.0f;
-            shadow_map_size = static_cast<int>(std::clamp(wanted, float(kMinShadowMapSize), float(kMaxShadowMapSize)));
-            const float texel_m = frustum_m / shadow_map_size;
-            shadow_step = std::clamp(0.5f * penumbra_m / texel_m, 1.0f, 24.0f) / shadow_map_size;
-        }
-    }
+    const Eigen::Matrix4f view_proj = camera_view_proj(camera, bounds, s.width, s.height);
+    const ShadowSetup shadow = shadow_setup(scene, bounds.radius);
+    const Eigen::Matrix4f& light_view_proj = shadow.light_view_proj;
+    const bool has_shadow = shadow.has_shadow;
+    const int shadow_map_size = shadow.map_size;
+    const float shadow_step = shadow.step;
 
     std::vector<GpuMesh> meshes;
     meshes.reserve(scene.objects.size());
@@ -395,9 +437,6 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
         for (const GpuMesh& mesh : meshes) draw(mesh);
     }
 
-    PreviewImage image;
-    image.width = s.width;
-    image.height = s.height;
     std::vector<float> rgba(static_cast<std::size_t>(s.width) * s.height * 4);
     std::vector<float> distance(scene.want_depth ? static_cast<std::size_t>(s.width) * s.height : 0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -410,20 +449,7 @@ PreviewImage PreviewRenderer::render(const PreviewScene& scene) {
     check_gl("preview rendering");
     for (GpuMesh& mesh : meshes) release(mesh);
 
-    // OpenGL's rows run bottom-up; images run top-down.
-    const std::size_t row = static_cast<std::size_t>(s.width);
-    image.rgba.resize(rgba.size());
-    image.depth.resize(distance.size());  // empty without a depth pass
-    for (int y = 0; y < s.height; ++y) {
-        const std::size_t from = static_cast<std::size_t>(s.height - 1 - y) * row;
-        const std::size_t to = static_cast<std::size_t>(y) * row;
-        std::copy_n(rgba.begin() + 4 * from, 4 * row, image.rgba.begin() + 4 * to);
-        for (std::size_t x = 0; x < distance.size() / s.height; ++x) {
-            const float d = distance[from + x];
-            image.depth[to + x] = d >= 0.5f * kEmptyDistance ? std::numeric_limits<float>::infinity() : d;
-        }
-    }
-    return image;
+    return image_from_rows(s.width, s.height, rgba, distance);
 }
 
 }  // namespace foldcast::preview

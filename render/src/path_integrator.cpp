@@ -34,6 +34,54 @@ void add(V3& radiance, const V3& contribution, int depth) {
     radiance += contribution;
 }
 
+// What the previous vertex left for weighing the light that the path's next ray finds.
+struct PreviousVertex {
+    float bsdf_pdf = 0.0f;
+    bool specular_only = true;  // camera ray: lights are not seen directly
+    LightChoice choice;
+    LightSample drawn;  // the light sample drawn at the previous vertex (light -1: none)
+    Vec3f n = Vec3f::UnitY(), p = Vec3f::Zero();
+};
+
+// A light the ray (o, d) hits before t_surface (never for the camera ray) ends the path: its
+// light added with its MIS weight; true when one did.
+bool add_light_hit(const LightSampler& lights, const PreviousVertex& prev, const Vec3f& o, const Vec3f& d,
+                   float t_surface, int depth, float light_hit_share, const V3& beta, V3& radiance) {
+    if (depth == 0 || lights.empty()) return false;
+    const LightHit lh = lights.hit(o, d, t_surface);
+    if (lh.index < 0) return false;
+    float w = prev.specular_only ? 1.0f : bsdf_hit_weight(lights, prev.choice, &prev.drawn, prev.p, o, d, lh, prev.bsdf_pdf);
+    if (depth == 1) w *= light_hit_share;
+    add(radiance, beta.cwiseProduct(lights.radiance(lh.index)) * w, depth);
+    return true;
+}
+
+// A ray that hits nothing sees the environment (the camera's: the background).
+void add_environment(const LightSampler& lights, const PreviousVertex& prev, const Vec3f& d, int depth,
+                     bool transparent, const V3& beta, PathSample& out) {
+    if (depth == 0) {
+        out.foreground = !transparent;
+        out.radiance = lights.environment();
+        return;
+    }
+    const float pdf_env = lights.environment_pdf(prev.choice, d, prev.n);
+    const float w = power_heuristic(prev.bsdf_pdf, pdf_env);
+    add(out.radiance, beta.cwiseProduct(lights.environment()) * w, depth);
+}
+
+// The camera ray's first hit, for the AOVs and the denoiser's features.
+void keep_first_hit(PathSample& out, const Hit& hit, const ClothBsdf& bsdf, const Frame& frame, bool transparent) {
+    out.albedo = bsdf.albedo();
+    out.normal = hit.ns;
+    out.shading_normal = frame.n;
+    out.depth = hit.t;
+    out.garment = hit.material == MaterialId::garment;
+    out.turning = hit.material != MaterialId::backdrop;
+    out.metal = hit.material == MaterialId::metal || hit.material == MaterialId::wire;
+    out.fold = out.garment ? hit.fold : 0.0f;
+    if (transparent && hit.material == MaterialId::backdrop) out.foreground = false;
+}
+
 }  // namespace
 
 PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool first_hit, const RTCRay& ray0,
@@ -46,37 +94,16 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
     RTCRay cur_ray = ray0;
     RTCHit cur_hit = hit0;
     RTCRayHit rh;
-    float prev_bsdf_pdf = 0.0f;
-    bool prev_specular_only = true;  // camera ray: lights are not seen directly
-    LightChoice prev_choice;
-    LightSample prev_drawn;  // the light sample drawn at the previous vertex (light -1: none)
-    Vec3f prev_n = Vec3f::UnitY(), prev_p = Vec3f::Zero();
+    PreviousVertex prev;
     float cone = 0.0f, spread = pixel_angle;
     float light_hit_share = 1.0f;  // of the light the first hit's BSDF sample reaches (split at metal)
     if (record) record->hit(cam_o, cam_d, first_hit, ray0.tfar, hit0.geomID);
     for (int depth = 0;; ++depth) {
         // Emission seen along the ray: lights (not for camera rays) and the environment.
         const float t_surface = have_hit ? cur_ray.tfar : kInf;
-        if (depth > 0 && !lights_.empty()) {
-            const LightHit lh = lights_.hit(o, d, t_surface);
-            if (lh.index >= 0) {
-                float w = prev_specular_only
-                              ? 1.0f
-                              : bsdf_hit_weight(lights_, prev_choice, &prev_drawn, prev_p, o, d, lh, prev_bsdf_pdf);
-                if (depth == 1) w *= light_hit_share;
-                add(out.radiance, beta.cwiseProduct(lights_.radiance(lh.index)) * w, depth);
-                break;
-            }
-        }
+        if (add_light_hit(lights_, prev, o, d, t_surface, depth, light_hit_share, beta, out.radiance)) break;
         if (!have_hit) {
-            if (depth == 0) {
-                out.foreground = !transparent_;
-                out.radiance = lights_.environment();
-            } else {
-                const float pdf_env = lights_.environment_pdf(prev_choice, d, prev_n);
-                const float w = power_heuristic(prev_bsdf_pdf, pdf_env);
-                add(out.radiance, beta.cwiseProduct(lights_.environment()) * w, depth);
-            }
+            add_environment(lights_, prev, d, depth, transparent_, beta, out);
             break;
         }
         // The last vertex of a path past the camera's shades nothing: its emission was taken
@@ -90,17 +117,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
         const BsdfLobes* lobes = nullptr;  // set with the frame
         const BsdfParams params = materials_.at(hit, wo, cone / cos_view, &frame, &lobes);
         const ClothBsdf bsdf(params, *lobes, frame.to_local(wo));
-        if (depth == 0) {
-            out.albedo = bsdf.albedo();
-            out.normal = hit.ns;
-            out.shading_normal = frame.n;
-            out.depth = hit.t;
-            out.garment = hit.material == MaterialId::garment;
-            out.turning = hit.material != MaterialId::backdrop;
-            out.metal = hit.material == MaterialId::metal || hit.material == MaterialId::wire;
-            out.fold = out.garment ? hit.fold : 0.0f;
-            if (transparent_ && hit.material == MaterialId::backdrop) out.foreground = false;
-        }
+        if (depth == 0) keep_first_hit(out, hit, bsdf, frame, transparent_);
         if (depth + 1 >= max_depth_) break;
 
         // Next-event estimation's light sample and the BSDF sample that continues the path,
@@ -172,12 +189,7 @@ PathSample PathIntegrator::trace(const Vec3f& cam_o, const Vec3f& cam_d, bool fi
             if (sampler.get1d() >= q) break;
             beta /= q;
         }
-        prev_bsdf_pdf = pdf_bsdf;
-        prev_specular_only = false;
-        prev_choice = choice;
-        prev_drawn = ls.value_or(LightSample{});
-        prev_n = hit.ns;
-        prev_p = hit.p;
+        prev = PreviousVertex{pdf_bsdf, false, choice, ls.value_or(LightSample{}), hit.ns, hit.p};
         spread += 0.2f;  // a rough bounce widens the footprint cone
         o = offset_origin(hit.p, hit.ng, wi);
         d = wi;

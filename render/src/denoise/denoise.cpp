@@ -223,38 +223,6 @@ private:
 
     template <bool kCross>
     void pass_row(Row& row, int y, int stride, Buffer& a, Buffer& b, bool relaxed) {
-        const float* const nx = g_.nx.data();
-        const float* const ny = g_.ny.data();
-        const float* const nz = g_.nz.data();
-        const std::int32_t* const sky = g_.sky.data();
-        const float* const depth = g_.depth.data();
-        const float* const inv_depth = g_.inv_depth_tolerance.data();
-        const std::int32_t* const covered = g_.covered.data();
-        const std::int32_t* const cloth = g_.cloth.data();
-        const float* const turning = g_.turning.data();
-        const float* const ax = g_.ax.data();
-        const float* const ay = g_.ay.data();
-        const float* const az = g_.az.data();
-        const float* const g_lum = b.lum.data();
-        const float* const a_lum = a.lum.data();
-        const float* const g_inv_sigma = b.inv_sigma.data();
-        const float* const a_inv_sigma = a.inv_sigma.data();
-        const V3* const a_light = a.light.data();
-        const float* const a_variance = a.variance.data();
-        const V3* const b_light = b.light.data();
-        const float* const b_variance = b.variance.data();
-        float* const e_a = row.e_a.data();
-        float* const e_b = row.e_b.data();
-        float* const x_a = row.x_a.data();
-        float* const x_b = row.x_b.data();
-        float* const nw = row.nw.data();
-        float* const nw4 = row.nw4.data();
-        float* const sum_a = row.sum_a.data();
-        float* const wa = row.wa.data();
-        float* const va = row.va.data();
-        float* const sum_b = row.sum_b.data();
-        float* const wb = row.wb.data();
-        float* const vb = row.vb.data();
         std::fill(row.sum_a.begin(), row.sum_a.end(), 0.0f);
         std::fill(row.wa.begin(), row.wa.end(), 0.0f);
         std::fill(row.va.begin(), row.va.end(), 0.0f);
@@ -274,142 +242,216 @@ private:
                 const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dy) * stride * w_ + dx * stride;
                 const float inv_distance = 1.0f / std::max(1.0f, static_cast<float>(stride) *
                                                                      std::sqrt(static_cast<float>(dx * dx + dy * dy)));
-                // The row's pixels (p) from x0 on and their taps (q), indexed by t = x - x0.
-                const float *const depth_p = depth + r + x0, *const depth_q = depth_p + offset;
-                const float *const turning_p = turning + r + x0, *const turning_q = turning_p + offset;
-                const float *const g_lum_p = g_lum + r + x0, *const g_lum_q = g_lum_p + offset;
-                const float *const a_lum_p = a_lum + r + x0, *const a_lum_q = a_lum_p + offset;
-                const float *const nx_p = nx + r + x0, *const nx_q = nx_p + offset;
-                const float *const ny_p = ny + r + x0, *const ny_q = ny_p + offset;
-                const float *const nz_p = nz + r + x0, *const nz_q = nz_p + offset;
-                const std::int32_t *const sky_p = sky + r + x0, *const sky_q = sky_p + offset;
-                const std::int32_t *const covered_p = covered + r + x0, *const covered_q = covered_p + offset;
-                const float* const inv_depth_p = inv_depth + r + x0;
-                const float* const g_inv_sigma_p = g_inv_sigma + r + x0;
-                const float* const a_inv_sigma_p = a_inv_sigma + r + x0;
-                const int taps = x1 - x0;
-                float *const e_a_t = e_a + x0, *const e_b_t = e_b + x0, *const nw_t = nw + x0, *const nw4_t = nw4 + x0;
-                float *const x_a_t = x_a + x0, *const x_b_t = x_b + x0;
-                int t = 0;
-#if defined(__SSE2__)
-                // Four pixels at a time, each lane the same operations in the same order as
-                // the loop below (which does the rest): the same floats.
-                const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-                const __m128 sign_bit = _mm_set1_ps(-0.0f);
-                const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-                const __m128 dead_zone = _mm_set1_ps(kMixDeadZone), mix_scale = _mm_set1_ps(kMixScale);
-                const __m128 inv_distance4 = _mm_set1_ps(inv_distance);
-                const auto abs_diff = [&](const float* q, const float* p) {
-                    return _mm_and_ps(_mm_sub_ps(_mm_loadu_ps(q), _mm_loadu_ps(p)), abs_mask);
-                };
-                const auto select = [](__m128 mask, __m128 if_set, __m128 if_clear) {
-                    return _mm_or_ps(_mm_and_ps(mask, if_set), _mm_andnot_ps(mask, if_clear));
-                };
-                const auto both = [](const std::int32_t* p, const std::int32_t* q) {
-                    const __m128i flags = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)),
-                                                        _mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
-                    return _mm_castsi128_ps(_mm_cmpeq_epi32(flags, _mm_set1_epi32(1)));
-                };
-                for (; t + 4 <= taps; t += 4) {
-                    const __m128 e_depth = _mm_mul_ps(
-                        _mm_mul_ps(abs_diff(depth_q + t, depth_p + t), _mm_loadu_ps(inv_depth_p + t)), inv_distance4);
-                    const __m128 mix = abs_diff(turning_q + t, turning_p + t);
-                    const __m128 e_mixed = _mm_add_ps(e_depth, _mm_mul_ps(mix_scale, _mm_sub_ps(mix, dead_zone)));
-                    const __m128 e = select(_mm_cmpgt_ps(mix, dead_zone), e_mixed, e_depth);
-                    const __m128 ea =
-                        _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + t, g_lum_p + t), _mm_loadu_ps(g_inv_sigma_p + t)));
-                    _mm_storeu_ps(e_a_t + t, ea);
-                    _mm_storeu_ps(x_a_t + t, fast_exp4(_mm_xor_ps(ea, sign_bit)));
-                    if (kCross) {
-                        const __m128 eb = _mm_add_ps(
-                            e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t), _mm_loadu_ps(a_inv_sigma_p + t)));
-                        _mm_storeu_ps(e_b_t + t, eb);
-                        _mm_storeu_ps(x_b_t + t, fast_exp4(_mm_xor_ps(eb, sign_bit)));
-                    }
-                    const __m128 dot =
-                        _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
-                                   _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
-                                              _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
-                    __m128 c = _mm_max_ps(dot, zero);  // dot > 0 ? dot : 0, as std::max(0.0f, dot)
-                    c = _mm_mul_ps(c, c);
-                    c = _mm_mul_ps(c, c);
-                    _mm_storeu_ps(nw4_t + t, c);
-                    for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c = _mm_mul_ps(c, c);
-                    const __m128 n = select(both(sky_p + t, sky_q + t), one, c);
-                    _mm_storeu_ps(nw_t + t, _mm_and_ps(both(covered_p + t, covered_q + t), n));
-                }
-#endif
-                for (; t < taps; ++t) {
-                    const float e_depth = std::abs(depth_q[t] - depth_p[t]) * inv_depth_p[t] * inv_distance;
-                    // The mixture term, added only beyond the dead zone (where it is not 0).
-                    const float mix = std::abs(turning_q[t] - turning_p[t]);
-                    const float e = mix > kMixDeadZone ? e_depth + kMixScale * (mix - kMixDeadZone) : e_depth;
-                    e_a_t[t] = e + std::abs(g_lum_q[t] - g_lum_p[t]) * g_inv_sigma_p[t];
-                    x_a_t[t] = fast_exp(-e_a_t[t]);
-                    if (kCross) {
-                        e_b_t[t] = e + std::abs(a_lum_q[t] - a_lum_p[t]) * a_inv_sigma_p[t];
-                        x_b_t[t] = fast_exp(-e_b_t[t]);
-                    }
-                    // The normal weight cos^128, or cos^4 (the chain's second step) between
-                    // cloth pixels of one albedo in a relaxed pass (below); 0 between sky (zero
-                    // normal) and surface, 1 between two sky pixels.
-                    const float dot = nx_p[t] * nx_q[t] + (ny_p[t] * ny_q[t] + nz_p[t] * nz_q[t]);
-                    float c = std::max(0.0f, dot);
-                    c *= c;
-                    c *= c;
-                    nw4_t[t] = c;
-                    for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c *= c;
-                    // (bitwise & on the 0 / 1 flags: no branches)
-                    const float n = (sky_p[t] & sky_q[t]) ? 1.0f : c;
-                    nw_t[t] = (covered_p[t] & covered_q[t]) ? n : 0.0f;
-                }
-                // The relaxed pass (one in six): cos^4 between cloth pixels of one albedo,
-                // apart so that the loop above stays branch-free.
-                if (relaxed)
-                    for (int x = x0; x < x1; ++x) {
-                        const std::ptrdiff_t i = r + x, j = i + offset;
-                        const bool same_cloth = cloth[i] && cloth[j] && std::abs(ax[i] - ax[j]) < kSameAlbedo &&
-                                                std::abs(ay[i] - ay[j]) < kSameAlbedo &&
-                                                std::abs(az[i] - az[j]) < kSameAlbedo;
-                        if (same_cloth && covered[i] && covered[j] && !(sky[i] && sky[j])) nw[x] = nw4[x];
-                    }
-                const float kernel = kKernel[dx + 1] * kKernel[dy + 1];
-                int x = x0;
-#if defined(__SSE2__)
-                // Four pixels at a time, branch-free: a tap not taken adds masked zeros
-                // (+0 leaves every sum as it is), a taken one the loop's products below.
-                const __m128 kernel4 = _mm_set1_ps(kernel);
-                for (; x + 4 <= x1; x += 4) {
-                    const std::ptrdiff_t j = r + x + offset;
-                    const __m128 n = _mm_loadu_ps(nw + x);
-                    const __m128 taken = _mm_cmpneq_ps(n, _mm_setzero_ps());
-                    const __m128 k = _mm_mul_ps(kernel4, n);
-                    accumulate4(taken, k, e_a + x, x_a + x, sum_a + 3 * x, wa + x, va + x, a_light + j, a_variance + j);
-                    if (kCross)
-                        accumulate4(taken, k, e_b + x, x_b + x, sum_b + 3 * x, wb + x, vb + x, b_light + j,
-                                    b_variance + j);
-                }
-#endif
-                for (; x < x1; ++x) {
-                    if (nw[x] == 0.0f) continue;
-                    const std::ptrdiff_t j = r + x + offset;
-                    const float k = kernel * nw[x];
-                    // Beyond kMaxExponent the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
-                    if (e_a[x] <= kMaxExponent) {
-                        const float wt = k * x_a[x];
-                        for (int c = 0; c < 3; ++c) sum_a[3 * x + c] += wt * a_light[j][c];
-                        wa[x] += wt;
-                        va[x] += wt * wt * a_variance[j];
-                    }
-                    if (kCross && e_b[x] <= kMaxExponent) {
-                        const float wt = k * x_b[x];
-                        for (int c = 0; c < 3; ++c) sum_b[3 * x + c] += wt * b_light[j][c];
-                        wb[x] += wt;
-                        vb[x] += wt * wt * b_variance[j];
-                    }
-                }
+                tap_terms<kCross>(row, r, x0, x1, offset, inv_distance, a, b);
+                if (relaxed) relax_normal_weights(row, r, x0, x1, offset);
+                add_taps<kCross>(row, r, x0, x1, offset, kKernel[dx + 1] * kKernel[dy + 1], a, b);
             }
         }
+        write_row<kCross>(row, r, a, b);
+    }
+
+    // One tap of row r's pixels x0..x1-1 (the tap at `offset` from each): their exponents
+    // e_a (e_b), exp(-e) x_a (x_b) and normal weight nw (nw4: cos^4).
+    template <bool kCross>
+    void tap_terms(Row& row, std::ptrdiff_t r, int x0, int x1, std::ptrdiff_t offset, float inv_distance,
+                   const Buffer& a, const Buffer& b) {
+        const float* const nx = g_.nx.data();
+        const float* const ny = g_.ny.data();
+        const float* const nz = g_.nz.data();
+        const std::int32_t* const sky = g_.sky.data();
+        const float* const depth = g_.depth.data();
+        const float* const inv_depth = g_.inv_depth_tolerance.data();
+        const std::int32_t* const covered = g_.covered.data();
+        const float* const turning = g_.turning.data();
+        const float* const g_lum = b.lum.data();
+        const float* const a_lum = a.lum.data();
+        const float* const g_inv_sigma = b.inv_sigma.data();
+        const float* const a_inv_sigma = a.inv_sigma.data();
+        float* const e_a = row.e_a.data();
+        float* const e_b = row.e_b.data();
+        float* const x_a = row.x_a.data();
+        float* const x_b = row.x_b.data();
+        float* const nw = row.nw.data();
+        float* const nw4 = row.nw4.data();
+        // The row's pixels (p) from x0 on and their taps (q), indexed by t = x - x0.
+        const float *const depth_p = depth + r + x0, *const depth_q = depth_p + offset;
+        const float *const turning_p = turning + r + x0, *const turning_q = turning_p + offset;
+        const float *const g_lum_p = g_lum + r + x0, *const g_lum_q = g_lum_p + offset;
+        const float *const a_lum_p = a_lum + r + x0, *const a_lum_q = a_lum_p + offset;
+        const float *const nx_p = nx + r + x0, *const nx_q = nx_p + offset;
+        const float *const ny_p = ny + r + x0, *const ny_q = ny_p + offset;
+        const float *const nz_p = nz + r + x0, *const nz_q = nz_p + offset;
+        const std::int32_t *const sky_p = sky + r + x0, *const sky_q = sky_p + offset;
+        const std::int32_t *const covered_p = covered + r + x0, *const covered_q = covered_p + offset;
+        const float* const inv_depth_p = inv_depth + r + x0;
+        const float* const g_inv_sigma_p = g_inv_sigma + r + x0;
+        const float* const a_inv_sigma_p = a_inv_sigma + r + x0;
+        const int taps = x1 - x0;
+        float *const e_a_t = e_a + x0, *const e_b_t = e_b + x0, *const nw_t = nw + x0, *const nw4_t = nw4 + x0;
+        float *const x_a_t = x_a + x0, *const x_b_t = x_b + x0;
+        int t = 0;
+#if defined(__SSE2__)
+        // Four pixels at a time, each lane the same operations in the same order as
+        // the loop below (which does the rest): the same floats.
+        const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        const __m128 sign_bit = _mm_set1_ps(-0.0f);
+        const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+        const __m128 dead_zone = _mm_set1_ps(kMixDeadZone), mix_scale = _mm_set1_ps(kMixScale);
+        const __m128 inv_distance4 = _mm_set1_ps(inv_distance);
+        const auto abs_diff = [&](const float* q, const float* p) {
+            return _mm_and_ps(_mm_sub_ps(_mm_loadu_ps(q), _mm_loadu_ps(p)), abs_mask);
+        };
+        const auto select = [](__m128 mask, __m128 if_set, __m128 if_clear) {
+            return _mm_or_ps(_mm_and_ps(mask, if_set), _mm_andnot_ps(mask, if_clear));
+        };
+        const auto both = [](const std::int32_t* p, const std::int32_t* q) {
+            const __m128i flags = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)),
+                                                _mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
+            return _mm_castsi128_ps(_mm_cmpeq_epi32(flags, _mm_set1_epi32(1)));
+        };
+        for (; t + 4 <= taps; t += 4) {
+            const __m128 e_depth = _mm_mul_ps(
+                _mm_mul_ps(abs_diff(depth_q + t, depth_p + t), _mm_loadu_ps(inv_depth_p + t)), inv_distance4);
+            const __m128 mix = abs_diff(turning_q + t, turning_p + t);
+            const __m128 e_mixed = _mm_add_ps(e_depth, _mm_mul_ps(mix_scale, _mm_sub_ps(mix, dead_zone)));
+            const __m128 e = select(_mm_cmpgt_ps(mix, dead_zone), e_mixed, e_depth);
+            const __m128 ea =
+                _mm_add_ps(e, _mm_mul_ps(abs_diff(g_lum_q + t, g_lum_p + t), _mm_loadu_ps(g_inv_sigma_p + t)));
+            _mm_storeu_ps(e_a_t + t, ea);
+            _mm_storeu_ps(x_a_t + t, fast_exp4(_mm_xor_ps(ea, sign_bit)));
+            if (kCross) {
+                const __m128 eb = _mm_add_ps(
+                    e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t), _mm_loadu_ps(a_inv_sigma_p + t)));
+                _mm_storeu_ps(e_b_t + t, eb);
+                _mm_storeu_ps(x_b_t + t, fast_exp4(_mm_xor_ps(eb, sign_bit)));
+            }
+            const __m128 dot =
+                _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
+                           _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
+                                      _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
+            __m128 c = _mm_max_ps(dot, zero);  // dot > 0 ? dot : 0, as std::max(0.0f, dot)
+            c = _mm_mul_ps(c, c);
+            c = _mm_mul_ps(c, c);
+            _mm_storeu_ps(nw4_t + t, c);
+            for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c = _mm_mul_ps(c, c);
+            const __m128 n = select(both(sky_p + t, sky_q + t), one, c);
+            _mm_storeu_ps(nw_t + t, _mm_and_ps(both(covered_p + t, covered_q + t), n));
+        }
+#endif
+        for (; t < taps; ++t) {
+            const float e_depth = std::abs(depth_q[t] - depth_p[t]) * inv_depth_p[t] * inv_distance;
+            // The mixture term, added only beyond the dead zone (where it is not 0).
+            const float mix = std::abs(turning_q[t] - turning_p[t]);
+            const float e = mix > kMixDeadZone ? e_depth + kMixScale * (mix - kMixDeadZone) : e_depth;
+            e_a_t[t] = e + std::abs(g_lum_q[t] - g_lum_p[t]) * g_inv_sigma_p[t];
+            x_a_t[t] = fast_exp(-e_a_t[t]);
+            if (kCross) {
+                e_b_t[t] = e + std::abs(a_lum_q[t] - a_lum_p[t]) * a_inv_sigma_p[t];
+                x_b_t[t] = fast_exp(-e_b_t[t]);
+            }
+            // The normal weight cos^128, or cos^4 (the chain's second step) between
+            // cloth pixels of one albedo in a relaxed pass (below); 0 between sky (zero
+            // normal) and surface, 1 between two sky pixels.
+            const float dot = nx_p[t] * nx_q[t] + (ny_p[t] * ny_q[t] + nz_p[t] * nz_q[t]);
+            float c = std::max(0.0f, dot);
+            c *= c;
+            c *= c;
+            nw4_t[t] = c;
+            for (int k = kRelaxedNormalSquarings; k < kNormalSquarings; ++k) c *= c;
+            // (bitwise & on the 0 / 1 flags: no branches)
+            const float n = (sky_p[t] & sky_q[t]) ? 1.0f : c;
+            nw_t[t] = (covered_p[t] & covered_q[t]) ? n : 0.0f;
+        }
+    }
+
+    // The relaxed pass (one in six): cos^4 between cloth pixels of one albedo, apart so that
+    // tap_terms' loop stays branch-free.
+    void relax_normal_weights(Row& row, std::ptrdiff_t r, int x0, int x1, std::ptrdiff_t offset) {
+        const std::int32_t* const sky = g_.sky.data();
+        const std::int32_t* const covered = g_.covered.data();
+        const std::int32_t* const cloth = g_.cloth.data();
+        const float* const ax = g_.ax.data();
+        const float* const ay = g_.ay.data();
+        const float* const az = g_.az.data();
+        float* const nw = row.nw.data();
+        const float* const nw4 = row.nw4.data();
+        for (int x = x0; x < x1; ++x) {
+            const std::ptrdiff_t i = r + x, j = i + offset;
+            const bool same_cloth = cloth[i] && cloth[j] && std::abs(ax[i] - ax[j]) < kSameAlbedo &&
+                                    std::abs(ay[i] - ay[j]) < kSameAlbedo && std::abs(az[i] - az[j]) < kSameAlbedo;
+            if (same_cloth && covered[i] && covered[j] && !(sky[i] && sky[j])) nw[x] = nw4[x];
+        }
+    }
+
+    // The taps taken, weighted, added to each pixel's sums.
+    template <bool kCross>
+    void add_taps(Row& row, std::ptrdiff_t r, int x0, int x1, std::ptrdiff_t offset, float kernel, const Buffer& a,
+                  const Buffer& b) {
+        const V3* const a_light = a.light.data();
+        const float* const a_variance = a.variance.data();
+        const V3* const b_light = b.light.data();
+        const float* const b_variance = b.variance.data();
+        const float* const e_a = row.e_a.data();
+        const float* const e_b = row.e_b.data();
+        const float* const x_a = row.x_a.data();
+        const float* const x_b = row.x_b.data();
+        const float* const nw = row.nw.data();
+        float* const sum_a = row.sum_a.data();
+        float* const wa = row.wa.data();
+        float* const va = row.va.data();
+        float* const sum_b = row.sum_b.data();
+        float* const wb = row.wb.data();
+        float* const vb = row.vb.data();
+        int x = x0;
+#if defined(__SSE2__)
+        // Four pixels at a time, branch-free: a tap not taken adds masked zeros
+        // (+0 leaves every sum as it is), a taken one the loop's products below.
+        const __m128 kernel4 = _mm_set1_ps(kernel);
+        for (; x + 4 <= x1; x += 4) {
+            const std::ptrdiff_t j = r + x + offset;
+            const __m128 n = _mm_loadu_ps(nw + x);
+            const __m128 taken = _mm_cmpneq_ps(n, _mm_setzero_ps());
+            const __m128 k = _mm_mul_ps(kernel4, n);
+            accumulate4(taken, k, e_a + x, x_a + x, sum_a + 3 * x, wa + x, va + x, a_light + j, a_variance + j);
+            if (kCross)
+                accumulate4(taken, k, e_b + x, x_b + x, sum_b + 3 * x, wb + x, vb + x, b_light + j,
+                            b_variance + j);
+        }
+#endif
+        for (; x < x1; ++x) {
+            if (nw[x] == 0.0f) continue;
+            const std::ptrdiff_t j = r + x + offset;
+            const float k = kernel * nw[x];
+            // Beyond kMaxExponent the tap's weight (< 1e-9) is lost in the centre's (>= 1/4).
+            if (e_a[x] <= kMaxExponent) {
+                const float wt = k * x_a[x];
+                for (int c = 0; c < 3; ++c) sum_a[3 * x + c] += wt * a_light[j][c];
+                wa[x] += wt;
+                va[x] += wt * wt * a_variance[j];
+            }
+            if (kCross && e_b[x] <= kMaxExponent) {
+                const float wt = k * x_b[x];
+                for (int c = 0; c < 3; ++c) sum_b[3 * x + c] += wt * b_light[j][c];
+                wb[x] += wt;
+                vb[x] += wt * wt * b_variance[j];
+            }
+        }
+    }
+
+    // The row's sums normalised into the buffers' next values (uncovered pixels as they are).
+    template <bool kCross>
+    void write_row(const Row& row, std::ptrdiff_t r, Buffer& a, Buffer& b) {
+        const std::int32_t* const covered = g_.covered.data();
+        const V3* const a_light = a.light.data();
+        const float* const a_variance = a.variance.data();
+        const V3* const b_light = b.light.data();
+        const float* const b_variance = b.variance.data();
+        const float* const sum_a = row.sum_a.data();
+        const float* const wa = row.wa.data();
+        const float* const va = row.va.data();
+        const float* const sum_b = row.sum_b.data();
+        const float* const wb = row.wb.data();
+        const float* const vb = row.vb.data();
         for (int x = 0; x < w_; ++x) {
             const std::ptrdiff_t i = r + x;
             if (!covered[i]) {
@@ -454,18 +496,33 @@ void merge(Buffer& a, const Buffer& b, const std::vector<float>& share) {
 
 }  // namespace
 
-void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBudget budget) {
-    const int w = rgba.width, h = rgba.height;
-    const std::size_t count = static_cast<std::size_t>(w) * h;
-    const bool halves = features.half_a.size() == count;
-    Guide guide(count);
-    std::vector<V3> albedo(count);
-    std::vector<float> fitted_variance(count);
-    std::vector<float> noisy_variance(count);  // of the demodulated light's luminance
-    std::vector<V3> noisy(count);  // the pixel's light, demodulated: what the regression fits (in part)
-    Buffer a(count);
+namespace {
+
+// The image divided by its first-hit albedo (what the passes and the fits filter), in one
+// buffer or, where the tracer kept them, two halves, and the guide the passes read.
+struct Demodulated {
+    Guide guide;
+    std::vector<V3> albedo;
+    std::vector<float> fitted_variance;
+    std::vector<float> noisy_variance;  // of the demodulated light's luminance
+    std::vector<V3> noisy;  // the pixel's light, demodulated: what the regression fits (in part)
+    Buffer a;
     std::optional<Buffer> b;
-    if (halves) b.emplace(count);
+    explicit Demodulated(std::size_t count)
+        : guide(count), albedo(count), fitted_variance(count), noisy_variance(count), noisy(count), a(count) {}
+};
+
+// A still's halves as the passes start (their noisy light and its variance) and after the
+// cross passes, finished apart: for the regressions' choice of setting (fit_selection.hpp).
+struct StillHalves {
+    std::vector<V3> noisy_a, noisy_b;
+    std::vector<float> noise_a, noise_b;
+    std::optional<Buffer> half_a, half_b;
+};
+
+void demodulate_image(const Image& rgba, const PixelFeatures& features, Demodulated& d) {
+    const std::size_t count = d.albedo.size();
+    Guide& guide = d.guide;
     for (std::size_t i = 0; i < count; ++i) {
         guide.nx[i] = features.normal[i].x();
         guide.ny[i] = features.normal[i].y();
@@ -479,30 +536,33 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
         guide.ay[i] = features.albedo[i].y();
         guide.az[i] = features.albedo[i].z();
         const float* c = &rgba.pixels[4 * i];
-        for (int k = 0; k < 3; ++k) albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
-        const float al = std::max(kMinDemodulationAlbedo, luminance(albedo[i]));
+        for (int k = 0; k < 3; ++k) d.albedo[i][k] = demodulation_divisor(features.albedo[i][k]);
+        const float al = std::max(kMinDemodulationAlbedo, luminance(d.albedo[i]));
         const float variance = features.variance[i] / (al * al);
-        noisy_variance[i] = variance;
+        d.noisy_variance[i] = variance;
         // What the regression's light carries of it (a quarter of the noisy light's).
-        fitted_variance[i] = kRegressionNoisyShare * kRegressionNoisyShare * variance;
-        for (int k = 0; k < 3; ++k) noisy[i][k] = c[k] / albedo[i][k];
-        if (!halves) {
-            a.light[i] = noisy[i];
-            a.variance[i] = variance;
+        d.fitted_variance[i] = kRegressionNoisyShare * kRegressionNoisyShare * variance;
+        for (int k = 0; k < 3; ++k) d.noisy[i][k] = c[k] / d.albedo[i][k];
+        if (!d.b) {
+            d.a.light[i] = d.noisy[i];
+            d.a.variance[i] = variance;
         } else {
             // Each half's variance from the whole pixel's, by its share of the samples.
             const float s = features.half_share[i];
             for (int k = 0; k < 3; ++k) {
-                a.light[i][k] = features.half_a[i][k] / albedo[i][k];
-                b->light[i][k] = features.half_b[i][k] / albedo[i][k];
+                d.a.light[i][k] = features.half_a[i][k] / d.albedo[i][k];
+                d.b->light[i][k] = features.half_b[i][k] / d.albedo[i][k];
             }
-            a.variance[i] = variance / s;
-            b->variance[i] = variance / (1.0f - s);
+            d.a.variance[i] = variance / s;
+            d.b->variance[i] = variance / (1.0f - s);
         }
     }
-    // The depth tolerance: how much depth changes per pixel here, per axis the smaller of the
-    // two one-sided differences, so that a silhouette beside the pixel (a thin rod or wire
-    // against the backdrop) does not widen it.
+}
+
+// The depth tolerance: how much depth changes per pixel here, per axis the smaller of the
+// two one-sided differences, so that a silhouette beside the pixel (a thin rod or wire
+// against the backdrop) does not widen it.
+void set_depth_tolerance(Guide& guide, int w, int h) {
     const std::vector<float>& depth = guide.depth;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -518,117 +578,142 @@ void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBud
             const float depth_step = std::max(step, 1e-3f * depth[i]) + 1e-6f;
             guide.inv_depth_tolerance[i] = 1.0f / (kSigmaDepth * depth_step);
         }
+}
 
-    // A still's halves as the passes start (their noisy light and its variance), for the
-    // regressions' choice of setting (fit_selection.hpp).
-    std::vector<V3> noisy_a, noisy_b;
-    std::vector<float> noise_a, noise_b;
-    if (b && budget == DenoiseBudget::still)
-        noisy_a = a.light, noise_a = a.variance, noisy_b = b->light, noise_b = b->variance;
-    Filter filter(w, h, guide, threads);
-    // The passes after the cross passes and, with halves, one more at step 1 guided by the
-    // merged light, whose noise is half either half's: it takes out the pixel-scale noise the
-    // halves' weights, each from fewer samples, left, with the relaxed normal weight on cloth
-    // of one albedo.
-    const auto finish = [&](Buffer& buffer) {
-        for (int pass = kCrossPasses; pass < kPasses; ++pass) {
-            filter.prepare(buffer);
-            filter.pass(1 << pass, buffer, nullptr);
-        }
-        if (!halves) return;
+// The passes after the cross passes and, with halves, one more at step 1 guided by the
+// merged light, whose noise is half either half's: it takes out the pixel-scale noise the
+// halves' weights, each from fewer samples, left, with the relaxed normal weight on cloth
+// of one albedo.
+void finish_passes(Filter& filter, Buffer& buffer, bool halves) {
+    for (int pass = kCrossPasses; pass < kPasses; ++pass) {
         filter.prepare(buffer);
-        filter.pass(1, buffer, nullptr, true);
-    };
+        filter.pass(1 << pass, buffer, nullptr);
+    }
+    if (!halves) return;
+    filter.prepare(buffer);
+    filter.pass(1, buffer, nullptr, true);
+}
+
+// The a-trous passes: the cross passes on the halves, merged, then the rest (a still's
+// halves also finished apart, for the regressions' choice of setting).
+void run_passes(Filter& filter, Demodulated& d, const PixelFeatures& features, DenoiseBudget budget, bool halves,
+                StillHalves& still) {
     for (int pass = 0; pass < kCrossPasses; ++pass) {
-        filter.prepare(a);
-        if (b) filter.prepare(*b);
-        filter.pass(1 << pass, a, b ? &*b : nullptr);
+        filter.prepare(d.a);
+        if (d.b) filter.prepare(*d.b);
+        filter.pass(1 << pass, d.a, d.b ? &*d.b : nullptr);
     }
-    // A still's halves after the cross passes, finished apart for the regressions' choice
-    // of setting (fit_selection.hpp).
-    std::optional<Buffer> half_a, half_b;
-    if (b) {
-        if (budget == DenoiseBudget::still) half_a.emplace(a), half_b.emplace(*b);
-        merge(a, *b, features.half_share), b.reset();
+    if (d.b) {
+        if (budget == DenoiseBudget::still) still.half_a.emplace(d.a), still.half_b.emplace(*d.b);
+        merge(d.a, *d.b, features.half_share), d.b.reset();
     }
-    finish(a);
-    if (half_a) finish(*half_a), finish(*half_b);
-    {
-        // The cloth's first-order regression (cloth_light_fit.hpp), its colour weight from
-        // what the passes made of the light.  It fits kRegressionNoisyShare of the noisy light
-        // and the rest of the passes' result: fitted to the noisy light alone, the fit's own
-        // noise, shared by neighbours whose windows overlap, showed as blotches on the flat
-        // cloth of the default 1280x720 render with adaptive sampling; fitted to the passes'
-        // result alone, it kept less of its gain (docs/benchmarks.md, "Cloth regression").
-        std::vector<float> filtered_lum(count);
-        const std::vector<V3> whole_noisy = half_a ? noisy : std::vector<V3>();
-        std::vector<V3>& fitted = noisy;  // blended in place
-        for (std::size_t i = 0; i < count; ++i) {
-            filtered_lum[i] = luminance(a.light[i]);
-            fitted[i] = kRegressionNoisyShare * noisy[i] + (1.0f - kRegressionNoisyShare) * a.light[i];
-        }
-        ClothRegressionInput in;
-        in.width = w, in.height = h;
-        in.light = &fitted, in.guide = &filtered_lum, in.variance = &a.variance, in.fitted_variance = &fitted_variance;
-        in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
-        in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
-        if (budget == DenoiseBudget::frame) {
-            filter.execute([&] { regress_cloth(in, a.light); });
-        } else {
-            in.depth_regressor = true, in.average_fits = true;
-            std::size_t cloth_pixels = 0;
-            for (std::size_t i = 0; i < count; ++i) cloth_pixels += guide.cloth[i] != 0;
-            in.spatial_sigma = still_spatial_sigma(cloth_pixels);
-            // A still's backdrop regression (backdrop_light_fit.hpp) fits the same blend with
-            // the same guide: fitted to the noisy light alone, it lowered the error at 320x180
-            // more but left blotches on the backdrop of the 1280x720 render with adaptive
-            // sampling, which the passes' result there does not have (docs/benchmarks.md, "The
-            // backdrop's regression").  It reads and writes backdrop pixels only, the cloth's
-            // regression cloth pixels only.
-            std::vector<std::int32_t> backdrop(count);
-            for (std::size_t i = 0; i < count; ++i)
-                backdrop[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] == 0.0f;
-            BackdropRegressionInput back;
-            back.width = w, back.height = h;
-            back.light = &fitted, back.guide = &filtered_lum, back.variance = &a.variance, back.depth = &guide.depth;
-            back.backdrop = &backdrop;
-            if (!half_a) {
-                filter.execute([&] {
-                    regress_backdrop(back, a.light);
-                    regress_cloth(in, a.light);
-                });
-            } else {
-                SelectionInput select;
-                select.cloth = in, select.backdrop = back;
-                std::vector<V3> error_weight(count);
-                for (std::size_t i = 0; i < count; ++i)
-                    for (int k = 0; k < 3; ++k) {
-                        const float weight = albedo[i][k] * srgb_slope(a.light[i][k] * albedo[i][k]);
-                        error_weight[i][k] = weight * weight;
-                    }
-                select.whole = {&whole_noisy, &noisy_variance, &a.light, &a.variance};
-                select.half_a = {&noisy_a, &noise_a, &half_a->light, &half_a->variance};
-                select.half_b = {&noisy_b, &noise_b, &half_b->light, &half_b->variance};
-                select.error_weight = &error_weight;
-                filter.execute([&] { regress_still_by_halves(select, a.light); });
+    finish_passes(filter, d.a, halves);
+    if (still.half_a) finish_passes(filter, *still.half_a, halves), finish_passes(filter, *still.half_b, halves);
+}
+
+// A still's fits of the cloth and the backdrop (by the halves where kept) and of the supports.
+void fit_still(Filter& filter, const PixelFeatures& features, Demodulated& d, StillHalves& still,
+               ClothRegressionInput& in, const std::vector<V3>& whole_noisy) {
+    const std::size_t count = d.albedo.size();
+    const Guide& guide = d.guide;
+    in.depth_regressor = true, in.average_fits = true;
+    std::size_t cloth_pixels = 0;
+    for (std::size_t i = 0; i < count; ++i) cloth_pixels += guide.cloth[i] != 0;
+    in.spatial_sigma = still_spatial_sigma(cloth_pixels);
+    // A still's backdrop regression (backdrop_light_fit.hpp) fits the same blend with
+    // the same guide: fitted to the noisy light alone, it lowered the error at 320x180
+    // more but left blotches on the backdrop of the 1280x720 render with adaptive
+    // sampling, which the passes' result there does not have (docs/benchmarks.md, "The
+    // backdrop's regression").  It reads and writes backdrop pixels only, the cloth's
+    // regression cloth pixels only.
+    std::vector<std::int32_t> backdrop(count);
+    for (std::size_t i = 0; i < count; ++i) backdrop[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] == 0.0f;
+    BackdropRegressionInput back;
+    back.width = in.width, back.height = in.height;
+    back.light = in.light, back.guide = in.guide, back.variance = &d.a.variance, back.depth = &guide.depth;
+    back.backdrop = &backdrop;
+    if (!still.half_a) {
+        filter.execute([&] {
+            regress_backdrop(back, d.a.light);
+            regress_cloth(in, d.a.light);
+        });
+    } else {
+        SelectionInput select;
+        select.cloth = in, select.backdrop = back;
+        std::vector<V3> error_weight(count);
+        for (std::size_t i = 0; i < count; ++i)
+            for (int k = 0; k < 3; ++k) {
+                const float weight = d.albedo[i][k] * srgb_slope(d.a.light[i][k] * d.albedo[i][k]);
+                error_weight[i][k] = weight * weight;
             }
-            // And the supports' regression along their axis (support_light_fit.hpp), on the
-            // same blend: pixels with samples on the rod, a clip or a wire and none on the garment.
-            std::vector<std::int32_t> support(count);
-            for (std::size_t i = 0; i < count; ++i)
-                support[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] > 0.0f &&
-                             (features.cloth.size() != count || features.cloth[i] == 0.0f);
-            SupportRegressionInput supports;
-            static_cast<RegressionInput&>(supports) = in;  // the same light, guide and surface
-            supports.turning = &guide.turning, supports.support = &support;
-            filter.execute([&] { regress_supports(supports, a.light); });
-        }
+        select.whole = {&whole_noisy, &d.noisy_variance, &d.a.light, &d.a.variance};
+        select.half_a = {&still.noisy_a, &still.noise_a, &still.half_a->light, &still.half_a->variance};
+        select.half_b = {&still.noisy_b, &still.noise_b, &still.half_b->light, &still.half_b->variance};
+        select.error_weight = &error_weight;
+        filter.execute([&] { regress_still_by_halves(select, d.a.light); });
     }
+    // And the supports' regression along their axis (support_light_fit.hpp), on the
+    // same blend: pixels with samples on the rod, a clip or a wire and none on the garment.
+    std::vector<std::int32_t> support(count);
+    for (std::size_t i = 0; i < count; ++i)
+        support[i] = guide.covered[i] && !guide.sky[i] && guide.turning[i] > 0.0f &&
+                     (features.cloth.size() != count || features.cloth[i] == 0.0f);
+    SupportRegressionInput supports;
+    static_cast<RegressionInput&>(supports) = in;  // the same light, guide and surface
+    supports.turning = &guide.turning, supports.support = &support;
+    filter.execute([&] { regress_supports(supports, d.a.light); });
+}
+
+// The cloth's first-order regression (cloth_light_fit.hpp), its colour weight from what the
+// passes made of the light, and a still's other fits.  It fits kRegressionNoisyShare of the
+// noisy light and the rest of the passes' result: fitted to the noisy light alone, the fit's
+// own noise, shared by neighbours whose windows overlap, showed as blotches on the flat cloth
+// of the default 1280x720 render with adaptive sampling; fitted to the passes' result alone,
+// it kept less of its gain (docs/benchmarks.md, "Cloth regression").
+void fit_light(Filter& filter, const PixelFeatures& features, DenoiseBudget budget, int w, int h, Demodulated& d,
+               StillHalves& still) {
+    const std::size_t count = d.albedo.size();
+    std::vector<float> filtered_lum(count);
+    const std::vector<V3> whole_noisy = still.half_a ? d.noisy : std::vector<V3>();
+    std::vector<V3>& fitted = d.noisy;  // blended in place
     for (std::size_t i = 0; i < count; ++i) {
-        if (!guide.covered[i]) continue;
-        for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = a.light[i][k] * albedo[i][k];
+        filtered_lum[i] = luminance(d.a.light[i]);
+        fitted[i] = kRegressionNoisyShare * d.noisy[i] + (1.0f - kRegressionNoisyShare) * d.a.light[i];
     }
-    if (budget == DenoiseBudget::still) rebuild_mixed_pixels(rgba, features, a.light);
+    const Guide& guide = d.guide;
+    ClothRegressionInput in;
+    in.width = w, in.height = h;
+    in.light = &fitted, in.guide = &filtered_lum, in.variance = &d.a.variance, in.fitted_variance = &d.fitted_variance;
+    in.nx = &guide.nx, in.ny = &guide.ny, in.nz = &guide.nz, in.depth = &guide.depth;
+    in.ax = &guide.ax, in.ay = &guide.ay, in.az = &guide.az, in.cloth = &guide.cloth;
+    if (budget == DenoiseBudget::frame)
+        filter.execute([&] { regress_cloth(in, d.a.light); });
+    else
+        fit_still(filter, features, d, still, in, whole_noisy);
+}
+
+}  // namespace
+
+void denoise(Image& rgba, const PixelFeatures& features, int threads, DenoiseBudget budget) {
+    const int w = rgba.width, h = rgba.height;
+    const std::size_t count = static_cast<std::size_t>(w) * h;
+    const bool halves = features.half_a.size() == count;
+    Demodulated d(count);
+    if (halves) d.b.emplace(count);
+    demodulate_image(rgba, features, d);
+    set_depth_tolerance(d.guide, w, h);
+    StillHalves still;
+    if (d.b && budget == DenoiseBudget::still)
+        still.noisy_a = d.a.light, still.noise_a = d.a.variance, still.noisy_b = d.b->light,
+        still.noise_b = d.b->variance;
+    Filter filter(w, h, d.guide, threads);
+    run_passes(filter, d, features, budget, halves, still);
+    fit_light(filter, features, budget, w, h, d, still);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!d.guide.covered[i]) continue;
+        for (int k = 0; k < 3; ++k) rgba.pixels[4 * i + k] = d.a.light[i][k] * d.albedo[i][k];
+    }
+    if (budget == DenoiseBudget::still) rebuild_mixed_pixels(rgba, features, d.a.light);
 }
 
 }  // namespace foldcast::render
