@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 
+#include "foldcast/core/math.hpp"
 #include "foldcast/core/colour.hpp"
 
 #include "test_paths.hpp"
@@ -95,10 +96,10 @@ TEST(FoldDetection, ValleyWithALighterFloorAndUnequalWallsFoundAtItsCentre) {
 
 TEST(FoldDetection, CurvedFoldLineFollowedWithinOneAndAHalfPixels) {
     // A sagging fold line like drape's: y = 40 + 30 cos(pi (x - 100) / 160) for x in [30, 170].
-    auto curve_y = [](double x) { return 40.0 + 30.0 * std::cos(M_PI * (x - 100.0) / 160.0); };
+    auto curve_y = [](double x) { return 40.0 + 30.0 * std::cos(kPi * (x - 100.0) / 160.0); };
     auto distance = [&](double x, double y) {
         // Vertical offset scaled by the curve's slope gives the normal distance to first order.
-        const double slope = -30.0 * M_PI / 160.0 * std::sin(M_PI * (x - 100.0) / 160.0);
+        const double slope = -30.0 * kPi / 160.0 * std::sin(kPi * (x - 100.0) / 160.0);
         return (y - curve_y(x)) / std::sqrt(1.0 + slope * slope);
     };
     const auto img = draw(200, 100, {{-0.3, 2.0, distance, 0, 99}}, 0.01);

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "compare_test_util.hpp"
+#include "foldcast/core/math.hpp"
 #include "foldcast/compare/photo_overlay.hpp"
 #include "test_paths.hpp"
 
@@ -59,7 +60,7 @@ Synthetic make_synthetic(double inset_m, double young_pa) {
         for (int x = 0; x < w; ++x) {
             const double u = (x - s.supports.first.x()) / span_px - 0.5;  // -0.5 .. 0.5 between the supports
             if (std::abs(u) > 0.5) continue;
-            const double top = 60 + a_top_px * std::cos(M_PI * u);
+            const double top = 60 + a_top_px * std::cos(kPi * u);
             if (y < top || y > 60 + px_per_m * s.params.height_m) continue;
             s.mask.at(x, y, 0) = 1.0f;
             double v = 0.35;

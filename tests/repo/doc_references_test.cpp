@@ -89,7 +89,9 @@ TEST(DocReferences, EverySectionNamedInCodeExists) {
     int checked = 0;
     for (const auto& file : referring_files()) {
         const std::string relative = fs::relative(file, FOLDCAST_SOURCE_DIR).string();
-        for (const Reference& ref : references(read_text(file), relative)) {
+        const std::string text = read_text(file);
+        if (text.find("docs/") == std::string::npos) continue;  // most files cite no doc
+        for (const Reference& ref : references(text, relative)) {
             ++checked;
             const fs::path doc = fs::path(FOLDCAST_SOURCE_DIR) / "docs" / ref.doc;
             if (!fs::exists(doc)) {

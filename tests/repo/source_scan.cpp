@@ -72,8 +72,16 @@ std::string code_only(const std::string& s) {
 
 enum class Scope { Namespace, Class, Function, Other };
 
-bool has_word(const std::string& text, const char* word) {
-    return std::regex_search(text, std::regex(std::string("\\b") + word + "\\b"));
+bool is_word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+// Whether `text` holds `word` as a whole word (no regex: this runs at every brace).
+bool has_word(const std::string& text, const std::string& word) {
+    for (std::size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) {
+        const bool start = at == 0 || !is_word_char(text[at - 1]);
+        const bool end = at + word.size() >= text.size() || !is_word_char(text[at + word.size()]);
+        if (start && end) return true;
+    }
+    return false;
 }
 
 // What a `{` opens, from the code between the previous `;`, `{` or `}` and it.
@@ -82,7 +90,8 @@ Scope classify(const std::string& head) {
     const std::string after = last_paren == std::string::npos ? head : head.substr(last_paren);
     if (last_paren == std::string::npos && (has_word(head, "namespace") || has_word(head, "extern")))
         return Scope::Namespace;
-    if (std::regex_search(after, std::regex("\\b(class|struct|union|enum)\\b"))) return Scope::Class;
+    if (has_word(after, "class") || has_word(after, "struct") || has_word(after, "union") || has_word(after, "enum"))
+        return Scope::Class;
     if (last_paren == std::string::npos) return Scope::Other;
     // An initialiser (`x = f(...) {` cannot be a body); `operator=` and comparisons are no `=`.
     const std::size_t first_paren = head.find('(');
@@ -114,6 +123,16 @@ bool member_initialiser_brace(const std::string& head) {
     if (k == std::string::npos) return false;
     const char c = head[k];
     return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '>';
+}
+
+// `public`, `private` or `protected` at the end of `head` (before a colon).
+bool ends_with_access_label(const std::string& head) {
+    std::size_t end = head.find_last_not_of(" \t\n");
+    if (end == std::string::npos) return false;
+    std::size_t start = end + 1;
+    while (start > 0 && is_word_char(head[start - 1])) --start;
+    const std::string word = head.substr(start, end + 1 - start);
+    return word == "public" || word == "private" || word == "protected";
 }
 
 std::string function_name(const std::string& head) {
@@ -185,8 +204,7 @@ std::vector<FunctionSpan> function_spans(const std::string& source, const std::s
             head_start = std::string::npos;
         } else {
             if (head_start == std::string::npos && !std::isspace(static_cast<unsigned char>(c))) head_start = i;
-            if (c == ':' && head.size() >= 6 &&
-                std::regex_search(head, std::regex("\\b(public|private|protected)\\s*$"))) {
+            if (c == ':' && ends_with_access_label(head)) {
                 head.clear();
                 head_start = std::string::npos;
                 continue;
