@@ -12,7 +12,7 @@
 #include "random_stream.hpp"
 
 namespace foldcast::render {
-namespace backdrop_regression_test {
+namespace backdrop_light_fit_test {
 
 constexpr int kW = 64, kH = 48;
 
@@ -112,5 +112,5 @@ TEST(BackdropRegression, SameFloatsForAnyThreadCount) {
     EXPECT_EQ(0, std::memcmp(one.data(), two.data(), one.size() * sizeof(V3)));
 }
 
-}  // namespace backdrop_regression_test
+}  // namespace backdrop_light_fit_test
 }  // namespace foldcast::render

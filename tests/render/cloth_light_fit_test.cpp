@@ -12,7 +12,7 @@
 #include "random_stream.hpp"
 
 namespace foldcast::render {
-namespace cloth_regression_test {
+namespace cloth_light_fit_test {
 
 // 50 columns: the 4-wide path does not fit the row exactly, so pixels with their whole
 // window inside the image are fitted by both paths.
@@ -338,5 +338,5 @@ TEST(ClothRegression, SameFloatsWhereverThePixelLies) {
     }
 }
 
-}  // namespace cloth_regression_test
+}  // namespace cloth_light_fit_test
 }  // namespace foldcast::render

@@ -12,7 +12,7 @@
 #include "denoise/fit_selection.hpp"
 
 namespace foldcast::render {
-namespace regression_selection_test {
+namespace fit_selection_test {
 
 constexpr int kW = 64, kH = 32;
 constexpr std::size_t kCount = std::size_t(kW) * kH;
@@ -176,5 +176,5 @@ TEST(RegressionSelection, SameFloatsForAnyThreadCount) {
     EXPECT_EQ(std::memcmp(one.data(), three.data(), one.size() * sizeof(V3)), 0);
 }
 
-}  // namespace regression_selection_test
+}  // namespace fit_selection_test
 }  // namespace foldcast::render

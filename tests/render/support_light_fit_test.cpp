@@ -12,7 +12,7 @@
 #include "denoise/support_light_fit.hpp"
 
 namespace foldcast::render {
-namespace support_regression_test {
+namespace support_light_fit_test {
 
 constexpr int kW = 96, kH = 64;
 
@@ -173,5 +173,5 @@ TEST(SupportRegression, SameFloatsForAnyThreadCount) {
     EXPECT_EQ(0, std::memcmp(one.data(), three.data(), one.size() * sizeof(V3)));
 }
 
-}  // namespace support_regression_test
+}  // namespace support_light_fit_test
 }  // namespace foldcast::render
