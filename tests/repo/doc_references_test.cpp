@@ -70,16 +70,19 @@ std::vector<fs::path> referring_files() {
                                                                  "bench", "web/wasm", "tests", "cmake"});
     // This test's own examples are not references.
     std::erase_if(files, [](const fs::path& f) { return f.parent_path().filename() == "repo"; });
-    for (const auto& entry : fs::recursive_directory_iterator(FOLDCAST_SOURCE_DIR)) {
-        const std::string path = entry.path().string();
-        if (path.find("/build") != std::string::npos || path.find("node_modules") != std::string::npos ||
-            path.find("/.git") != std::string::npos || path.find("/shared/") != std::string::npos)
+    const fs::path root(FOLDCAST_SOURCE_DIR);
+    for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator(); ++it) {
+        const std::string name = it->path().filename().string();
+        // Build trees, git's store, npm's packages and shared data are not the project's text.
+        if (it->is_directory() && (name.rfind("build", 0) == 0 || name == ".git" || name == "node_modules" ||
+                                   (name == "shared" && it->path().parent_path() == root))) {
+            it.disable_recursion_pending();
             continue;
-        const auto name = entry.path().filename().string();
-        const auto ext = entry.path().extension().string();
-        if (entry.is_regular_file() && (name == "CMakeLists.txt" || ext == ".cmake" || ext == ".sh" || ext == ".md" ||
-                                        ext == ".mjs" || ext == ".py" || ext == ".toml"))
-            files.push_back(entry.path());
+        }
+        const std::string ext = it->path().extension().string();
+        if (it->is_regular_file() && (name == "CMakeLists.txt" || ext == ".cmake" || ext == ".sh" || ext == ".md" ||
+                                      ext == ".mjs" || ext == ".py" || ext == ".toml"))
+            files.push_back(it->path());
     }
     return files;
 }

@@ -220,9 +220,14 @@ std::vector<std::filesystem::path> cpp_files(const std::filesystem::path& repo,
     std::vector<std::filesystem::path> files;
     for (const auto& root : roots) {
         if (!std::filesystem::exists(repo / root)) continue;
-        for (const auto& entry : std::filesystem::recursive_directory_iterator(repo / root)) {
-            const auto ext = entry.path().extension();
-            if (entry.is_regular_file() && (ext == ".cpp" || ext == ".hpp")) files.push_back(entry.path());
+        for (auto it = std::filesystem::recursive_directory_iterator(repo / root);
+             it != std::filesystem::recursive_directory_iterator(); ++it) {
+            if (it->is_directory() && it->path().filename() == "node_modules") {  // npm's, not ours
+                it.disable_recursion_pending();
+                continue;
+            }
+            const auto ext = it->path().extension();
+            if (it->is_regular_file() && (ext == ".cpp" || ext == ".hpp")) files.push_back(it->path());
         }
     }
     std::sort(files.begin(), files.end());
