@@ -4,6 +4,12 @@
 // dynamics, the global step solved by DCTs) brings every warp and weft edge back to its
 // rest length while the support vertices stay pinned and every vertex is pulled softly
 // towards the model's surface, so the fold layout survives.
+//
+// Its room, drape/relax/, in the order an iteration uses it: relax.cpp (the local step and
+// the iteration), grid_solver.* (the global step: the grid's Laplacian solved by dct.*, the
+// pins by a capacitance matrix), anderson.* (acceleration of the fixed-point map),
+// thread_directions.* (the smoothing phase's blended edge directions), strain_windows.*
+// (animation frames' strain limiting around the last long edges).
 #include <memory>
 #include <vector>
 
