@@ -245,9 +245,9 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     const std::string grid_text = std::to_string(grid.nu) + "x" + std::to_string(grid.nv);
     require(o.frames >= 1 && o.frames <= 100000, "--frames", o.frames, "1..100000");
     const bool frames_kept = kind == OutputKind::pc2 || kind == OutputKind::fca;
-    check_drape_work(grid.nu, grid.nv, frames_kept ? o.frames : 1,
-                     "--grid " + grid_text + (frames_kept ? " with --frames " + std::to_string(o.frames) : std::string()),
-                     o.force);
+    check_drape_work(
+        grid.nu, grid.nv, frames_kept ? o.frames : 1,
+        "--grid " + grid_text + (frames_kept ? " with --frames " + std::to_string(o.frames) : std::string()), o.force);
     require(std::isfinite(o.fps) && o.fps > 0.0 && o.fps <= 1000.0, "--fps", o.fps, "> 0 and <= 1000");
     require(std::isfinite(o.sway_m) && o.sway_m >= 0.0, "--sway-m", o.sway_m, "a finite number >= 0");
     require_positive("--sway-period-s", o.sway_period_s);

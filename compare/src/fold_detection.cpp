@@ -536,7 +536,7 @@ bool ridge_candidates(const RidgeField& field, const cv::Mat& region, const std:
 
 // Hysteresis: grow from strong candidates through weaker ones of the same sign.
 cv::Mat grow_by_hysteresis(const RidgeField& field, const cv::Mat& candidate, const cv::Mat& stored_strength,
-                   const FoldDetection& out) {
+                           const FoldDetection& out) {
     const int w = candidate.cols, h = candidate.rows;
     const auto clears = [&](int x, int y, double threshold, double floor) {
         return field.strength.at<float>(y, x) >= threshold && stored_strength.at<float>(y, x) >= floor;

@@ -148,7 +148,8 @@ void add_fit_legend(const FitResult& f, double px_per_m, std::vector<std::string
         legend.push_back("? not decided: the whole search range scores within 5 %");
     // Why nothing matched, when the model's reach says so: that line replaces the plain
     // "only n fitted" (the legend has to fit beside the cloth).
-    if (f.nothing_matched && !(f.reach && f.reach->outside)) legend.push_back("no line on a detected fold: only n fitted");
+    if (f.nothing_matched && !(f.reach && f.reach->outside))
+        legend.push_back("no line on a detected fold: only n fitted");
     if (f.reach && f.reach->outside) {
         // The model cannot put the measured folds where the photo has them (in this box).
         const double cm = 100.0 / px_per_m;

@@ -33,7 +33,7 @@ struct GridRelaxer::Impl {
     GridSize grid;
     double rest_u = 0.0, rest_v = 0.0;
     RelaxSettings settings;
-    double anchor = 0.0;          // the matrix's anchor term, scaled so that it does not grow with nu
+    double anchor = 0.0;               // the matrix's anchor term, scaled so that it does not grow with nu
     std::vector<char> is_pinned;       // per vertex
     std::vector<int> pinned_vertices;  // in vertex order, each once
     std::unique_ptr<detail::GridSolver> solver;
@@ -69,8 +69,8 @@ struct GridRelaxer::Impl {
 // DCTs are in double.
 template <typename T>
 struct GridRelaxer::Impl::Workspace {
-    detail::ThreadDirections<T> directions;  // the smoothing phase's edge directions
-    std::vector<T> right_len, down_len;   // each edge's length (to the right, below)
+    detail::ThreadDirections<T> directions;    // the smoothing phase's edge directions
+    std::vector<T> right_len, down_len;        // each edge's length (to the right, below)
     std::vector<T> right_factor, down_factor;  // rest / length of the same edges (0 where length 0)
     std::vector<T> target_y, target_z;         // the targets' height and depth
     std::vector<T> pull;                       // per vertex: its fold-line pull (0: none)
@@ -424,7 +424,8 @@ struct GridRelaxer::Impl::Run {
             rest_over(len_out, count, rest, omega, factor_out);
         };
         lengths(row, std::size_t(nu) - 1, 1, factor_u, w.right_len.data(), w.right_factor.data());
-        if (j + 1 < nv) lengths(row, std::size_t(nu), std::size_t(nu), factor_v, w.down_len.data(), w.down_factor.data());
+        if (j + 1 < nv)
+            lengths(row, std::size_t(nu), std::size_t(nu), factor_v, w.down_len.data(), w.down_factor.data());
         // The row's stretch and energy from the lengths just computed (each edge once: to
         // the right and below), then the fold-line terms.
         const Sums right = edge_sums(w.right_len.data() + row, std::size_t(nu) - 1, T(rest_u));

@@ -158,7 +158,6 @@ GLuint attach_renderbuffer(GLenum attachment, GLenum format, int samples, int wi
     return buffer;
 }
 
-
 // The scene's bounding sphere: it fixes the depth range and the key light's far plane.
 struct SceneBounds {
     Vec3f centre;

@@ -50,7 +50,8 @@ bool add_light_hit(const LightSampler& lights, const PreviousVertex& prev, const
     if (depth == 0 || lights.empty()) return false;
     const LightHit lh = lights.hit(o, d, t_surface);
     if (lh.index < 0) return false;
-    float w = prev.specular_only ? 1.0f : bsdf_hit_weight(lights, prev.choice, &prev.drawn, prev.p, o, d, lh, prev.bsdf_pdf);
+    float w =
+        prev.specular_only ? 1.0f : bsdf_hit_weight(lights, prev.choice, &prev.drawn, prev.p, o, d, lh, prev.bsdf_pdf);
     if (depth == 1) w *= light_hit_share;
     add(radiance, beta.cwiseProduct(lights.radiance(lh.index)) * w, depth);
     return true;

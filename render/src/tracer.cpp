@@ -239,7 +239,8 @@ void FrameRender::allocate_outputs() {
     for (Aov a : settings_.aovs) want_[static_cast<int>(a)] = true;
     const int aov_channels[4] = {3, 3, 1, 1};
     for (int a = 0; a < 4; ++a)
-        if (want_[a]) aov_img_[a] = Image{width_, height_, aov_channels[a], std::vector<float>(n * aov_channels[a], 0.0f)};
+        if (want_[a])
+            aov_img_[a] = Image{width_, height_, aov_channels[a], std::vector<float>(n * aov_channels[a], 0.0f)};
     features_wanted_ = settings_.denoise || settings_.keep_features;
     if (features_wanted_) {
         features_.albedo.resize(n);
@@ -335,8 +336,8 @@ void FrameRender::render_packet(TileWork& t, int bx, int by) {
         const int taken = s + 1;
         // Adaptive sampling decides within the first spp samples.
         if (threshold_ > 0.0f && taken <= spp_ && (taken & (taken - 1)) == 0) {
-            if (taken >= kMinAdaptiveSpp && packet_error_below(b.sums, b.inside, gain_, threshold_,
-                                                               settings_.denoise || settings_.denoised_later))
+            if (taken >= kMinAdaptiveSpp &&
+                packet_error_below(b.sums, b.inside, gain_, threshold_, settings_.denoise || settings_.denoised_later))
                 for (PixelSums& p : b.sums) p.done = true;
             for (PixelSums& p : b.sums) p.checkpoint();
         }
@@ -417,8 +418,8 @@ void FrameRender::write_pixel(TileWork& t, const PacketSums& b, int k, int x, in
     const float inv = 1.0f / static_cast<float>(p.n);
     if (2 * p.garment_count > p.n) ++t.garment_pixels, t.garment_samples += std::uint64_t(p.n);
     float* px = result_.beauty.at(x, y);
-    const V3 c = transparent_ ? (p.fg_count > 0 ? V3(p.fg / static_cast<float>(p.fg_count)) : V3::Zero())
-                              : V3(p.all * inv);
+    const V3 c =
+        transparent_ ? (p.fg_count > 0 ? V3(p.fg / static_cast<float>(p.fg_count)) : V3::Zero()) : V3(p.all * inv);
     px[0] = c.x();
     px[1] = c.y();
     px[2] = c.z();
@@ -442,8 +443,7 @@ void FrameRender::write_pixel(TileWork& t, const PacketSums& b, int k, int x, in
 
 void FrameRender::write_features(std::size_t i, const PixelSums& p, float inv) {
     features_.albedo[i] = p.albedo * inv;
-    features_.normal[i] =
-        p.shading_normal.squaredNorm() > 1e-8f ? Vec3f(p.shading_normal.normalized()) : Vec3f::Zero();
+    features_.normal[i] = p.shading_normal.squaredNorm() > 1e-8f ? Vec3f(p.shading_normal.normalized()) : Vec3f::Zero();
     features_.depth[i] = p.depth * inv;
     features_.turning[i] = static_cast<float>(p.turning_count) * inv;
     features_.cloth[i] = static_cast<float>(p.garment_count) * inv;
@@ -505,7 +505,8 @@ RenderResult FrameRender::finish(std::chrono::steady_clock::time_point start) {
         return pixels > 0 ? static_cast<double>(samples) / static_cast<double>(pixels) : 0.0;
     };
     stats.garment_mean_spp = mean(garment_samples_.load(), garment_pixels_.load());
-    stats.backdrop_mean_spp = mean(total_samples_.load() - garment_samples_.load(), pixel_count_ - garment_pixels_.load());
+    stats.backdrop_mean_spp =
+        mean(total_samples_.load() - garment_samples_.load(), pixel_count_ - garment_pixels_.load());
     stats.rays = total_rays_.load();
     stats.reused_paths = reused_paths_.load();
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

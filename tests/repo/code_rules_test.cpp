@@ -14,8 +14,8 @@ using namespace foldcast::repo_scan;
 
 constexpr int kMaxFunctionLines = 120;
 
-const std::vector<std::string> kCodeRoots{"core",  "looks",  "drape", "codec", "serve",    "render", "preview",
-                                          "batch", "compare", "export", "app",  "bench", "web/wasm", "tests"};
+const std::vector<std::string> kCodeRoots{"core",  "looks",   "drape",  "codec", "serve", "render",   "preview",
+                                          "batch", "compare", "export", "app",   "bench", "web/wasm", "tests"};
 
 TEST(CodeRules, NoFunctionIsLongerThanTheLimit) {
     const std::vector<std::string>& roots = kCodeRoots;
@@ -40,23 +40,23 @@ TEST(CodeRules, NoFunctionIsLongerThanTheLimit) {
 // constructors with member initialisers, lambdas, braces in strings and comments.
 TEST(CodeRules, ScannerCountsSignatureToClosingBrace) {
     const std::string source =
-        "#include <x>\n"                         // 1
-        "namespace a {\n"                        // 2
-        "struct S {\n"                           // 3
-        "    S(int v) : v_{v}, w_(v) {}\n"       // 4
-        "    int f() const {\n"                  // 5
-        "        return v_; // }\n"              // 6
-        "    }\n"                                // 7
-        "    int v_, w_;\n"                      // 8
-        "};\n"                                   // 9
-        "const int kTable[] = {1, 2};\n"         // 10
-        "int g(int x)\n"                         // 11
-        "{\n"                                    // 12
+        "#include <x>\n"                                    // 1
+        "namespace a {\n"                                   // 2
+        "struct S {\n"                                      // 3
+        "    S(int v) : v_{v}, w_(v) {}\n"                  // 4
+        "    int f() const {\n"                             // 5
+        "        return v_; // }\n"                         // 6
+        "    }\n"                                           // 7
+        "    int v_, w_;\n"                                 // 8
+        "};\n"                                              // 9
+        "const int kTable[] = {1, 2};\n"                    // 10
+        "int g(int x)\n"                                    // 11
+        "{\n"                                               // 12
         "    auto l = [&](int y) { return \"{\" + y; };\n"  // 13
-        "    if (x) { x = l(x); }\n"             // 14
-        "    return x;\n"                        // 15
-        "}\n"                                    // 16
-        "}  // namespace a\n";                   // 17
+        "    if (x) { x = l(x); }\n"                        // 14
+        "    return x;\n"                                   // 15
+        "}\n"                                               // 16
+        "}  // namespace a\n";                              // 17
     const auto spans = function_spans(source, "x.cpp");
     ASSERT_EQ(spans.size(), 3u);
     EXPECT_EQ(spans[0].name, "S");

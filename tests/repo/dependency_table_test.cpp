@@ -18,28 +18,47 @@ using namespace foldcast::repo_scan;
 namespace fs = std::filesystem;
 using Names = std::set<std::string>;
 
-const Names kRooms{"core", "looks", "drape", "codec", "serve", "render", "preview", "batch", "compare", "export", "app"};
+const Names kRooms{"core",    "looks", "drape",   "codec",  "serve", "render",
+                   "preview", "batch", "compare", "export", "app"};
 
 // CMake target -> the name docs/architecture.md uses.
-const std::map<std::string, std::string> kThirdPartyTargets{
-    {"Eigen3::Eigen", "Eigen"},          {"tomlplusplus::tomlplusplus", "toml++"},
-    {"tinyobjloader::tinyobjloader", "tinyobjloader"}, {"nlohmann_json::nlohmann_json", "JSON"},
-    {"TBB::tbb", "TBB"},                 {"PkgConfig::fftw3", "FFTW"},
-    {"zstd::libzstd_shared", "zstd"},    {"PkgConfig::libdeflate", "libdeflate"},
-    {"PkgConfig::httplib", "cpp-httplib"}, {"embree", "Embree"},
-    {"OpenEXR::OpenEXR", "OpenEXR"},     {"OpenGL::EGL", "EGL"},
-    {"OpenGL::OpenGL", "OpenGL"},        {"OpenSSL::Crypto", "OpenSSL"},
-    {"meshoptimizer::meshoptimizer", "meshoptimizer"}, {"CLI11::CLI11", "CLI11"}};
+const std::map<std::string, std::string> kThirdPartyTargets{{"Eigen3::Eigen", "Eigen"},
+                                                            {"tomlplusplus::tomlplusplus", "toml++"},
+                                                            {"tinyobjloader::tinyobjloader", "tinyobjloader"},
+                                                            {"nlohmann_json::nlohmann_json", "JSON"},
+                                                            {"TBB::tbb", "TBB"},
+                                                            {"PkgConfig::fftw3", "FFTW"},
+                                                            {"zstd::libzstd_shared", "zstd"},
+                                                            {"PkgConfig::libdeflate", "libdeflate"},
+                                                            {"PkgConfig::httplib", "cpp-httplib"},
+                                                            {"embree", "Embree"},
+                                                            {"OpenEXR::OpenEXR", "OpenEXR"},
+                                                            {"OpenGL::EGL", "EGL"},
+                                                            {"OpenGL::OpenGL", "OpenGL"},
+                                                            {"OpenSSL::Crypto", "OpenSSL"},
+                                                            {"meshoptimizer::meshoptimizer", "meshoptimizer"},
+                                                            {"CLI11::CLI11", "CLI11"}};
 
 // An #include's first path component (or header) -> the library it belongs to.
-const std::map<std::string, std::string> kThirdPartyHeaders{
-    {"Eigen", "Eigen"},       {"toml++", "toml++"},     {"tiny_obj_loader.h", "tinyobjloader"},
-    {"nlohmann", "JSON"},     {"tbb", "TBB"},           {"fftw3.h", "FFTW"},
-    {"zstd.h", "zstd"},       {"libdeflate.h", "libdeflate"}, {"httplib.h", "cpp-httplib"},
-    {"embree3", "Embree"},    {"embree4", "Embree"},    {"OpenEXR", "OpenEXR"},
-    {"Imath", "OpenEXR"},     {"EGL", "EGL"},           {"GL", "OpenGL"},
-    {"openssl", "OpenSSL"},   {"meshoptimizer.h", "meshoptimizer"}, {"CLI", "CLI11"},
-    {"opencv2", "OpenCV"}};
+const std::map<std::string, std::string> kThirdPartyHeaders{{"Eigen", "Eigen"},
+                                                            {"toml++", "toml++"},
+                                                            {"tiny_obj_loader.h", "tinyobjloader"},
+                                                            {"nlohmann", "JSON"},
+                                                            {"tbb", "TBB"},
+                                                            {"fftw3.h", "FFTW"},
+                                                            {"zstd.h", "zstd"},
+                                                            {"libdeflate.h", "libdeflate"},
+                                                            {"httplib.h", "cpp-httplib"},
+                                                            {"embree3", "Embree"},
+                                                            {"embree4", "Embree"},
+                                                            {"OpenEXR", "OpenEXR"},
+                                                            {"Imath", "OpenEXR"},
+                                                            {"EGL", "EGL"},
+                                                            {"GL", "OpenGL"},
+                                                            {"openssl", "OpenSSL"},
+                                                            {"meshoptimizer.h", "meshoptimizer"},
+                                                            {"CLI", "CLI11"},
+                                                            {"opencv2", "OpenCV"}};
 
 struct Deps {
     Names public_rooms, private_rooms, public_libs, private_libs;
@@ -85,9 +104,21 @@ Deps cmake_deps(const std::string& room, std::ostringstream& unknown) {
     Names* rooms = nullptr;
     Names* libs = nullptr;
     for (const auto& w : words(m[1].str())) {
-        if (w == "SOURCES") { rooms = nullptr; libs = nullptr; continue; }
-        if (w == "PUBLIC_DEPS") { rooms = &deps.public_rooms; libs = &deps.public_libs; continue; }
-        if (w == "PRIVATE_DEPS") { rooms = &deps.private_rooms; libs = &deps.private_libs; continue; }
+        if (w == "SOURCES") {
+            rooms = nullptr;
+            libs = nullptr;
+            continue;
+        }
+        if (w == "PUBLIC_DEPS") {
+            rooms = &deps.public_rooms;
+            libs = &deps.public_libs;
+            continue;
+        }
+        if (w == "PRIVATE_DEPS") {
+            rooms = &deps.private_rooms;
+            libs = &deps.private_libs;
+            continue;
+        }
         if (rooms) add_target(w, *rooms, *libs, unknown);
     }
     return deps;
@@ -99,8 +130,12 @@ void parse_cell(const std::string& cell, Names& rooms, Names& libs) {
     std::string outside, inside;
     int depth = 0;
     for (char c : cell) {
-        if (c == '(') { if (depth++ == 0) continue; }
-        if (c == ')') { if (--depth == 0) continue; }
+        if (c == '(') {
+            if (depth++ == 0) continue;
+        }
+        if (c == ')') {
+            if (--depth == 0) continue;
+        }
         (depth > 0 ? inside : outside) += c;
     }
     for (const auto& w : words(std::regex_replace(outside, std::regex("[,;]"), " "))) rooms.insert(w);

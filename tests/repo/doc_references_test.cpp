@@ -65,9 +65,9 @@ std::vector<Reference> references(const std::string& text, const std::string& fi
 }
 
 std::vector<fs::path> referring_files() {
-    std::vector<fs::path> files = cpp_files(FOLDCAST_SOURCE_DIR, {"core", "looks", "drape", "codec", "serve", "render",
-                                                                 "preview", "batch", "compare", "export", "app",
-                                                                 "bench", "web/wasm", "tests", "cmake"});
+    std::vector<fs::path> files =
+        cpp_files(FOLDCAST_SOURCE_DIR, {"core", "looks", "drape", "codec", "serve", "render", "preview", "batch",
+                                        "compare", "export", "app", "bench", "web/wasm", "tests", "cmake"});
     // This test's own examples are not references.
     std::erase_if(files, [](const fs::path& f) { return f.parent_path().filename() == "repo"; });
     const fs::path root(FOLDCAST_SOURCE_DIR);
@@ -110,8 +110,8 @@ TEST(DocReferences, EverySectionNamedInCodeExists) {
 }
 
 TEST(DocReferences, ReadsWrappedAndParenthesisedReferences) {
-    const auto refs = references("// see docs/render.md (\"Denoiser\", \"Mixed\n// pixels\") and docs/drape.md, \"A\"",
-                                 "x.cpp");
+    const auto refs =
+        references("// see docs/render.md (\"Denoiser\", \"Mixed\n// pixels\") and docs/drape.md, \"A\"", "x.cpp");
     ASSERT_EQ(refs.size(), 3u);
     EXPECT_EQ(refs[0].section, "Denoiser");
     EXPECT_EQ(refs[1].section, "Mixed pixels");

@@ -31,7 +31,11 @@ std::string code_only(const std::string& s) {
     };
     while (i < n) {
         const char c = s[i];
-        if (c == '\n') { line_start = true; ++i; continue; }
+        if (c == '\n') {
+            line_start = true;
+            ++i;
+            continue;
+        }
         if (line_start && c == '#') {  // a directive, with its continuation lines
             std::size_t j = i;
             while (j < n && !(s[j] == '\n' && s[j - 1] != '\\')) ++j;
@@ -113,11 +117,9 @@ bool member_initialiser_brace(const std::string& head) {
     if (last_paren == std::string::npos) return false;
     std::size_t colon = std::string::npos;
     for (std::size_t k = last_paren; k < head.size(); ++k) {
-        if (head[k] == ':' && (k + 1 >= head.size() || head[k + 1] != ':') && (k == 0 || head[k - 1] != ':'))
-            colon = k;
+        if (head[k] == ':' && (k + 1 >= head.size() || head[k + 1] != ':') && (k == 0 || head[k - 1] != ':')) colon = k;
     }
-    if (colon == std::string::npos && head.find(") :") == std::string::npos &&
-        head.find("):") == std::string::npos)
+    if (colon == std::string::npos && head.find(") :") == std::string::npos && head.find("):") == std::string::npos)
         return false;
     std::size_t k = head.find_last_not_of(" \t\n");
     if (k == std::string::npos) return false;
@@ -176,7 +178,10 @@ std::vector<FunctionSpan> function_spans(const std::string& source, const std::s
                     spans.push_back(span);
                 }
             }
-            if (!in_body()) { head.clear(); head_start = std::string::npos; }
+            if (!in_body()) {
+                head.clear();
+                head_start = std::string::npos;
+            }
             continue;
         }
         if (init_depth > 0) {
@@ -186,7 +191,11 @@ std::vector<FunctionSpan> function_spans(const std::string& source, const std::s
             continue;
         }
         if (c == '{') {
-            if (member_initialiser_brace(head)) { head += c; init_depth = 1; continue; }
+            if (member_initialiser_brace(head)) {
+                head += c;
+                init_depth = 1;
+                continue;
+            }
             const Scope scope = classify(head);
             if (scope == Scope::Function) {
                 FunctionSpan span;
@@ -215,8 +224,7 @@ std::vector<FunctionSpan> function_spans(const std::string& source, const std::s
     return spans;
 }
 
-std::vector<std::filesystem::path> cpp_files(const std::filesystem::path& repo,
-                                             const std::vector<std::string>& roots) {
+std::vector<std::filesystem::path> cpp_files(const std::filesystem::path& repo, const std::vector<std::string>& roots) {
     std::vector<std::filesystem::path> files;
     for (const auto& root : roots) {
         if (!std::filesystem::exists(repo / root)) continue;

@@ -22,7 +22,6 @@ std::string read_text(const std::filesystem::path& path);
 std::vector<FunctionSpan> function_spans(const std::string& source, const std::string& file);
 
 // The C++ sources and headers under `roots` (relative to `repo`), sorted.
-std::vector<std::filesystem::path> cpp_files(const std::filesystem::path& repo,
-                                             const std::vector<std::string>& roots);
+std::vector<std::filesystem::path> cpp_files(const std::filesystem::path& repo, const std::vector<std::string>& roots);
 
 }  // namespace foldcast::repo_scan

@@ -320,15 +320,14 @@ private:
             _mm_storeu_ps(e_a_t + t, ea);
             _mm_storeu_ps(x_a_t + t, fast_exp4(_mm_xor_ps(ea, sign_bit)));
             if (kCross) {
-                const __m128 eb = _mm_add_ps(
-                    e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t), _mm_loadu_ps(a_inv_sigma_p + t)));
+                const __m128 eb =
+                    _mm_add_ps(e, _mm_mul_ps(abs_diff(a_lum_q + t, a_lum_p + t), _mm_loadu_ps(a_inv_sigma_p + t)));
                 _mm_storeu_ps(e_b_t + t, eb);
                 _mm_storeu_ps(x_b_t + t, fast_exp4(_mm_xor_ps(eb, sign_bit)));
             }
-            const __m128 dot =
-                _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
-                           _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
-                                      _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
+            const __m128 dot = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx_p + t), _mm_loadu_ps(nx_q + t)),
+                                          _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(ny_p + t), _mm_loadu_ps(ny_q + t)),
+                                                     _mm_mul_ps(_mm_loadu_ps(nz_p + t), _mm_loadu_ps(nz_q + t))));
             __m128 c = _mm_max_ps(dot, zero);  // dot > 0 ? dot : 0, as std::max(0.0f, dot)
             c = _mm_mul_ps(c, c);
             c = _mm_mul_ps(c, c);
@@ -414,8 +413,7 @@ private:
             const __m128 k = _mm_mul_ps(kernel4, n);
             accumulate4(taken, k, e_a + x, x_a + x, sum_a + 3 * x, wa + x, va + x, a_light + j, a_variance + j);
             if (kCross)
-                accumulate4(taken, k, e_b + x, x_b + x, sum_b + 3 * x, wb + x, vb + x, b_light + j,
-                            b_variance + j);
+                accumulate4(taken, k, e_b + x, x_b + x, sum_b + 3 * x, wb + x, vb + x, b_light + j, b_variance + j);
         }
 #endif
         for (; x < x1; ++x) {
@@ -505,7 +503,7 @@ struct Demodulated {
     std::vector<V3> albedo;
     std::vector<float> fitted_variance;
     std::vector<float> noisy_variance;  // of the demodulated light's luminance
-    std::vector<V3> noisy;  // the pixel's light, demodulated: what the regression fits (in part)
+    std::vector<V3> noisy;              // the pixel's light, demodulated: what the regression fits (in part)
     Buffer a;
     std::optional<Buffer> b;
     explicit Demodulated(std::size_t count)
