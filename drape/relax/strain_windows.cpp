@@ -17,7 +17,9 @@ namespace {
 constexpr int kRadius = 6, kSweeps = 30, kRounds = 5;
 }  // namespace
 
-namespace {
+// Named, not anonymous: StrainWindows::limit's lambdas hold GridEdges, and a type from an
+// anonymous namespace in them is a -Wsubobject-linkage error once the unity build joins files.
+namespace strain_window_steps {
 
 // The grid's edges and where their ends are: an edge is 2 k + 0 (k to its right neighbour)
 // or 2 k + 1 (k to the vertex below).
@@ -118,7 +120,7 @@ std::vector<std::vector<std::size_t>> connected_windows(int nu, int nv, const st
         }
         ++count;
     }
-    std::vector<std::vector<std::size_t>> windows(std::size_t(count));
+    std::vector<std::vector<std::size_t>> windows(static_cast<std::size_t>(count));
     for (const std::size_t v : marked) {
         std::vector<std::size_t>& edges = windows[std::size_t(window_of[v])];
         const int i = int(v % std::size_t(nu)), j = int(v / std::size_t(nu));
@@ -158,11 +160,11 @@ void settle_window(const GridEdges<T>& g, std::vector<std::size_t>& edges, const
         }
 }
 
-}  // namespace
+}  // namespace strain_window_steps
 
 template <typename T>
 bool StrainWindows::limit(T* x, T* y, T* z, double bound, double settle, Scratch& scratch) const {
-    const GridEdges<T> g{x, y, z, grid.nu, grid.nv, rest_u, rest_v};
+    const strain_window_steps::GridEdges<T> g{x, y, z, grid.nu, grid.nv, rest_u, rest_v};
     const std::size_t n = std::size_t(grid.nu) * std::size_t(grid.nv);
     const std::vector<char>& pinned = *is_pinned;
     // The band each window's edges settle into, by direction (edge % 2: 0 along a row, 1 down
@@ -170,7 +172,7 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound, double settle, Scratch
     const T shortest_of[2] = {T(rest_u) * T(1.0 - settle), T(rest_v) * T(1.0 - settle)};
     const T longest_of[2] = {T(rest_u) * T(1.0 + settle), T(rest_v) * T(1.0 + settle)};
 
-    std::vector<std::size_t> over = edges_beyond(g, bound);
+    std::vector<std::size_t> over = strain_window_steps::edges_beyond(g, bound);
     // Left all 0 / -1 by the last call: only the marked vertices are set, and reset below.
     std::vector<char>& movable = scratch.movable;
     std::vector<int>& window_of = scratch.window_of;
@@ -184,11 +186,12 @@ bool StrainWindows::limit(T* x, T* y, T* z, double bound, double settle, Scratch
     for (int round = 0; !over.empty(); ++round) {
         reset();
         if (round == kRounds) return false;
-        if (mark_movable(g, over, pinned, movable, marked)) between_pins = true;
-        std::vector<std::vector<std::size_t>> windows = connected_windows(grid.nu, grid.nv, marked, movable, window_of);
+        if (strain_window_steps::mark_movable(g, over, pinned, movable, marked)) between_pins = true;
+        std::vector<std::vector<std::size_t>> windows =
+            strain_window_steps::connected_windows(grid.nu, grid.nv, marked, movable, window_of);
         std::vector<std::vector<std::size_t>> left(windows.size());  // each window's edges still over
         tbb::parallel_for(std::size_t(0), windows.size(), [&](std::size_t w) {
-            settle_window(g, windows[w], movable, shortest_of, longest_of);
+            strain_window_steps::settle_window(g, windows[w], movable, shortest_of, longest_of);
             // Only the windows' edges moved: the rest stayed within the bound.
             for (const std::size_t edge : windows[w])
                 if (g.strain(edge) > bound) left[w].push_back(edge);
