@@ -215,5 +215,32 @@ TEST_F(BadInput, RenderAndEncodeRefuseToOverwriteTheirInputs) {
     EXPECT_EQ(bytes_of(fca), encoded) << "the input was re-encoded in place";
 }
 
+// The first line names what the user gave, in the user's words: the flag (not the library's
+// young_pa or keep_fraction), the file, and a value short enough to read (a vertex at 1e30
+// was printed with 31 digits and six decimals; a --tile of 11 digits came back as another
+// number, without the flag).
+TEST_F(BadInput, FirstLinesNameTheFlagOrFileGiven) {
+    const std::string pc2 = (dir_ / "a.pc2").string(), fca = (dir_ / "a.fca").string();
+    ASSERT_EQ(run({"drape", "--grid", "5x5", "--frames", "3", "-q", "-o", pc2}).exit_code, 0);
+    const std::string photo = test::test_data("photos/two_point_shirt_s3_half.jpg").string();
+    const std::string out = (dir_ / "out.png").string();
+    expect_refused({"drape", "--width-m", "1e308", "-o", (dir_ / "o.obj").string()}, 2, "--width-m");
+    expect_refused({"drape", "--width-m", "3e9", "-q", "-o", (dir_ / "o.obj").string()}, 2, "--width-m");
+    expect_refused({"overlay", photo, "-o", out, "--supports", "197.5,50,357.5,48.5", "--scale-px-per-m", "400",
+                    "--young-mpa", "1e-9"},
+                   2, "--young-mpa");
+    expect_refused({"encode", pc2, "-q", "-o", fca, "--keep", "2"}, 2, "--keep");
+    expect_refused({"encode", pc2, "-q", "-o", fca, "--keep", "0.5"}, 2, "--keep");
+    expect_refused({"looks", "--swatches", out, "--tile", "99999999999x10"}, 2, "--tile '99999999999x10'");
+    expect_refused({"looks", "--swatches", out, "--tile", "8x8"}, 2, "--tile");
+    write("far.obj", "v 0 0 0\nv 1 0 0\nv 1e30 1 0\nf 1 2 3\n");
+    const fs::path scene = write("far.toml", "[garment]\npath = \"far.obj\"\n");
+    const test::Outcome o = run({"render", scene.string(), "-o", out, "--width", "16", "--height", "16", "--spp", "1"});
+    EXPECT_EQ(o.exit_code, 2) << o.err;
+    const std::string first = o.err.substr(0, o.err.find('\n'));
+    EXPECT_NE(first.find("far.obj: vertex 2 lies 1e+30 from the origin"), std::string::npos) << first;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace foldcast
