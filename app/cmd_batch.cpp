@@ -1,11 +1,13 @@
 // foldcast batch MANIFEST.toml [--shard I/N] [--status]: a catalogue of garments x looks x views.
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "commands.hpp"
+#include "foldcast/core/error.hpp"
 #include "validators.hpp"
 #include "foldcast/looks.hpp"
 #include "foldcast/render.hpp"
@@ -39,8 +41,13 @@ batch::JobDoneFn job_progress(const batch::BatchManifest& manifest, batch::Shard
 // Before any image: each garment's drape and each image within what this machine can do,
 // and the shard's images together within a week.
 void check_batch_estimates(const batch::BatchManifest& manifest, batch::Shard shard, bool force) {
-    for (const batch::BatchGarment& garment : manifest.garments)
+    for (const batch::BatchGarment& garment : manifest.garments) {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(garment.scene, ec))
+            throw InputError(manifest.path.string() + ": garments.scene of '" + garment.name + "': no scene file '" +
+                             garment.scene.string() + "' (relative to the manifest)");
         check_scene_drape_work(render::load_scene(garment.scene), garment.scene.string(), force);
+    }
     check_batch_work(manifest.width, manifest.height, manifest.spp,
                      static_cast<long long>(batch::shard_jobs(manifest, shard).size()),
                      manifest.path.string() + ": width = " + std::to_string(manifest.width) +

@@ -7,10 +7,13 @@
 // takes its bytes slowly (a few every few seconds keeps each wait under the write timeout)
 // would otherwise hold a worker for as long as the file lasts.  The time a response's writes
 // spend waiting for the client may reach kClientWaitGrace plus one second per
-// kMinClientBytesPerSecond written; past it the write fails and the connection is closed.
+// kMinClientBytesPerSecond the client has taken; past it the write fails and the connection
+// is closed.
 // Time spent waiting for the --throttle-kbps link is the server's own and does not count.
 #include <httplib.h>
+#include <linux/sockios.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 
 #include <algorithm>
@@ -71,8 +74,15 @@ public:
     }
 
 private:
+    // The bytes the client has taken: those handed to the socket less those still queued in
+    // it (a send buffer of megabytes would otherwise count as taken the moment it fills).
+    std::size_t taken() const {
+        int queued = 0;
+        if (::ioctl(fd_, SIOCOUTQ, &queued) != 0 || queued < 0) queued = 0;
+        return written_ - std::min(written_, static_cast<std::size_t>(queued));
+    }
     std::chrono::steady_clock::duration client_wait_budget() const {
-        const std::chrono::duration<double> earned(double(written_) / kMinClientBytesPerSecond);
+        const std::chrono::duration<double> earned(double(taken()) / kMinClientBytesPerSecond);
         return kClientWaitGrace + std::chrono::duration_cast<std::chrono::steady_clock::duration>(earned) - waited_;
     }
     // Until the socket takes bytes, within the write timeout and what is left of the budget.
