@@ -242,5 +242,31 @@ TEST_F(BadInput, FirstLinesNameTheFlagOrFileGiven) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// preview, looks --swatches and batch estimate their memory and time before any work, as
+// render does: refused with the estimate (exit 2), nothing written, --force offered.
+TEST_F(BadInput, PreviewSwatchesAndBatchAreRefusedUpFrontBeyondTheMachine) {
+    const fs::path scene = write("tiny.toml", "[garment]\ngrid = [9, 9]\n");
+    const std::string out = (dir_ / "out.png").string();
+    expect_refused({"preview", scene.string(), "-o", out, "--width", "16384", "--height", "16384", "--msaa", "16"}, 2,
+                   "preview " + out + " (16384x16384, --msaa 16) needs about");
+    expect_refused({"looks", "--swatches", out, "--only", "linen", "--tile", "4096x4096", "--spp", "65536"}, 2,
+                   "billion samples");
+    EXPECT_FALSE(fs::exists(out));
+    const std::string header = "output_dir = \"cat\"\nlooks = [\"linen\", \"denim\"]\n";
+    const std::string garment = "[[garments]]\nname = \"a\"\nscene = \"tiny.toml\"\n";
+    const fs::path huge = write("huge.toml", "width = 4096\nheight = 4096\nspp = 65536\n" + header + garment);
+    expect_refused({"batch", huge.string(), "--quiet"}, 2, "huge.toml: width = 4096, height = 4096, spp = 65536");
+    // Each image within a day, the shard's 48 beyond a week: more shards are the answer.
+    std::string views;
+    for (int v = 0; v < 24; ++v) views += "[[views]]\nname = \"v" + std::to_string(v) + "\"\n";
+    const fs::path week = write("week.toml", "width = 1024\nheight = 1024\nspp = 16384\n" + header + garment + views);
+    expect_refused({"batch", week.string(), "--quiet"}, 2, "more shards (--shard I/N)");
+    EXPECT_FALSE(fs::exists(dir_ / "cat")) << "a refused batch made its catalogue";
+    for (const char* command : {"preview", "looks", "batch"})
+        EXPECT_NE(test::run_command(test::foldcast_under_test() + " " + command + " --help").out.find("--force"),
+                  std::string::npos)
+            << command << " --help lists no --force";
+}
+
 }  // namespace
 }  // namespace foldcast
