@@ -172,6 +172,7 @@ TEST(Interrupt, TurntableReplacesFramesAndVideoTogether) {
     ASSERT_TRUE(test::run_child(foldcast(longer), dir / "stderr.txt").exit_code == 0);
     ASSERT_TRUE(fs::exists(out / "spin_frames" / "frame_0004.png"));
     expect_all_old_or_all_new(out, snapshot(out), args("2"), 8);
+    ASSERT_TRUE(test::run_child(foldcast(args("2")), dir / "stderr.txt").exit_code == 0);
     EXPECT_FALSE(fs::exists(out / "spin_frames" / "frame_0004.png"));
 }
 
