@@ -1,16 +1,19 @@
 // foldcast batch MANIFEST.toml [--shard I/N] [--status]: a catalogue of garments x looks x views.
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "commands.hpp"
+#include "foldcast/core/error.hpp"
 #include "validators.hpp"
 #include "foldcast/looks/looks.hpp"
 #include "foldcast/render/render.hpp"
 #include "foldcast/batch/catalogue.hpp"
 #include "progress_bar.hpp"
+#include "resource_estimates.hpp"
 
 namespace foldcast::app {
 
@@ -35,13 +38,29 @@ batch::JobDoneFn job_progress(const batch::BatchManifest& manifest, batch::Shard
         std::fflush(stderr);
     };
 }
+// Before any image: each garment's drape and each image within what this machine can do,
+// and the shard's images together within a week.
+void check_batch_estimates(const batch::BatchManifest& manifest, batch::Shard shard, bool force) {
+    for (const batch::BatchGarment& garment : manifest.garments) {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(garment.scene, ec))
+            throw InputError(manifest.path.string() + ": garments.scene of '" + garment.name + "': no scene file '" +
+                             garment.scene.string() + "' (relative to the manifest)");
+        check_scene_drape_work(render::load_scene(garment.scene), garment.scene.string(), force);
+    }
+    check_batch_work(manifest.width, manifest.height, manifest.spp,
+                     static_cast<long long>(batch::shard_jobs(manifest, shard).size()),
+                     manifest.path.string() + ": width = " + std::to_string(manifest.width) +
+                         ", height = " + std::to_string(manifest.height) + ", spp = " + std::to_string(manifest.spp),
+                     force);
+}
 }  // namespace
 
 Command batch_command(CLI::App& app) {
     struct Args {
         std::string manifest, shard = "0/1";
         int threads = 0;
-        bool dry_run = false, json = false, quiet = false, status = false;
+        bool dry_run = false, json = false, quiet = false, status = false, force = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand(
@@ -62,6 +81,7 @@ Command batch_command(CLI::App& app) {
         ->excludes("--json");
     sub->add_flag("--quiet", args->quiet,
                   "No progress (a bar on a terminal; otherwise, as in a Slurm log, a line per job)");
+    sub->add_flag("--force", args->force, "Render even when the memory or time estimate exceeds this machine's");
     return {sub, [args] {
                 const batch::Shard shard = batch::parse_shard(args->shard);
                 const batch::BatchManifest manifest = batch::load_manifest(args->manifest);
@@ -94,6 +114,7 @@ Command batch_command(CLI::App& app) {
                     render::write_render(job.output, render::render_still(scene, options), scene);
                 };
                 batch::check_shard_count(manifest, shard);  // before the log's first line
+                check_batch_estimates(manifest, shard, args->force);
                 std::vector<batch::BatchOutput> outputs;
                 {
                     const bool quiet = args->quiet || args->json;

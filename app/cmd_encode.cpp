@@ -29,8 +29,7 @@ Command encode_command(CLI::App& app) {
         ->check(CLI::IsMember({"paper", "default"}))
         ->capture_default_str();
     auto* err = sub->add_option("--max-error-m", o->max_error_m,
-                                "largest vertex error in metres (default: 2e-4 x bbox diagonal)")
-                    ->check(CLI::PositiveNumber);
+                                "largest vertex error in metres (default: 2e-4 x bbox diagonal)");
     auto* keep = sub->add_option("--keep", o->keep, "paper: fraction (0,1] of wavelet coefficients kept")
                      ->check(CLI::Range(std::numeric_limits<double>::min(), 1.0));
     err->excludes(keep);

@@ -1,4 +1,5 @@
 // foldcast looks: list the fabric looks, show one with every value, or draw the swatch sheet.
+#include <charconv>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -17,6 +18,7 @@
 #include "foldcast/batch/swatches.hpp"
 #include "foldcast/looks/look_keys.hpp"
 #include "progress_bar.hpp"
+#include "resource_estimates.hpp"
 
 namespace foldcast::app {
 
@@ -30,14 +32,20 @@ struct LooksOptions {
     std::string tile = "240x300";
     batch::SwatchOptions swatch;
     bool quiet = false;
+    bool force = false;
 };
 
-// "240x300" -> (240, 300); throws InputError naming the flag.
+// "240x300" -> (240, 300), each side 16-4096 pixels; throws InputError naming the flag.
 std::pair<int, int> parse_tile(const std::string& text) {
+    const std::size_t x = text.find('x');
     int w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x')
-        throw InputError("--tile " + text + ": expected WIDTHxHEIGHT in pixels, e.g. 240x300");
+    auto side = [&](std::size_t from, std::size_t to, int& value) {
+        const char* end = text.data() + to;
+        const auto [at, ec] = std::from_chars(text.data() + from, end, value);
+        return from < to && ec == std::errc() && at == end && value >= 16 && value <= 4096;
+    };
+    if (x == std::string::npos || !side(0, x, w) || !side(x + 1, text.size(), h))
+        throw InputError("--tile '" + text + "': expected WIDTHxHEIGHT, each 16 to 4096 pixels, e.g. 240x300");
     return {w, h};
 }
 
@@ -46,6 +54,12 @@ int draw_swatches(LooksOptions& options) {
     const auto library = looks::Library::load_default();
     options.swatch.looks = options.only;
     std::tie(options.swatch.tile_width, options.swatch.tile_height) = parse_tile(options.tile);
+    const auto& s = options.swatch;
+    const std::size_t tiles = s.looks.empty() ? library.names().size() : s.looks.size();
+    check_swatch_work(static_cast<long long>(tiles), s.tile_width, s.tile_height, s.spp,
+                      "looks --swatches " + options.swatches + " (" + std::to_string(tiles) + " tiles of " +
+                          options.tile + " at --spp " + std::to_string(s.spp) + ")",
+                      options.force);
     ProgressBar bar(options.quiet);
     const auto sheet = batch::render_swatch_sheet(library, options.swatch, bar.callback());
     batch::write_swatch_sheet(options.swatches, sheet);
@@ -129,6 +143,8 @@ Command looks_command(CLI::App& app) {
     sub->add_option("--height-m", options->swatch.height_m, "With --swatches: cloth height (m)")->capture_default_str();
     sub->add_option("--inset-m", options->swatch.inset_m, "With --swatches: support inset (m)")->capture_default_str();
     sub->add_flag("-q,--quiet", options->quiet, "With --swatches: no progress bar");
+    sub->add_flag("--force", options->force,
+                  "With --swatches: render even when the memory or time estimate exceeds this machine's");
     CLI::App* show = sub->add_subcommand("show", "Print one look's values (TOML, or JSON with --json)");
     show->add_option("name", options->show_name, "Look name (see `foldcast looks`) or a look .toml file")->required();
     show->add_flag("--json", options->show_json, "Print the look as JSON");

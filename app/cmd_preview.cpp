@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "foldcast/core/atomic_file.hpp"
 #include "foldcast/preview/preview.hpp"
+#include "resource_estimates.hpp"
 
 namespace foldcast::app {
 
@@ -14,7 +15,7 @@ Command preview_command(CLI::App& app) {
     struct Args {
         std::string scene, out, aovs;
         int width = 0, height = 0, msaa = 4;
-        bool json = false, quiet = false;
+        bool json = false, quiet = false, force = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* sub = app.add_subcommand(
@@ -31,6 +32,7 @@ Command preview_command(CLI::App& app) {
         ->check(CLI::IsMember({"depth"}));
     sub->add_flag("--json", args->json, "Print width, height, seconds and the OpenGL device as JSON");
     sub->add_flag("--quiet", args->quiet, "Print nothing on success");
+    sub->add_flag("--force", args->force, "Rasterise even when the memory estimate exceeds this machine's");
     return {sub, [args] {
                 render::RenderOptions options;
                 options.width = args->width;
@@ -38,6 +40,13 @@ Command preview_command(CLI::App& app) {
                 if (!args->aovs.empty()) options.aovs = render::parse_aovs(args->aovs);
                 const render::SceneSpec scene = render::load_scene(args->scene);
                 check_writable(args->out);
+                check_scene_drape_work(scene, args->scene, args->force);
+                const long long width = args->width ? args->width : scene.width;
+                const long long height = args->height ? args->height : scene.height;
+                check_preview_work(width, height, args->msaa,
+                                   "preview " + args->out + " (" + std::to_string(width) + "x" +
+                                       std::to_string(height) + ", --msaa " + std::to_string(args->msaa) + ")",
+                                   args->force);
                 const render::RenderResult result = preview::preview_still(scene, options, args->msaa);
                 const auto written = render::write_render(args->out, result, scene);
                 const render::RenderStats& s = result.stats;

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "foldcast/looks/looks.hpp"
 #include "validators.hpp"
 
 namespace foldcast::app {
@@ -56,10 +57,33 @@ constexpr FlagDomain kDomains[] = {
     {"render", "--noise-threshold", 0.0, 1.0, ""},
     {"turntable", "--noise-threshold", 0.0, 1.0, ""},
     {"looks", "--noise-threshold", 0.0, 1.0, ""},
+    {"diff", "--failpercent", 0.0, 100.0, "%"},
+    {"diff", "--warnpercent", 0.0, 100.0, "%"},
 };
 
+// Flags that name a look, a file or a folder: checked at parse time, so that the refusal
+// names the flag ("--mask: File does not exist: m.png"), not only the value.
+enum class Names { look, file, folder };
+struct NamingFlag {
+    const char* command;
+    const char* flag;
+    Names names;
+};
+constexpr NamingFlag kNamingFlags[] = {
+    {"drape", "--look", Names::look},       {"overlay", "--look", Names::look}, {"decode", "--look", Names::look},
+    {"looks", "--only", Names::look},       {"folds", "--mask", Names::file},   {"overlay", "--mask", Names::file},
+    {"turntable", "--join", Names::folder},
+};
+
+CLI::Validator naming_check(Names names) {
+    if (names == Names::file) return CLI::ExistingFile;
+    if (names == Names::folder) return CLI::ExistingDirectory;
+    return library_validator([](const std::string& look) { looks::Library::load_default().find(look); }, "LOOK");
+}
+
 std::string range_text(const FlagDomain& d) {
-    std::string text = "a finite number in [" + CLI::detail::to_string(d.lo) + ", " + CLI::detail::to_string(d.hi) + "]";
+    std::string text =
+        "a finite number in [" + CLI::detail::to_string(d.lo) + ", " + CLI::detail::to_string(d.hi) + "]";
     if (*d.unit) text += std::string(" ") + d.unit;
     return text + " (docs/inputs.md)";
 }
@@ -80,6 +104,8 @@ void apply_input_domains(CLI::App& app) {
         CLI::App* sub = app.get_subcommand(d.command);
         sub->get_option(d.flag)->check(finite_in(d.lo, d.hi, range_text(d)));
     }
+    for (const NamingFlag& n : kNamingFlags)
+        app.get_subcommand(n.command)->get_option(n.flag)->check(naming_check(n.names));
     require_values(app);
 }
 

@@ -109,9 +109,9 @@ void encode_mp4(const fs::path& frames_dir, int frame_count, double fps, const f
 
 namespace {
 // Frames an earlier, longer turntable left in the frame folder (frame_NNNN.png with N past
-// this one's count) would sit beside the new set as if they belonged to it: they go as soon
-// as the new set is in place.
-void remove_stale_frames(const fs::path& dir, int total) {
+// this one's count) would sit beside the new set as if they belonged to it: they go with the
+// commit that puts the new set in place, in its interrupt-protected window.
+void remove_stale_frames_on_commit(OutputTransaction& outputs, const fs::path& dir, int total) {
     std::error_code ec;
     std::vector<fs::path> stale;
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
@@ -122,7 +122,7 @@ void remove_stale_frames(const fs::path& dir, int total) {
             index >= total && turntable_frame_path(dir, index).filename() == name)
             stale.push_back(it->path());
     }
-    for (const fs::path& p : stale) fs::remove(p, ec);
+    for (const fs::path& p : stale) outputs.remove_on_commit(p);
 }
 }  // namespace
 
@@ -295,8 +295,8 @@ TurntableResult render_turntable(const SceneSpec& scene, const fs::path& out, co
         mp4->close();
         result.written.push_back(out);
     }
+    remove_stale_frames_on_commit(outputs, dir, total);
     outputs.commit();
-    remove_stale_frames(dir, total);
     result.stats.width = width;
     result.stats.height = height;
     result.stats.spp = settings.spp;

@@ -81,6 +81,12 @@ fs::path OutputTransaction::staged(const fs::path& path) {
     return {};
 }
 
+void OutputTransaction::remove_on_commit(const fs::path& path) {
+    const std::lock_guard lock(mutex_);
+    if (committed_) throw std::logic_error("OutputTransaction: remove_on_commit() after commit()");
+    removals_.push_back(path);
+}
+
 void OutputTransaction::commit() {
     const std::lock_guard lock(mutex_);
     for (auto& e : entries_) {
@@ -112,6 +118,7 @@ void OutputTransaction::commit() {
     std::error_code ignored;
     for (const fs::path& backup : backups)
         if (!backup.empty()) fs::remove(backup, ignored);
+    for (const fs::path& gone : removals_) fs::remove(gone, ignored);
     for (auto& e : entries_) e->cleanup->release();
     committed_ = true;
 }

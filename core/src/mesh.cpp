@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdio>
 #include <string>
 
 #include "foldcast/core/error.hpp"
@@ -48,13 +49,20 @@ void validate_topology(const Topology& topo, std::size_t vertex_count, const std
         if (!uv.allFinite()) throw InputError(what + ": a UV coordinate is not a finite number");
 }
 
+// "1e+30", not std::to_string's 31 digits and six decimals.
+std::string short_number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", value);
+    return text;
+}
+
 void validate_positions(const std::vector<Vec3f>& positions, const std::string& what) {
     for (std::size_t i = 0; i < positions.size(); ++i) {
         if (!positions[i].allFinite())
             throw InputError(what + ": vertex " + std::to_string(i) + " is not a finite position");
         if (positions[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
             throw InputError(what + ": vertex " + std::to_string(i) + " lies " +
-                             std::to_string(positions[i].cwiseAbs().maxCoeff()) +
+                             short_number(positions[i].cwiseAbs().maxCoeff()) +
                              " from the origin on an axis (coordinates must be within +-1e6, docs/inputs.md)");
     }
 }

@@ -125,9 +125,19 @@ Look override_look(const Look& base, const toml::table& overrides, const std::st
 }
 
 Look resolve_look(const Library& library, const toml::node& spec, const std::string& origin) {
-    if (const auto* name = spec.as_string()) return library.find(name->get(), fs::path(origin).parent_path());
-    const auto* table = spec.as_table();
     const std::string where = toml_location(origin, spec);
+    // An unknown name or a missing look file: said where the scene names it.
+    auto named_here = [&](const std::string& key, const toml::node& node, auto&& look) -> Look {
+        try {
+            return look();
+        } catch (const InputError& e) {
+            throw InputError(toml_location(origin, node) + ": " + key + " = " + toml_value_text(node) + ": " +
+                             e.what());
+        }
+    };
+    if (const auto* name = spec.as_string())
+        return named_here("look", spec, [&] { return library.find(name->get(), fs::path(origin).parent_path()); });
+    const auto* table = spec.as_table();
     if (!table)
         throw InputError(where + ": look = " + toml_value_text(spec) +
                          " has the wrong type: expected a look name or a table with base = \"NAME\"");
@@ -140,7 +150,7 @@ Look resolve_look(const Library& library, const toml::node& spec, const std::str
         }
         throw InputError(where + ": a look table needs base = \"NAME\" (one of " + names + ")");
     }
-    Look look = library.get(base->as_string()->get());
+    Look look = named_here("look.base", *base, [&] { return library.get(base->as_string()->get()); });
     apply_table(look, *table, origin, /*complete=*/false, /*base_key_allowed=*/true);
     return look;
 }

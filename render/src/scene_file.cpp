@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,14 @@ int integer(TomlSection& s, std::string_view key, int fallback, long long lo, lo
 
 constexpr const char* kDefaultLook = "linen";
 
+// A problem between keys: reported at the first of `keys` the table holds (its file and
+// line), else at the table.
+[[noreturn]] void fail_at(TomlSection& s, std::initializer_list<std::string_view> keys, const std::string& message) {
+    for (std::string_view key : keys)
+        if (s.has(key)) s.fail(*s.node(key), message);
+    s.fail_here(message);
+}
+
 void read_garment(TomlSection& s, GarmentSpec& g) {
     const fs::path path = s.path("path").value_or(fs::path{});
     std::string source = s.choice("source", {"drape", "obj", "pc2", "fca"}).value_or("");
@@ -56,7 +65,7 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
                : source == "pc2" ? GarmentSpec::Source::pc2
                                  : GarmentSpec::Source::fca;
     if (g.source != GarmentSpec::Source::drape && path.empty())
-        throw InputError("garment.source = \"" + source + "\" needs garment.path");
+        fail_at(s, {"source"}, "garment.source = \"" + source + "\" needs garment.path");
     if (!path.empty()) g.path = path;
     if (auto topology = s.path("topology"); topology && !topology->empty()) g.topology = *topology;
     g.frame = integer(s, "frame", g.frame, 0, 1000000);
@@ -65,8 +74,9 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
     g.height_m = number(s, "height_m", g.height_m, range(0.0, 20.0, true));
     g.inset_m = number(s, "inset_m", g.inset_m, range(0.0, 10.0));
     if (2.0 * g.inset_m >= g.width_m)
-        throw InputError("garment.inset_m = " + std::to_string(g.inset_m) +
-                         ": the supports must stay apart (need inset_m < width_m / 2)");
+        fail_at(s, {"inset_m", "width_m"},
+                "garment.inset_m = " + std::to_string(g.inset_m) +
+                    ": the supports must stay apart (need inset_m < width_m / 2)");
     g.supports = integer(s, "supports", g.supports, 2, 65);
     const double span_m = g.width_m - 2.0 * g.inset_m;
     g.support_drop_m = number(s, "support_drop_m", g.support_drop_m, range(-span_m, span_m));
@@ -78,10 +88,11 @@ void read_garment(TomlSection& s, GarmentSpec& g) {
         g.grid_nu = drape::grid_with_supports_on_vertices({g.grid_nu, g.grid_nv}, g.supports).nu;
     }
     if ((g.grid_nu - 1) % (g.supports - 1) != 0)
-        throw InputError("garment.grid = [" + std::to_string(g.grid_nu) + ", " + std::to_string(g.grid_nv) +
-                         "]: with supports = " + std::to_string(g.supports) +
-                         " the first value minus one must be a multiple of " + std::to_string(g.supports - 1) +
-                         " (the bays), so that every support is a grid vertex");
+        fail_at(s, {"grid", "supports"},
+                "garment.grid = [" + std::to_string(g.grid_nu) + ", " + std::to_string(g.grid_nv) +
+                    "]: with supports = " + std::to_string(g.supports) +
+                    " the first value minus one must be a multiple of " + std::to_string(g.supports - 1) +
+                    " (the bays), so that every support is a grid vertex");
     g.animation_frames = integer(s, "animation_frames", g.animation_frames, 0, 100000);
     g.sway_amplitude_m = number(s, "sway_amplitude_m", g.sway_amplitude_m, range(0.0, 10.0));
     g.relax = s.boolean("relax").value_or(g.relax);
@@ -99,7 +110,7 @@ void read_camera(TomlSection& s, CameraSpec& c) {
     c.position = vec3(s, "position", c.position);
     c.target = vec3(s, "target", c.target);
     if (!c.auto_frame && (c.position - c.target).norm() < 1e-6f)
-        throw InputError("camera.position and camera.target must differ");
+        fail_at(s, {"position", "target"}, "camera.position and camera.target must differ");
     s.finish();
 }
 
@@ -116,7 +127,7 @@ AreaLight read_light(TomlSection& s, const std::string& default_name) {
     const double intensity = number(s, "intensity", 10.0, range(0.0, 1e7));
     l.radiance = colour * static_cast<float>(intensity);
     if ((l.position - l.target).norm() < 1e-6f)
-        throw InputError("light '" + l.name + "': position and target must differ");
+        fail_at(s, {"position", "target"}, "light '" + l.name + "': position and target must differ");
     s.finish();
     return l;
 }

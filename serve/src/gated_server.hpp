@@ -58,6 +58,7 @@ private:
         for (std::size_t served = 1;; ++served) {
             const bool last = served >= kRequestsPerConnection || !is_running();
             bool client_closes = false;
+            stream.start_response();
             const bool ok = (this->*member(detail::ProcessRequestKey{}))(stream, last, client_closes, nullptr);
             if (!ok || client_closes || last) break;
             std::string rest = stream.take_unread();

@@ -94,6 +94,27 @@ TEST(OutputTransaction, AllFilesOrNone) {
     EXPECT_EQ(entries(dir), 2u);
 }
 
+// A file the new set replaces without a new version (a longer run's extra frame) goes with
+// the commit, and only with it: an abandoned transaction leaves it.
+TEST(OutputTransaction, RemovesOnCommitOnly) {
+    const auto dir = test::temp_dir();
+    write_file_atomically(dir / "frame_0.png", "old-0");
+    write_file_atomically(dir / "frame_1.png", "old-1");
+    {
+        OutputTransaction t;
+        t.stage(dir / "frame_0.png") << "new-0";
+        t.remove_on_commit(dir / "frame_1.png");
+    }  // abandoned
+    EXPECT_EQ(read_all(dir / "frame_1.png"), "old-1");
+    OutputTransaction t;
+    t.stage(dir / "frame_0.png") << "new-0";
+    t.remove_on_commit(dir / "frame_1.png");
+    t.commit();
+    EXPECT_EQ(read_all(dir / "frame_0.png"), "new-0");
+    EXPECT_FALSE(std::filesystem::exists(dir / "frame_1.png"));
+    EXPECT_EQ(entries(dir), 1u);
+}
+
 // Runs `body` in a child process and returns its wait status.
 template <typename Body>
 int in_child(Body body) {

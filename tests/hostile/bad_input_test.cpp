@@ -215,5 +215,58 @@ TEST_F(BadInput, RenderAndEncodeRefuseToOverwriteTheirInputs) {
     EXPECT_EQ(bytes_of(fca), encoded) << "the input was re-encoded in place";
 }
 
+// The first line names what the user gave, in the user's words: the flag (not the library's
+// young_pa or keep_fraction), the file, and a value short enough to read (a vertex at 1e30
+// was printed with 31 digits and six decimals; a --tile of 11 digits came back as another
+// number, without the flag).
+TEST_F(BadInput, FirstLinesNameTheFlagOrFileGiven) {
+    const std::string pc2 = (dir_ / "a.pc2").string(), fca = (dir_ / "a.fca").string();
+    ASSERT_EQ(run({"drape", "--grid", "5x5", "--frames", "3", "-q", "-o", pc2}).exit_code, 0);
+    const std::string photo = test::test_data("photos/two_point_shirt_s3_half.jpg").string();
+    const std::string out = (dir_ / "out.png").string();
+    expect_refused({"drape", "--width-m", "1e308", "-o", (dir_ / "o.obj").string()}, 2, "--width-m");
+    expect_refused({"drape", "--width-m", "3e9", "-q", "-o", (dir_ / "o.obj").string()}, 2, "--width-m");
+    expect_refused({"overlay", photo, "-o", out, "--supports", "197.5,50,357.5,48.5", "--scale-px-per-m", "400",
+                    "--young-mpa", "1e-9"},
+                   2, "--young-mpa");
+    expect_refused({"encode", pc2, "-q", "-o", fca, "--keep", "2"}, 2, "--keep");
+    expect_refused({"encode", pc2, "-q", "-o", fca, "--keep", "0.5"}, 2, "--keep");
+    expect_refused({"looks", "--swatches", out, "--tile", "99999999999x10"}, 2, "--tile '99999999999x10'");
+    expect_refused({"looks", "--swatches", out, "--tile", "8x8"}, 2, "--tile");
+    write("far.obj", "v 0 0 0\nv 1 0 0\nv 1e30 1 0\nf 1 2 3\n");
+    const fs::path scene = write("far.toml", "[garment]\npath = \"far.obj\"\n");
+    const test::Outcome o = run({"render", scene.string(), "-o", out, "--width", "16", "--height", "16", "--spp", "1"});
+    EXPECT_EQ(o.exit_code, 2) << o.err;
+    const std::string first = o.err.substr(0, o.err.find('\n'));
+    EXPECT_NE(first.find("far.obj: vertex 2 lies 1e+30 from the origin"), std::string::npos) << first;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+// preview, looks --swatches and batch estimate their memory and time before any work, as
+// render does: refused with the estimate (exit 2), nothing written, --force offered.
+TEST_F(BadInput, PreviewSwatchesAndBatchAreRefusedUpFrontBeyondTheMachine) {
+    const fs::path scene = write("tiny.toml", "[garment]\ngrid = [9, 9]\n");
+    const std::string out = (dir_ / "out.png").string();
+    expect_refused({"preview", scene.string(), "-o", out, "--width", "16384", "--height", "16384", "--msaa", "16"}, 2,
+                   "preview " + out + " (16384x16384, --msaa 16) needs about");
+    expect_refused({"looks", "--swatches", out, "--only", "linen", "--tile", "4096x4096", "--spp", "65536"}, 2,
+                   "billion samples");
+    EXPECT_FALSE(fs::exists(out));
+    const std::string header = "output_dir = \"cat\"\nlooks = [\"linen\", \"denim\"]\n";
+    const std::string garment = "[[garments]]\nname = \"a\"\nscene = \"tiny.toml\"\n";
+    const fs::path huge = write("huge.toml", "width = 4096\nheight = 4096\nspp = 65536\n" + header + garment);
+    expect_refused({"batch", huge.string(), "--quiet"}, 2, "huge.toml: width = 4096, height = 4096, spp = 65536");
+    // Each image within a day, the shard's 48 beyond a week: more shards are the answer.
+    std::string views;
+    for (int v = 0; v < 24; ++v) views += "[[views]]\nname = \"v" + std::to_string(v) + "\"\n";
+    const fs::path week = write("week.toml", "width = 1024\nheight = 1024\nspp = 16384\n" + header + garment + views);
+    expect_refused({"batch", week.string(), "--quiet"}, 2, "more shards (--shard I/N)");
+    EXPECT_FALSE(fs::exists(dir_ / "cat")) << "a refused batch made its catalogue";
+    for (const char* command : {"preview", "looks", "batch"})
+        EXPECT_NE(test::run_command(test::foldcast_under_test() + " " + command + " --help").out.find("--force"),
+                  std::string::npos)
+            << command << " --help lists no --force";
+}
+
 }  // namespace
 }  // namespace foldcast

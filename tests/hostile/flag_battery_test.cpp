@@ -2,12 +2,14 @@
 // so a new flag is covered without editing this file) with the values a hostile user, or a
 // typo, gives: 0, -1, nan, inf, 1e308, 2^31, 2^63, an empty string and a word.  Each run is
 // the real foldcast under a CPU and memory cap; it must exit 0 or 2 (diff: idiff's 0-4) and
-// never by a signal, refuse with a first line of ours ("foldcast: ..."), print no library
-// text, and leave no output behind when it refuses.  `serve` is left out: a value it accepts
+// never by a signal, refuse with a first line of ours ("foldcast: ...") that names the flag,
+// print no library text, and leave no output behind when it refuses.  `serve` is left out: a value it accepts
 // serves until a signal.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <fstream>
 #include <mutex>
 #include <regex>
@@ -98,6 +100,16 @@ struct Case {
     std::string flag, value;
 };
 
+// The longest run of digits in `text` (a double printed with %f has 309).
+std::size_t longest_digit_run(const std::string& text) {
+    std::size_t longest = 0, run = 0;
+    for (char c : text) {
+        run = std::isdigit(static_cast<unsigned char>(c)) ? run + 1 : 0;
+        longest = std::max(longest, run);
+    }
+    return longest;
+}
+
 // Runs one case in a folder of its own; returns what is wrong with the outcome ("" if nothing).
 std::string check(const Case& c, const fs::path& dir) {
     fs::create_directories(dir);
@@ -128,6 +140,14 @@ std::string check(const Case& c, const fs::path& dir) {
     const bool refused = o.exit_code == 2 && !(idiff_codes && o.err.rfind("foldcast:", 0) != 0);
     if (refused) {
         if (o.err.rfind("foldcast:", 0) != 0) return line + ": the first line is not ours: " + o.err;
+        // Only this flag differs from a run that succeeds: the refusal is about it, and says so
+        // in the user's words (not an internal name such as young_pa or keep_fraction).
+        const std::string first = o.err.substr(0, o.err.find('\n'));
+        if (first.find(c.flag) == std::string::npos)
+            return line + ": the first line does not name " + c.flag + ": " + first;
+        if (longest_digit_run(first) > std::max<std::size_t>(24, longest_digit_run(c.value)))
+            return line + ": the first line prints a number of " + std::to_string(longest_digit_run(first)) +
+                   " digits: " + first;
         for (const std::string& out : c.command->outputs)
             if (fs::exists(dir / out)) return line + ": refused, yet " + out + " was written";
     }

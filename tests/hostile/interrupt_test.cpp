@@ -165,6 +165,15 @@ TEST(Interrupt, TurntableReplacesFramesAndVideoTogether) {
     std::vector<std::string> temporal = args("2");
     temporal.insert(temporal.end(), {"--denoise", "--temporal"});
     expect_all_old_or_all_new(out, snapshot(out), temporal, 8);
+    // A shorter turntable over a longer one: the old frames past its count go in the same
+    // interrupt-protected commit, never leaving old frames 3-4 beside the new 0-2.
+    std::vector<std::string> longer = args("1");
+    longer[6] = "5";
+    ASSERT_TRUE(test::run_child(foldcast(longer), dir / "stderr.txt").exit_code == 0);
+    ASSERT_TRUE(fs::exists(out / "spin_frames" / "frame_0004.png"));
+    expect_all_old_or_all_new(out, snapshot(out), args("2"), 8);
+    ASSERT_TRUE(test::run_child(foldcast(args("2")), dir / "stderr.txt").exit_code == 0);
+    EXPECT_FALSE(fs::exists(out / "spin_frames" / "frame_0004.png"));
 }
 
 // Commands that write one file or a resumable set: no temporary may survive an interrupt,

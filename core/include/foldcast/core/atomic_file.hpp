@@ -35,6 +35,10 @@ public:
     // Where a staged target's new contents are until commit() (to read them back); empty if
     // `path` was not staged.
     std::filesystem::path staged(const std::filesystem::path& path);
+    // A file that the new set replaces without a new version (an earlier, longer run's
+    // extra frames): removed by commit() right after the renames, with interrupts still held
+    // back, so that no interrupt leaves it beside the new files.
+    void remove_on_commit(const std::filesystem::path& path);
     // Flushes and checks every stream, then renames every file into place.
     void commit();
 
@@ -44,6 +48,7 @@ private:
     std::vector<std::filesystem::path> keep_old_targets() const;
     void restore_old_targets(const std::vector<std::filesystem::path>& backups, std::size_t renamed) const;
     std::vector<std::unique_ptr<Entry>> entries_;
+    std::vector<std::filesystem::path> removals_;
     std::mutex mutex_;
     bool committed_ = false;
 };
