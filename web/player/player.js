@@ -106,6 +106,7 @@ function draw() {
     }
     if (stats.firstFrameMs === null) {
       Object.assign(stats, { firstFrameMs: now(), bytesAtFirstFrame: stats.bytes, firstFrameIndex: index, firstFrameCoarse: st.previewOnly });
+      updatePanel();
     }
     if (stats.sharpFrameMs === null && !st.previewOnly) Object.assign(stats, { sharpFrameMs: now(), bytesAtSharpFrame: stats.bytes });
     $('frame').textContent = `${index} / ${s.frames - 1} · ${+s.fps.toFixed(2)} fps`;
@@ -136,10 +137,7 @@ function seek(t) {
 
 $('play').addEventListener('click', () => setPlaying(!state.playing));
 $('scrub').addEventListener('input', () => seek(Number($('scrub').value)));
-$('speed').addEventListener('change', () => {
-  state.time_s *= state.speed / Number($('speed').value);  // keeps the frame on screen
-  state.speed = Number($('speed').value);
-});
+$('speed').addEventListener('change', () => { state.speed = Number($('speed').value); });
 $('loop').addEventListener('change', () => { state.loop = $('loop').checked; });
 $('reset').addEventListener('click', () => stage.reset());
 $('fullscreen').addEventListener('click', toggleFullscreen);
