@@ -146,9 +146,16 @@ function toggleFullscreen() {
   else document.documentElement.requestFullscreen?.().catch(() => {});
 }
 
+// A mouse click leaves the button focused: Space would press it again instead of playing.
+for (const button of document.querySelectorAll('button')) button.addEventListener('click', () => button.blur());
+
 window.addEventListener('keydown', (e) => {
-  if (e.target instanceof HTMLInputElement && e.target.type !== 'range' && e.target.type !== 'checkbox') return;
-  if (e.target instanceof HTMLSelectElement || e.ctrlKey || e.metaKey || e.altKey) return;
+  const target = e.target;
+  if (target instanceof HTMLSelectElement || e.ctrlKey || e.metaKey || e.altKey) return;
+  if (target instanceof HTMLInputElement && target.type !== 'range' && target.type !== 'checkbox') return;
+  // A focused button takes Space and Enter itself; the scrub bar moves with the arrows itself.
+  if ((target instanceof HTMLButtonElement || target.type === 'checkbox') && (e.key === ' ' || e.key === 'Enter')) return;
+  if (target === $('scrub') && ['ArrowLeft', 'ArrowRight', 'Home', 'End', 'PageUp', 'PageDown'].includes(e.key)) return;
   const frames = state.job?.decoder?.frames ?? 0;
   const step = e.shiftKey ? 10 : 1;
   const key = e.key.length === 1 ? e.key.toLowerCase() : e.key;
@@ -303,7 +310,7 @@ function open(download) {
   state.job = job;
   $('scrub').value = '0';
   updatePanel();
-  if (download instanceof HttpDownload) updateUrl();
+  if (download instanceof HttpDownload) updateUrl(state.startFrame ?? 0);
   run(job);
 }
 

@@ -178,6 +178,12 @@ async function controls(page) {
   const reset = (await playerState(page)).camera;
   const same = (a, b) => a.every((x, i) => Math.abs(x - b[i]) < 1e-6);
   check(!same(home, moved) && same(home, reset), 'orbiting moves the camera, reset view brings it back');
+  // After a click on a button, Space still plays and pauses (it does not press the button again).
+  await page.keyboard.press(' ');
+  const playing = (await playerState(page)).playing;
+  await page.keyboard.press(' ');
+  check(playing && !(await playerState(page)).playing && same(home, (await playerState(page)).camera),
+    'after clicking a button, Space plays and pauses');
   await page.click('#fullscreen');
   await sleep(300);
   const full = (await playerState(page)).fullscreen;
