@@ -11,6 +11,7 @@ import { FcaStream } from './fca_stream.js';
 import { DownloadError, FileDownload, HttpDownload } from './download.js';
 import { Stage } from './stage.js';
 import { applyLook, createClothMaterial } from './cloth_material.js';
+import { installDrop, installKeyboard, toggleFullscreen } from './controls.js';
 
 const $ = (id) => document.getElementById(id);
 const params = new URLSearchParams(location.search);
@@ -141,37 +142,13 @@ $('speed').addEventListener('change', () => { state.speed = Number($('speed').va
 $('loop').addEventListener('change', () => { state.loop = $('loop').checked; });
 $('reset').addEventListener('click', () => stage.reset());
 $('fullscreen').addEventListener('click', toggleFullscreen);
-function toggleFullscreen() {
-  if (document.fullscreenElement) document.exitFullscreen().catch(() => {});
-  else document.documentElement.requestFullscreen?.().catch(() => {});
-}
-
-// A mouse click leaves the button focused: Space would press it again instead of playing.
-for (const button of document.querySelectorAll('button')) button.addEventListener('click', () => button.blur());
-
-window.addEventListener('keydown', (e) => {
-  const target = e.target;
-  if (target instanceof HTMLSelectElement || e.ctrlKey || e.metaKey || e.altKey) return;
-  if (target instanceof HTMLInputElement && target.type !== 'range' && target.type !== 'checkbox') return;
-  // A focused button takes Space and Enter itself; the scrub bar moves with the arrows itself.
-  if ((target instanceof HTMLButtonElement || target.type === 'checkbox') && (e.key === ' ' || e.key === 'Enter')) return;
-  if (target === $('scrub') && ['ArrowLeft', 'ArrowRight', 'Home', 'End', 'PageUp', 'PageDown'].includes(e.key)) return;
-  const frames = state.job?.decoder?.frames ?? 0;
-  const step = e.shiftKey ? 10 : 1;
-  const key = e.key.length === 1 ? e.key.toLowerCase() : e.key;
-  const actions = {
-    ' ': () => setPlaying(!state.playing),
-    ArrowRight: () => seek(Number($('scrub').value) + step),
-    ArrowLeft: () => seek(Number($('scrub').value) - step),
-    Home: () => seek(0),
-    End: () => seek(frames - 1),
-    r: () => stage.reset(),
-    f: toggleFullscreen,
-    l: () => { $('loop').checked = !$('loop').checked; state.loop = $('loop').checked; },
-  };
-  if (!actions[key]) return;
-  e.preventDefault();
-  actions[key]();
+installKeyboard($('scrub'), {
+  togglePlay: () => setPlaying(!state.playing),
+  step: (n) => seek(Number($('scrub').value) + n),
+  first: () => seek(0),
+  last: () => seek((state.job?.decoder?.frames ?? 1) - 1),
+  resetView: () => stage.reset(),
+  toggleLoop: () => { $('loop').checked = !$('loop').checked; state.loop = $('loop').checked; },
 });
 
 // --- the permalink: file, look and (when paused) frame ----------------------------------
@@ -257,16 +234,7 @@ function openLocal(file) {
   open(new FileDownload(file));
 }
 $('open').addEventListener('change', () => openLocal($('open').files[0]));
-let dragDepth = 0;
-document.addEventListener('dragenter', (e) => { e.preventDefault(); dragDepth++; $('drop-hint').hidden = false; });
-document.addEventListener('dragover', (e) => e.preventDefault());
-document.addEventListener('dragleave', () => { if (--dragDepth <= 0) { dragDepth = 0; $('drop-hint').hidden = true; } });
-document.addEventListener('drop', (e) => {
-  e.preventDefault();
-  dragDepth = 0;
-  $('drop-hint').hidden = true;
-  openLocal(e.dataTransfer?.files?.[0]);
-});
+installDrop($('drop-hint'), openLocal);
 
 // --- errors ---------------------------------------------------------------------------
 function showError(kind, message, retry = false) {
