@@ -17,7 +17,7 @@
   const file = params.get('file');
   if (file) {
     const controller = new AbortController();
-    early = { url: file, controller, response: quiet(fetch(file, { signal: controller.signal, cache: 'no-store' })) };
+    early = { url: file, controller, startMs: performance.now(), response: quiet(fetch(file, { signal: controller.signal, cache: 'no-store' })) };
   }
   window.foldcastBoot = { early, decoder, listing: quiet(json('api/files')), looks: quiet(json('looks.json')) };
 })();

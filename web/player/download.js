@@ -23,6 +23,7 @@ export class HttpDownload {
     this.rangeRequests = 0;
     this.controller = early?.controller ?? new AbortController();
     this.pending = early?.response ?? null;
+    this.startMs = early?.startMs ?? performance.now();  // when the first request was made
     if (early) this.requests = 1;
   }
 
@@ -98,6 +99,7 @@ export class FileDownload {
     this.total = file.size;
     this.requests = 0;
     this.rangeRequests = 0;
+    this.startMs = performance.now();
     this.cancelled = false;
   }
 

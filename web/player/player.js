@@ -21,9 +21,9 @@ const fmtBytes = (n) => (n >= 1e6 ? `${(n / 1e6).toFixed(2)} MB` : `${(n / 1e3).
 
 // What the page measured, in ms since navigation start; read by the tests and benchmarks.
 const stats = {};
-function resetStats(url) {
+function resetStats(url, fetchStartMs) {
   Object.assign(stats, {
-    url, fetchStartMs: now(), totalBytes: null, bytes: 0, headerMs: null, firstFrameMs: null, bytesAtFirstFrame: null,
+    url, fetchStartMs, totalBytes: null, bytes: 0, headerMs: null, firstFrameMs: null, bytesAtFirstFrame: null,
     firstFrameIndex: null, firstFrameCoarse: null, sharpFrameMs: null, bytesAtSharpFrame: null, allPlayableMs: null,
     completeMs: null, downloadDoneMs: null, error: null, errorKind: null, framesShown: 0, requests: 0, rangeRequests: 0,
     look: null, metadata: null,
@@ -273,7 +273,7 @@ function closeJob() {
 function open(download) {
   closeJob();
   clearError();
-  resetStats(download.url ?? download.label);
+  resetStats(download.url ?? download.label, download.startMs);
   const job = { download, decoder: null, queue: [], status: null, corrupt: null, ended: false, running: false, closed: false };
   state.job = job;
   $('scrub').value = '0';
