@@ -146,6 +146,11 @@ TEST(CodecCli, PrefixWithoutAFrameIsRefusedAndTheLookIsStored) {
     const test::CommandResult json = run("decode " + q(fca) + " -o " + q(dir / "all.pc2") + " --json");
     ASSERT_EQ(json.exit_code, 0);
     EXPECT_EQ(nlohmann::json::parse(json.out)["metadata"]["look"], "denim");
+    // Re-encoding keeps it.
+    ASSERT_EQ(run("encode " + q(fca) + " -o " + q(dir / "again.fca")).exit_code, 0);
+    EXPECT_EQ(nlohmann::json::parse(run("decode " + q(dir / "again.fca") + " -o " + q(dir / "again.pc2") + " --json").out)
+                  ["metadata"]["look"],
+              "denim");
 
     const auto decode_prefix = [&](std::size_t n) {
         codec::write_fca(dir / "p.fca", std::string_view(bytes).substr(0, n));
