@@ -86,6 +86,14 @@ Command decode_command(CLI::App& app) {
                 if (!status.header_ready)
                     throw InputError(o->input + ": truncated inside its header (" + std::to_string(bytes.size()) +
                                      " bytes)");
+                // Frames made from the header alone (or its coarse preview) would not be the
+                // animation: every vertex at one point, or frame 0 held still.
+                if (!status.frame_ready || status.preview_only)
+                    throw InputError(o->input + ": truncated: its " + std::to_string(bytes.size()) +
+                                     " bytes hold " + (status.preview_only ? "only a coarse preview of frame 0" : "no frame") +
+                                     "; the first frame needs " +
+                                     (status.first_frame_bytes ? std::to_string(status.first_frame_bytes) + " bytes"
+                                                               : "the first data packet, which has not begun"));
                 // The frames and a copy of them (--frames, the PC2 writer's buffer), and the decoder's
                 // state (about 100 bytes per vertex), before any frame is made.
                 const std::uint64_t vertex_frames = std::uint64_t(decoder.vertex_count()) * decoder.frame_count();
@@ -99,11 +107,16 @@ Command decode_command(CLI::App& app) {
                     anim.frames = std::vector<std::vector<Vec3f>>(anim.frames.begin() + static_cast<std::ptrdiff_t>(a),
                                                                   anim.frames.begin() + static_cast<std::ptrdiff_t>(b));
                 }
-                if (!status.complete)
+                if (!status.complete && status.playable_frames > 0)
                     std::fprintf(
                         stderr,
                         "foldcast: warning: '%s' is truncated: frames 0..%zu are final, later frames are coarser\n",
-                        o->input.c_str(), status.playable_frames == 0 ? std::size_t(0) : status.playable_frames - 1);
+                        o->input.c_str(), status.playable_frames - 1);
+                else if (!status.complete)
+                    std::fprintf(stderr,
+                                 "foldcast: warning: '%s' is truncated: no frame is final yet (interpolated "
+                                 "between keyframes)\n",
+                                 o->input.c_str());
                 std::optional<gltf::GlbSummary> summary;
                 if (glb)
                     summary = gltf::write_glb(o->output, anim, glb_options);
@@ -118,7 +131,9 @@ Command decode_command(CLI::App& app) {
                                      {"profile", codec::profile_name(decoder.profile())},
                                      {"bytes", bytes.size()},
                                      {"complete", status.complete},
-                                     {"playable_frames", status.playable_frames}};
+                                     {"playable_frames", status.playable_frames},
+                                     {"metadata", nlohmann::json::object()}};
+                    for (const auto& [key, value] : decoder.metadata()) j["metadata"][key] = value;
                     if (summary)
                         j["glb"] = {{"bytes", summary->bytes},
                                     {"morph_targets", summary->morph_targets},

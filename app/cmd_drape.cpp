@@ -285,7 +285,10 @@ int run_drape(const DrapeOptions& o, const Flags& flags) {
     if (kind == OutputKind::pc2) {
         write_pc2_animation(o.output, *animation);
     } else if (kind == OutputKind::fca) {  // the codec's default profile and error bound
-        codec::write_fca(o.output, codec::encode(*animation, {}));
+        codec::EncodeOptions encode_options;
+        // The look's name travels with the file, so that a player shows the garment in it.
+        if (!o.look.empty()) encode_options.metadata.emplace_back("look", looks::Library::load_default().find(o.look).name);
+        codec::write_fca(o.output, codec::encode(*animation, encode_options));
     } else if (glb_animated) {
         glb_summary = gltf::write_glb(o.output, *animation, glb_options);
     } else if (kind != OutputKind::none) {

@@ -43,8 +43,13 @@ Command encode_command(CLI::App& app) {
             check_not_input(o->output, in, "-o");  // re-encoding lossily over its own input
             if (!o->topology.empty()) check_not_input(o->output, o->topology, "-o");
             Animation anim;
+            codec::Metadata metadata;  // an .fca's (its look) travels to the re-encoded file
             if (in.extension() == ".fca") {
-                anim = codec::decode(codec::read_fca(in), in.string());
+                const std::string input = codec::read_fca(in);
+                codec::StreamingDecoder decoder(in.string(), input.size());
+                decoder.feed(input);
+                anim = decoder.take_animation();
+                metadata = decoder.metadata();
             } else if (in.extension() == ".pc2") {
                 std::filesystem::path obj = o->topology;
                 if (obj.empty()) obj = std::filesystem::path(in).replace_extension(".obj");
@@ -65,6 +70,7 @@ Command encode_command(CLI::App& app) {
             options.profile = codec::parse_profile(o->profile);
             options.max_error_m = o->max_error_m;
             options.keep_fraction = o->keep;
+            options.metadata = metadata;
             ProgressBar bar(o->quiet || o->json);
             const auto t0 = std::chrono::steady_clock::now();
             const std::string bytes = codec::encode(anim, options, bar.callback());

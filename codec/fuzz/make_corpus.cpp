@@ -1,6 +1,7 @@
 // Writes the seed corpus of fuzz_fca_decode (codec/fuzz/corpus) from a tiny synthetic
 // animation: the seeds are tied to the .fca format version, so rerun this whenever the
 // bitstream changes:  fuzz_make_corpus codec/fuzz/corpus
+// (The v3_*.bin seeds were written by it in format version 3, which is still read.)
 // Each seed is one split byte (where the fuzz target cuts the input into two feeds)
 // followed by an .fca file, or a prefix of one.
 #include <cmath>
@@ -61,6 +62,17 @@ void write_paper_seed(const std::filesystem::path& dir, const std::string& name,
     std::ofstream(dir / name, std::ios::binary) << seed;
 }
 
+// Bytes from the file's start to the end of packet k (0 = the header).
+std::size_t end_of_packet(const std::string& fca, int k) {
+    std::size_t at = 8;
+    for (int i = 0; i <= k && at + 9 <= fca.size(); ++i) {
+        std::uint32_t length = 0;
+        std::memcpy(&length, fca.data() + at, 4);
+        at += 9 + length;
+    }
+    return at;
+}
+
 void write_seed(const std::filesystem::path& dir, const std::string& name, const std::string& fca,
                 std::size_t keep_bytes) {
     std::ofstream out(dir / name, std::ios::binary);
@@ -80,9 +92,12 @@ int main(int argc, char** argv) {
     const Animation a = tiny_animation();
     codec::EncodeOptions bounded;
     bounded.max_error_m = 1e-3;
+    bounded.metadata = {{"look", "denim"}};
     const std::string def = codec::encode(a, bounded);
+    bounded.metadata.clear();
     write_seed(dir, "tiny_default.bin", def, def.size());
     write_seed(dir, "tiny_default_truncated.bin", def, def.size() / 2);
+    write_seed(dir, "tiny_default_preview_truncated.bin", def, end_of_packet(def, 1));
     bounded.profile = codec::Profile::paper;
     const std::string paper = codec::encode(a, bounded);
     write_seed(dir, "tiny_paper.bin", paper, paper.size());

@@ -1,7 +1,5 @@
 #include "container.hpp"
 
-#include <zstd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -9,52 +7,31 @@
 
 #include "byte_io.hpp"
 #include "crc32.hpp"
+#include "zstd_block.hpp"
 
 namespace foldcast::codec {
-namespace {
-// One zstd decompression context per thread, reused: ZSTD_decompress would allocate and
-// initialise one (over 100 KB) for every header, a large part of decoding a small file.
-ZSTD_DCtx& decompression_context() {
-    struct Free {
-        void operator()(ZSTD_DCtx* c) const { ZSTD_freeDCtx(c); }
-    };
-    thread_local const std::unique_ptr<ZSTD_DCtx, Free> context(ZSTD_createDCtx());
-    if (!context) throw std::bad_alloc();
-    return *context;
-}
-
-// Decompresses `packed`, which must hold exactly `expected` bytes, into a buffer that grows
-// with what zstd produces: a frame that only claims a large size costs nothing before its
-// bytes prove it.
-std::string inflate(std::string_view packed, std::uint64_t expected, const ByteReader& r) {
-    ZSTD_DCtx& context = decompression_context();
-    ZSTD_DCtx_reset(&context, ZSTD_reset_session_only);
-    ZSTD_inBuffer in{packed.data(), packed.size(), 0};
-    std::string raw;
-    constexpr std::size_t kFirstChunk = 64 * 1024;
-    for (;;) {
-        const std::size_t have = raw.size();
-        // Room for one more byte than expected, so that a frame holding more is caught.
-        const std::size_t room = static_cast<std::size_t>(
-            std::min<std::uint64_t>(expected + 1 - have, std::max(have, kFirstChunk)));
-        raw.resize(have + room);
-        ZSTD_outBuffer out{raw.data() + have, room, 0};
-        const std::size_t left = ZSTD_decompressStream(&context, &out, &in);
-        raw.resize(have + out.pos);
-        if (ZSTD_isError(left)) r.fail("topology block is corrupt");
-        if (raw.size() > expected) r.fail("topology block holds more than the triangle and UV counts say");
-        if (left == 0) break;
-        if (out.pos == 0 && in.pos == in.size) r.fail("topology block is truncated");
+std::string metadata_problem(const Metadata& metadata) {
+    if (metadata.size() > kMaxMetadataEntries)
+        return std::to_string(metadata.size()) + " metadata entries (at most " + std::to_string(kMaxMetadataEntries) + ")";
+    for (std::size_t i = 0; i < metadata.size(); ++i) {
+        const auto& [key, value] = metadata[i];
+        if (key.empty() || key.size() > kMaxMetadataKeyBytes ||
+            !std::all_of(key.begin(), key.end(), [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; }))
+            return "metadata key '" + key + "' (allowed: 1.." + std::to_string(kMaxMetadataKeyBytes) +
+                   " characters a-z, 0-9, _)";
+        for (std::size_t j = 0; j < i; ++j)
+            if (metadata[j].first == key) return "metadata key '" + key + "' given twice";
+        if (value.size() > kMaxMetadataValueBytes ||
+            std::any_of(value.begin(), value.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+            return "metadata value of '" + key + "' (allowed: at most " + std::to_string(kMaxMetadataValueBytes) +
+                   " bytes, no control characters)";
     }
-    if (raw.size() != expected || in.pos != in.size)
-        r.fail("topology block does not match the triangle and UV counts");
-    return raw;
+    return {};
 }
-}  // namespace
 
 std::string header_payload(const Header& h) {
     ByteWriter w;
-    w.put<std::uint16_t>(kFormatVersion);
+    w.put<std::uint16_t>(h.version);
     w.put<std::uint8_t>(static_cast<std::uint8_t>(h.profile));
     w.put<std::uint32_t>(h.vertices);
     w.put<std::uint32_t>(h.frames);
@@ -65,6 +42,16 @@ std::string header_payload(const Header& h) {
     w.put<double>(h.step);
     w.put<double>(h.threshold);
     w.put<std::uint32_t>(h.profile_param);
+    if (h.version >= 4) {
+        w.put<std::uint64_t>(h.first_frame_bytes);
+        w.put<std::uint8_t>(static_cast<std::uint8_t>(h.metadata.size()));
+        for (const auto& [key, value] : h.metadata) {
+            w.put<std::uint8_t>(static_cast<std::uint8_t>(key.size()));
+            w.put_bytes(key);
+            w.put<std::uint16_t>(static_cast<std::uint16_t>(value.size()));
+            w.put_bytes(value);
+        }
+    }
     // Topology: triangle corners as differences from the previous triangle's (regular
     // meshes repeat a few patterns) and the UVs, as one zstd frame.
     w.put<std::uint32_t>(static_cast<std::uint32_t>(h.topology.triangles.size()));
@@ -80,11 +67,7 @@ std::string header_payload(const Header& h) {
         raw.put<float>(uv.x());
         raw.put<float>(uv.y());
     }
-    std::string packed(ZSTD_compressBound(raw.size()), '\0');
-    const std::size_t size = ZSTD_compress(packed.data(), packed.size(), raw.bytes().data(), raw.size(), 19);
-    if (ZSTD_isError(size)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(size));
-    packed.resize(size);
-    w.put_bytes(packed);
+    w.put_bytes(zstd_pack(raw.bytes()));
     return std::move(w.bytes());
 }
 
@@ -92,9 +75,10 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     ByteReader r(payload, what + ": header");
     Header h;
     const auto version = r.get<std::uint16_t>("version");
-    if (version != kFormatVersion)
-        r.fail("format version " + std::to_string(version) + " (this build reads version " +
-               std::to_string(kFormatVersion) + ")");
+    if (version < kOldestReadableVersion || version > kFormatVersion)
+        r.fail("format version " + std::to_string(version) + " (this build reads versions " +
+               std::to_string(kOldestReadableVersion) + " to " + std::to_string(kFormatVersion) + ")");
+    h.version = version;
     const auto profile = r.get<std::uint8_t>("profile");
     if (profile > static_cast<std::uint8_t>(Profile::predictive))
         r.fail("unknown profile " + std::to_string(profile) + " (known: 0 paper, 1 default)");
@@ -108,6 +92,19 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
     h.step = r.get<double>("quantisation step");
     h.threshold = r.get<double>("threshold");
     h.profile_param = r.get<std::uint32_t>("profile parameter");
+    if (version >= 4) {
+        h.first_frame_bytes = r.get<std::uint64_t>("first frame size");
+        if (h.first_frame_bytes > h.total_bytes)
+            r.fail("first frame size " + std::to_string(h.first_frame_bytes) + " is past the file's size " +
+                   std::to_string(h.total_bytes));
+        const auto entries = r.get<std::uint8_t>("metadata count");
+        for (std::size_t i = 0; i < entries; ++i) {
+            std::string key(r.get_bytes(r.get<std::uint8_t>("metadata key length"), "metadata key"));
+            std::string value(r.get_bytes(r.get<std::uint16_t>("metadata value length"), "metadata value"));
+            h.metadata.emplace_back(std::move(key), std::move(value));
+        }
+        if (const std::string problem = metadata_problem(h.metadata); !problem.empty()) r.fail(problem);
+    }
     if (h.vertices == 0 || h.frames == 0)
         r.fail("header says " + std::to_string(h.vertices) + " vertices and " + std::to_string(h.frames) +
                " frames (both must be > 0)");
@@ -140,9 +137,7 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
         r.fail(std::to_string(triangles) + " triangles" + (has_uvs ? " and UVs" : "") + " (" +
                std::to_string(raw_size) + " bytes) are more than a " + std::to_string(packed.size()) +
                "-byte topology block can hold (limit " + std::to_string(kMaxTopologyBytesPerByte) + " bytes per byte)");
-    const unsigned long long declared = ZSTD_getFrameContentSize(packed.data(), packed.size());
-    if (declared != raw_size) r.fail("topology block is malformed or does not match the triangle and UV counts");
-    const std::string raw = inflate(packed, raw_size, r);
+    const std::string raw = zstd_unpack(packed, raw_size, r, "topology block");
     ByteReader t(raw, r.what() + " topology");
     h.topology.triangles.resize(triangles);
     Triangle previous{0, 0, 0};

@@ -14,7 +14,10 @@
 namespace foldcast::codec {
 
 inline constexpr char kMagic[8] = {'\x89', 'F', 'C', 'A', '\r', '\n', '\x1a', '\n'};
-inline constexpr std::uint16_t kFormatVersion = 3;
+// Version 4 added the coarse first frame (the preview packet), the metadata and the
+// header's first_frame_bytes; version 3 files are still read.
+inline constexpr std::uint16_t kFormatVersion = 4;
+inline constexpr std::uint16_t kOldestReadableVersion = 3;
 inline constexpr std::size_t kPacketOverhead = 4 + 1 + 4;
 inline constexpr std::uint32_t kMaxPayloadBytes = 1u << 30;
 // Allocation policy: decoded vertex-frames may exceed the file's bytes by at most this
@@ -34,9 +37,18 @@ inline constexpr std::uint64_t kMaxTopologyBytesPerByte = 1u << 14;
 inline constexpr std::uint64_t kMaxTrianglesPerVertex = 4;
 inline constexpr std::uint64_t kMaxTopologyBytes = std::uint64_t(1) << 28;
 
-enum class PacketType : std::uint8_t { header = 1, data = 2, end = 3 };
+// Metadata (version 4): at most this many entries, keys of 1..64 characters [a-z0-9_],
+// values of at most 1,024 bytes without control characters.
+inline constexpr std::size_t kMaxMetadataEntries = 32;
+inline constexpr std::size_t kMaxMetadataKeyBytes = 64;
+inline constexpr std::size_t kMaxMetadataValueBytes = 1024;
+// What is wrong with `metadata` (empty: nothing); the encoder and the reader share it.
+std::string metadata_problem(const Metadata& metadata);
+
+enum class PacketType : std::uint8_t { header = 1, data = 2, end = 3, preview = 4 };
 
 struct Header {
+    std::uint16_t version = kFormatVersion;
     Profile profile = Profile::predictive;
     std::uint32_t vertices = 0, frames = 0;
     double fps = 30.0;
@@ -48,6 +60,10 @@ struct Header {
     double step = 0.0;
     double threshold = 0.0;
     std::uint32_t profile_param = 0;  // default: log2 of the keyframe stride; paper: 0
+    // Version 4: bytes from the file's start to the end of data packet 0 (what the first
+    // final frame needs), and the metadata.
+    std::uint64_t first_frame_bytes = 0;
+    Metadata metadata;
 };
 
 std::string header_payload(const Header& header);

@@ -7,6 +7,7 @@
 #include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
 #include "paper_profile.hpp"
+#include "preview.hpp"
 #include "predictive_profile.hpp"
 
 namespace foldcast::codec {
@@ -33,7 +34,9 @@ double paper_step_for_error(const PaperEncoder& enc, double max_error_m, double 
     return lo;
 }
 
-std::string assemble(Header header, const std::vector<std::string>& packets) {
+std::string assemble(Header header, const std::vector<Vec3f>& frame0, const std::vector<std::string>& packets) {
+    std::string preview;
+    append_packet(preview, PacketType::preview, preview_payload(frame0, header));
     std::string body;
     for (std::size_t i = 0; i < packets.size(); ++i) {
         std::string payload(4, '\0');
@@ -41,6 +44,7 @@ std::string assemble(Header header, const std::vector<std::string>& packets) {
         std::memcpy(payload.data(), &seq, 4);
         payload += packets[i];
         append_packet(body, PacketType::data, payload);
+        if (i == 0) header.first_frame_bytes = body.size();
     }
     std::string end(4, '\0');
     const auto count = static_cast<std::uint32_t>(packets.size());
@@ -48,9 +52,11 @@ std::string assemble(Header header, const std::vector<std::string>& packets) {
     append_packet(body, PacketType::end, end);
     header.total_bytes = 0;
     const std::size_t header_bytes = sizeof(kMagic) + kPacketOverhead + header_payload(header).size();
-    header.total_bytes = header_bytes + body.size();
+    header.total_bytes = header_bytes + preview.size() + body.size();
+    header.first_frame_bytes += header_bytes + preview.size();
     std::string file(kMagic, sizeof(kMagic));
     append_packet(file, PacketType::header, header_payload(header));
+    file += preview;
     file += body;
     return file;
 }
@@ -92,7 +98,11 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
             "encode options: keep_fraction applies to the paper profile only (the default profile is error-bounded: "
             "use max_error_m)");
 
+    if (const std::string problem = metadata_problem(options.metadata); !problem.empty())
+        throw InputError("encode options: " + problem);
+
     Header header;
+    header.metadata = options.metadata;
     header.profile = options.profile;
     header.vertices = static_cast<std::uint32_t>(anim.vertex_count());
     header.frames = static_cast<std::uint32_t>(anim.frame_count());
@@ -135,7 +145,7 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
         packets = predictive_packets(layout, spatial_references(n, anim.topology.triangles), n, grid, m);
     }
     if (progress) progress("encode", 1.0);
-    return assemble(header, packets);
+    return assemble(header, anim.frames.front(), packets);
 }
 
 }  // namespace foldcast::codec

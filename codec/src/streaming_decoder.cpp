@@ -8,6 +8,7 @@
 #include "container.hpp"
 #include "crc32.hpp"
 #include "foldcast/codec/codec.hpp"
+#include "preview.hpp"
 #include "profile_decoder.hpp"
 
 namespace foldcast::codec {
@@ -24,6 +25,19 @@ struct StreamingDecoder::Impl {
     Header header;
     std::unique_ptr<ProfileDecoder> profile;
     std::vector<std::vector<Vec3f>> recycled;  // frame buffers for the profile, until it exists
+    std::vector<Vec3f> preview;                // the coarse first frame, until data packet 0
+    std::uint64_t first_frame_bytes = 0;       // 0: not known yet
+
+    bool has_frame() const { return data_packets > 0 || !preview.empty(); }
+    // Before data packet 0 and the preview: no frame can be made (making one would put every
+    // vertex at one point).
+    void require_frame() const {
+        require();
+        if (has_frame()) return;
+        fail("no frame yet: the first " + std::to_string(consumed) + " bytes hold only the header; " +
+             (first_frame_bytes ? "the first frame needs " + std::to_string(first_frame_bytes) + " bytes"
+                                : std::string("the first frame needs data packet 0, which has not begun")));
+    }
 
     void require() const {
         if (!profile) fail("no complete header yet (too short to be an .fca file)");
@@ -46,6 +60,7 @@ struct StreamingDecoder::Impl {
             profile = header.profile == Profile::paper ? make_paper_decoder(header, what)
                                                        : make_predictive_decoder(header, what);
             profile->reuse(std::move(recycled));
+            first_frame_bytes = header.first_frame_bytes;
             return;
         }
         ByteReader r(payload, what + ": " + where);
@@ -59,8 +74,14 @@ struct StreamingDecoder::Impl {
                            std::to_string(data_packets) + ")");
                 profile->accept(seq, r.get_bytes(r.remaining(), "data"));
                 ++data_packets;
+                preview = {};
                 return;
             }
+            case PacketType::preview:
+                if (header.version < 4 || packets != 1)
+                    r.fail("a preview packet must directly follow the header (format version 4 and later)");
+                preview = parse_preview(payload, header, r.what() + " (preview)");
+                return;
             case PacketType::end: {
                 const auto count = r.get<std::uint32_t>("packet count");
                 r.expect_end("end packet");
@@ -94,6 +115,8 @@ struct StreamingDecoder::Impl {
                 fail("packet " + std::to_string(packets) + " claims " + std::to_string(length) + " bytes (limit 2^30)");
             if (profile && consumed + kPacketOverhead + length > header.total_bytes)
                 fail("packet " + std::to_string(packets) + " runs past the size the header declares");
+            if (profile && data_packets == 0 && type == PacketType::data && !first_frame_bytes)
+                first_frame_bytes = consumed + kPacketOverhead + length;
             if (input.size() - used < kPacketOverhead + length) break;  // wait for the rest
             const std::string_view typed(at + 4, 1 + length);
             std::uint32_t stored;
@@ -101,7 +124,8 @@ struct StreamingDecoder::Impl {
             if (crc32(typed) != stored)
                 fail("packet " + std::to_string(packets) + " at byte " + std::to_string(consumed) +
                      " is corrupt (CRC mismatch)");
-            if (type != PacketType::header && type != PacketType::data && type != PacketType::end)
+            if (type != PacketType::header && type != PacketType::data && type != PacketType::end &&
+                type != PacketType::preview)
                 fail("packet " + std::to_string(packets) + " has unknown type " +
                      std::to_string(static_cast<int>(type)));
             handle(type, typed.substr(1));
@@ -158,6 +182,9 @@ StreamStatus StreamingDecoder::status() const {
     s.playable_frames = impl_->profile ? impl_->profile->playable_frames() : 0;
     s.packets = impl_->packets;
     s.bytes_used = impl_->consumed;
+    s.frame_ready = impl_->has_frame();
+    s.preview_only = impl_->data_packets == 0 && !impl_->preview.empty();
+    s.first_frame_bytes = impl_->first_frame_bytes;
     return s;
 }
 
@@ -190,15 +217,34 @@ std::optional<double> StreamingDecoder::max_error_m() const {
     return std::sqrt(3.0) * h.step * (h.threshold + 1.0) / 2.0;
 }
 
+const Metadata& StreamingDecoder::metadata() const {
+    impl_->require();
+    return impl_->header.metadata;
+}
+
+std::optional<std::string> StreamingDecoder::metadata(const std::string& key) const {
+    for (const auto& [k, value] : metadata())
+        if (k == key) return value;
+    return std::nullopt;
+}
+
 Animation StreamingDecoder::animation() const {
     Animation anim = impl_->without_frames();
-    impl_->profile->reconstruct(anim.frames);
+    impl_->require_frame();
+    if (impl_->data_packets == 0)
+        anim.frames.assign(impl_->header.frames, impl_->preview);
+    else
+        impl_->profile->reconstruct(anim.frames);
     return anim;
 }
 
 Animation StreamingDecoder::take_animation() {
     Animation anim = impl_->without_frames();
-    impl_->profile->release(anim.frames);
+    impl_->require_frame();
+    if (impl_->data_packets == 0)
+        anim.frames.assign(impl_->header.frames, impl_->preview);
+    else
+        impl_->profile->release(anim.frames);
     return anim;
 }
 
@@ -207,7 +253,11 @@ void StreamingDecoder::frame(std::size_t t, std::vector<Vec3f>& out) const {
     if (t >= impl_->header.frames)
         throw InputError(impl_->what + ": frame " + std::to_string(t) + " out of range (" +
                          std::to_string(impl_->header.frames) + " frames)");
-    impl_->profile->reconstruct_frame(t, out);
+    impl_->require_frame();
+    if (impl_->data_packets == 0)
+        out = impl_->preview;
+    else
+        impl_->profile->reconstruct_frame(t, out);
 }
 
 std::vector<Vec3f> StreamingDecoder::frame(std::size_t t) const {

@@ -123,6 +123,60 @@ TEST(CodecCli, TopologyFlagAndTruncatedFileDecodesWithWarning) {
     EXPECT_EQ(read_pc2(dir / "half.pc2").size(), 150u);
 }
 
+// Bytes from the file's start to the end of packet k (0 = the header).
+std::size_t end_of_packet(const std::string& fca, int k) {
+    std::size_t at = 8;
+    for (int i = 0; i <= k; ++i) {
+        std::uint32_t length = 0;
+        std::memcpy(&length, fca.data() + at, 4);
+        at += 9 + length;
+    }
+    return at;
+}
+
+// A prefix with no frame in it is refused, naming the bytes the first frame needs; the
+// frames of a longer prefix are real ones (never every vertex at one point), and the
+// warning names only final frames.  The look the drape used is in the file's metadata.
+TEST(CodecCli, PrefixWithoutAFrameIsRefusedAndTheLookIsStored) {
+    const auto dir = test::temp_dir();
+    const auto fca = dir / "d.fca";
+    ASSERT_EQ(run("drape --grid 24x24 --frames 40 --sway-m 0.02 --look denim --quiet -o " + q(fca)).exit_code, 0);
+    const std::string bytes = codec::read_fca(fca);
+    const std::size_t preview_end = end_of_packet(bytes, 1), first_frame = end_of_packet(bytes, 2);
+    const test::CommandResult json = run("decode " + q(fca) + " -o " + q(dir / "all.pc2") + " --json");
+    ASSERT_EQ(json.exit_code, 0);
+    EXPECT_EQ(nlohmann::json::parse(json.out)["metadata"]["look"], "denim");
+    // Re-encoding keeps it.
+    ASSERT_EQ(run("encode " + q(fca) + " -o " + q(dir / "again.fca")).exit_code, 0);
+    EXPECT_EQ(nlohmann::json::parse(run("decode " + q(dir / "again.fca") + " -o " + q(dir / "again.pc2") + " --json").out)
+                  ["metadata"]["look"],
+              "denim");
+
+    const auto decode_prefix = [&](std::size_t n) {
+        codec::write_fca(dir / "p.fca", std::string_view(bytes).substr(0, n));
+        std::filesystem::remove(dir / "p.pc2");
+        return test::run_command(test::foldcast_binary() + " decode " + q(dir / "p.fca") + " -o " + q(dir / "p.pc2") +
+                                 " 2>&1");
+    };
+    const std::string needs = "the first frame needs " + std::to_string(first_frame) + " bytes";
+    for (const std::size_t n : {preview_end - 1, preview_end, first_frame - 1}) {
+        const test::CommandResult r = decode_prefix(n);
+        EXPECT_EQ(r.exit_code, 2) << n;
+        EXPECT_NE(r.out.find(needs), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find(n >= preview_end ? "only a coarse preview of frame 0" : "hold no frame"), std::string::npos)
+            << r.out;
+        EXPECT_FALSE(std::filesystem::exists(dir / "p.pc2"));
+    }
+    const test::CommandResult r = decode_prefix(first_frame);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    // Data packet 0 holds the keyframes: frame 0 is final (and the warning says no more).
+    EXPECT_NE(r.out.find("frames 0..0 are final"), std::string::npos) << r.out;
+    const auto frames = read_pc2(dir / "p.pc2");
+    ASSERT_EQ(frames.size(), 40u);
+    const Bounds b = bounds(frames.back());
+    EXPECT_GT((b.max - b.min).norm(), 0.1f) << "frames collapsed to a point";
+}
+
 TEST(CodecCli, ErrorsExitTwo) {
     const auto dir = test::temp_dir();
     const auto pc2 = q(test::test_data("animations/basicCloth.pc2"));

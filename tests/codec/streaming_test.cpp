@@ -34,7 +34,7 @@ TEST_P(Streaming, PrefixesDecodeCoarserAndErrorFallsAsBytesArrive) {
         const StreamStatus s = decoder.status();
         EXPECT_GE(s.playable_frames, previous_playable);
         previous_playable = s.playable_frames;
-        if (!s.header_ready || s.packets == previous_packets) continue;
+        if (!s.frame_ready || s.packets == previous_packets) continue;
         previous_packets = s.packets;
         const Animation partial = decoder.animation();
         ASSERT_EQ(partial.frame_count(), a.frame_count());

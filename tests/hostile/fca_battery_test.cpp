@@ -156,12 +156,12 @@ std::string zstd_claiming(std::uint64_t content_bytes, std::size_t filler) {
     return frame;
 }
 
-// A decode bomb: a predictive header (fields kept up to the profile parameter) whose
+// A decode bomb: a predictive header (fields kept up to the metadata count, 0) whose
 // topology block claims `raw_bytes` of triangles in a block of `block_bytes`.
 std::string topology_bomb(std::uint64_t raw_bytes, std::size_t block_bytes) {
     const std::string good = encoded(codec::Profile::predictive, 6, 5, 10);
     const Packet header = packets(good).front();
-    std::string payload = good.substr(header.offset + 5, 71);  // up to the triangle count
+    std::string payload = good.substr(header.offset + 5, 80);  // up to the triangle count
     const std::uint32_t triangles = static_cast<std::uint32_t>(raw_bytes / 12);
     const std::uint32_t vertices = triangles / 4 + 1, frames = 1;
     std::memcpy(payload.data() + 3, &vertices, 4);

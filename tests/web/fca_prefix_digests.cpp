@@ -42,9 +42,12 @@ int main(int argc, char** argv) {
         line["complete"] = s.complete;
         line["playable"] = s.playable_frames;
         line["packets"] = s.packets;
+        line["frame_ready"] = s.frame_ready;
+        line["preview_only"] = s.preview_only;
+        line["first_frame_bytes"] = s.first_frame_bytes;
         EVP_MD_CTX* sha = EVP_MD_CTX_new();
         EVP_DigestInit_ex(sha, EVP_sha256(), nullptr);
-        if (s.header_ready) {
+        if (s.frame_ready) {
             std::vector<foldcast::Vec3f> frame;
             for (std::size_t t = 0; t < decoder.frame_count(); ++t) {
                 decoder.frame(t, frame);

@@ -30,12 +30,16 @@ export class FcaStream {
     const status = {
       headerReady: s[i] === 1, complete: s[i + 1] === 1, playableFrames: s[i + 2], packets: s[i + 3],
       bytesUsed: s[i + 4], maxErrorM: s[i + 5] >= 0 ? s[i + 5] : null,
+      frameReady: s[i + 6] === 1, previewOnly: s[i + 7] === 1, firstFrameBytes: s[i + 8] || null,
     };
     if (status.headerReady && !this.vertices) {
       this.vertices = M._fca_vertex_count(this.handle);
       this.frames = M._fca_frame_count(this.handle);
       this.fps = M._fca_fps(this.handle);
       this.profile = M._fca_profile(this.handle) === 0 ? 'paper' : 'default';
+      this.metadata = {};
+      for (let k = 0; k < M._fca_metadata_count(this.handle); ++k)
+        this.metadata[M.UTF8ToString(M._fca_metadata_key(this.handle, k))] = M.UTF8ToString(M._fca_metadata_value(this.handle, k));
     }
     return status;
   }
@@ -46,6 +50,13 @@ export class FcaStream {
     const n = 3 * M._fca_triangle_count(this.handle);
     const at = M._fca_triangles(this.handle) >> 2;
     return M.HEAPU32.slice(at, at + n);
+  }
+
+  // Per-vertex UVs (Float32Array of 2N), or null when the file has none.
+  uvs() {
+    const M = this.M;
+    const at = M._fca_uvs(this.handle) >> 2;
+    return at ? M.HEAPF32.slice(at, at + 2 * this.vertices) : null;
   }
 
   // Frame t as reconstructed from the bytes so far, into `out` (Float32Array of 3N) or a new array.

@@ -1,8 +1,9 @@
-// `foldcast serve DIR --port 0 ...` as a child process on 127.0.0.1; resolves to its port.
+// `foldcast serve DIR --port P ...` (any free port by default) as a child process on
+// 127.0.0.1; resolves to its port.
 import { spawn } from 'node:child_process';
 
-export function startServe(foldcast, dir, extra = []) {
-  const child = spawn(foldcast, ['serve', dir, '--port', '0', '--bind', '127.0.0.1', ...extra], { stdio: ['ignore', 'pipe', 'inherit'] });
+export function startServe(foldcast, dir, extra = [], port = 0) {
+  const child = spawn(foldcast, ['serve', dir, '--port', String(port), '--bind', '127.0.0.1', ...extra], { stdio: ['ignore', 'pipe', 'inherit'] });
   return new Promise((resolve, reject) => {
     let out = '';
     child.stdout.on('data', (d) => {

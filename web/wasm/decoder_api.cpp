@@ -16,7 +16,7 @@ struct Player {
     std::vector<foldcast::Vec3f> frame;    // the last frame asked for
     std::vector<std::uint32_t> triangles;  // flattened, valid once the header is in
     std::vector<std::uint8_t> input;       // the caller writes the next chunk here
-    double status[6] = {};
+    double status[9] = {};
 };
 
 template <class F>
@@ -55,7 +55,8 @@ int fca_feed(Player* p, std::uint32_t bytes) {
 const char* fca_error(Player* p) { return p->error.c_str(); }
 
 // [header_ready, complete, playable_frames, packets, bytes_used, error bound in metres
-// (-1 where the profile states none)], as doubles for one typed-array view.
+// (-1 where the profile states none), frame_ready, preview_only, first_frame_bytes (0
+// unknown)], as doubles for one typed-array view.
 const double* fca_status(Player* p) {
     const auto s = p->decoder.status();
     p->status[0] = s.header_ready;
@@ -65,6 +66,9 @@ const double* fca_status(Player* p) {
     p->status[4] = static_cast<double>(s.bytes_used);
     const auto bound = s.header_ready ? p->decoder.max_error_m() : std::nullopt;
     p->status[5] = bound ? *bound : -1.0;
+    p->status[6] = s.frame_ready;
+    p->status[7] = s.preview_only;
+    p->status[8] = static_cast<double>(s.first_frame_bytes);
     return p->status;
 }
 
@@ -76,6 +80,17 @@ int fca_profile(Player* p) { return static_cast<int>(p->decoder.profile()); }
 std::uint32_t fca_triangle_count(Player* p) {
     return static_cast<std::uint32_t>(p->decoder.topology().triangles.size());
 }
+// The per-vertex UVs (u, v float32 pairs), or null when the file has none.
+const float* fca_uvs(Player* p) {
+    const auto& uvs = p->decoder.topology().uvs;
+    static_assert(sizeof(foldcast::Vec2f) == 2 * sizeof(float));
+    return uvs.empty() ? nullptr : uvs.front().data();
+}
+
+// The header's metadata entries (format version 4): key and value of entry i < count.
+std::uint32_t fca_metadata_count(Player* p) { return static_cast<std::uint32_t>(p->decoder.metadata().size()); }
+const char* fca_metadata_key(Player* p, std::uint32_t i) { return p->decoder.metadata().at(i).first.c_str(); }
+const char* fca_metadata_value(Player* p, std::uint32_t i) { return p->decoder.metadata().at(i).second.c_str(); }
 const std::uint32_t* fca_triangles(Player* p) {
     const auto& tris = p->decoder.topology().triangles;
     p->triangles.resize(tris.size() * 3);

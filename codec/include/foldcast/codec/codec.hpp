@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "foldcast/core/mesh.hpp"
@@ -29,6 +30,11 @@ enum class Profile : std::uint8_t {
 std::string profile_name(Profile p);             // "paper" / "default"
 Profile parse_profile(const std::string& name);  // throws InputError
 
+// Key-value pairs stored in the header (format version 4), in order: e.g. {"look", "denim"}
+// for the look an animation was draped with.  Keys 1..64 characters [a-z0-9_], values at
+// most 1,024 bytes without control characters (the encoder throws InputError otherwise).
+using Metadata = std::vector<std::pair<std::string, std::string>>;
+
 struct EncodeOptions {
     Profile profile = Profile::predictive;
     // Largest allowed per-vertex position error in metres (Euclidean).  The default profile
@@ -37,6 +43,7 @@ struct EncodeOptions {
     // paper only: fraction (0, 1] of wavelet coefficients kept (the threshold eps is the
     // matching quantile of |c|).  Mutually exclusive with max_error_m.
     std::optional<double> keep_fraction;
+    Metadata metadata;
 };
 
 // Default error bound when neither max_error_m nor keep_fraction is given, as a fraction
@@ -60,6 +67,13 @@ struct StreamStatus {
     std::size_t playable_frames = 0;  // frames [0, playable_frames) are final
     std::size_t packets = 0;          // packets accepted so far
     std::size_t bytes_used = 0;       // bytes of accepted packets (a partial packet waits)
+    // A frame can be made: data packet 0 arrived, or (version 4) the coarse preview of frame
+    // 0, which every frame shows until data packet 0 arrives (preview_only).
+    bool frame_ready = false;
+    bool preview_only = false;
+    // Bytes from the file's start that make frame 0 final (up to the end of data packet 0):
+    // from the header (version 4), or once data packet 0's length has arrived; 0 unknown.
+    std::uint64_t first_frame_bytes = 0;
 };
 
 class StreamingDecoder {
@@ -89,8 +103,13 @@ public:
     // Largest per-vertex position error (metres, Euclidean) of a final frame, from the
     // header: the default profile's quantiser guarantees it; `paper` states none (nullopt).
     std::optional<double> max_error_m() const;
+    // The header's metadata (version 4; empty for older files) and one value by key.
+    const Metadata& metadata() const;
+    std::optional<std::string> metadata(const std::string& key) const;
 
     // Best reconstruction of one frame / all frames from the packets accepted so far.
+    // Throws InputError before any frame can be made (!status().frame_ready), naming the
+    // bytes the first frame needs.
     std::vector<Vec3f> frame(std::size_t t) const;
     // The same into a caller's buffer: no allocation once it has the size (playback).
     void frame(std::size_t t, std::vector<Vec3f>& out) const;
