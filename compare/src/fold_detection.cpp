@@ -463,19 +463,30 @@ WideBand wide_band_centre(const cv::Mat& image, const cv::Mat& cloth, const cv::
     }
     // Down each side to where the coarse profile stops falling or levels off (its fall per
     // sample under 5 % of the steepest on that side: the flat cloth below the lowest fold).
-    const auto shoulder = [&](int step) {
+    // Where the readable run ends first, the band ends there if the cloth ends there or if
+    // the finest profile has nearly levelled off there (its fall under a quarter of the
+    // coarse profile's steepest: a fold inside a print, its shoulders short of the print's
+    // outline); otherwise the rest of the band is not readable and the point is no
+    // measurement.
+    bool cut = false;
+    const auto shoulder = [&](int step, bool edge) {
         int i = peak;
         float steepest = 0.0f;
         while (i + step >= 0 && i + step < n) {
             const float fall = coarse[size_t(i)] - coarse[size_t(i + step)];
-            if (!(fall > 0.05f * steepest)) break;
+            if (!(fall > 0.05f * steepest)) return i;
             steepest = std::max(steepest, fall);
             i += step;
         }
+        // The fine profile's fall over the last coarse scale, per sample: the coarse one is
+        // still falling beside a narrow fold that has levelled off.
+        const int back = std::clamp(i - 16 * step, 0, n - 1);
+        const float fine_fall = (q[size_t(back)] - q[size_t(i)]) / static_cast<float>(std::max(1, std::abs(i - back)));
+        cut |= !edge && !(fine_fall < 0.25f * steepest);
         return i;
     };
-    const int left = shoulder(-1), right = shoulder(1);
-    if ((left == 0 && !lo_edge) || (right == n - 1 && !hi_edge)) return {WideBand::Read::cut};
+    const int left = shoulder(-1, lo_edge), right = shoulder(1, hi_edge);
+    if (cut) return {WideBand::Read::cut};
     const float top = *std::max_element(q.begin() + left, q.begin() + right + 1);
     const float floor_level = std::max(q[size_t(left)], q[size_t(right)]);
     if (!(top - floor_level > 1e-4f)) return {};
