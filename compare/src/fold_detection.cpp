@@ -413,18 +413,17 @@ cv::Mat relative_shading(const cv::Mat& luma, const cv::Mat& cloth) {
 // again.  So the band's extent is read on the profile across the line smoothed at
 // `coarse_px` (out from its extremum to the neighbouring extrema of the other sign, the
 // shoulders) and its centre, as in band_centre, from the half-level crossings of the finest
-// profile between them.  It is taken only where that is one band: the profile stays on
-// readable cloth (`readable`: not outside the cloth, not a print's outline) up to both
-// shoulders, stays beyond the half level between the crossings, and the point lies between
-// them; otherwise nothing (two folds that the coarse smoothing merges, a band cut by the
-// silhouette).  Returns the offset along the normal.
+// profile between them.  It is taken (`centre`, the offset along the normal) only where that
+// is one band: the finest profile stays beyond the half level between the crossings and the
+// point lies between them; otherwise `none` (two folds that the coarse smoothing merges).
+// `cut`: the band runs into a print's outline (`unreadable`) while still falling.
 struct WideBand {
     enum class Read { none, centre, cut } read = Read::none;
     float offset_px = 0.0f;
 };
 
-WideBand wide_band_centre(const cv::Mat& image, const cv::Mat& cloth, const cv::Mat& unreadable, float x,
-                                      float y, float nx, float ny, double coarse_px, int sign) {
+WideBand wide_band_centre(const cv::Mat& image, const cv::Mat& cloth, const cv::Mat& unreadable, float x, float y,
+                          float nx, float ny, double coarse_px, int sign) {
     // Out to 25 coarse scales (a sixth of the picture's diagonal at the default scales), in
     // steps of a sixteenth of one.
     const float kStepPx = static_cast<float>(coarse_px / 16.0);
@@ -752,10 +751,10 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
                 wide_band_centre(field.smooth[finest], cloth, unreadable, px, py, nx, ny, sigma_max, fold.sign);
             // Inside a band of the other sign: a deep valley's lit floor (or a crest's shaded
             // top), part of that band's fold, not a fold of its own.
-            const bool inside_other = band.read != WideBand::Read::centre &&
-                                      wide_band_centre(field.smooth[finest], cloth, unreadable, px, py, nx, ny,
-                                                       sigma_max, -fold.sign)
-                                              .read == WideBand::Read::centre;
+            const bool inside_other =
+                band.read != WideBand::Read::centre &&
+                wide_band_centre(field.smooth[finest], cloth, unreadable, px, py, nx, ny, sigma_max, -fold.sign).read ==
+                    WideBand::Read::centre;
             if (profile_reads_print(p, nx, ny) || band.read == WideBand::Read::cut || inside_other) {
                 finish_piece();
             } else {
@@ -814,4 +813,3 @@ Image draw_detected_folds(const Image& photo, const FoldDetection& detection) {
 }
 
 }  // namespace foldcast::compare
-
