@@ -405,103 +405,6 @@ cv::Mat relative_shading(const cv::Mat& luma, const cv::Mat& cloth) {
     return shading;
 }
 
-// The band of a deep fold, between its two neighbouring folds of the other sign.  A deep
-// valley's floor faces the viewer and sees the sky while its steep walls see each other: the
-// darkest lines are the walls, with a lit floor between them, and each wall is a valley of
-// its own at the finest scales (under a uniform sky, cotton poplin 0.6 x 0.8 m at 400 px/m:
-// walls 5-7 px either side of the valley).  At the coarsest scale the band is one valley
-// again.  So the band's extent is read on the profile across the line smoothed at
-// `coarse_px` (out from its extremum to the neighbouring extrema of the other sign, the
-// shoulders) and its centre, as in band_centre, from the half-level crossings of the finest
-// profile between them.  It is taken (`centre`, the offset along the normal) only where that
-// is one band: the finest profile stays beyond the half level between the crossings and the
-// point lies between them; otherwise `none` (two folds that the coarse smoothing merges).
-// `cut`: the band runs into a print's outline (`unreadable`) while still falling.
-struct WideBand {
-    enum class Read { none, centre, cut } read = Read::none;
-    float offset_px = 0.0f;
-};
-
-WideBand wide_band_centre(const cv::Mat& image, const cv::Mat& cloth, const cv::Mat& unreadable, float x, float y,
-                          float nx, float ny, double coarse_px, int sign) {
-    // Out to 25 coarse scales (a sixth of the picture's diagonal at the default scales), in
-    // steps of a sixteenth of one.
-    const float kStepPx = static_cast<float>(coarse_px / 16.0);
-    const int half = 25 * 16;
-    enum class At { cloth, edge, other };  // edge: outside the cloth or the image
-    const auto at = [&](int i) {
-        const int qx = static_cast<int>(std::lround(x + i * kStepPx * nx)),
-                  qy = static_cast<int>(std::lround(y + i * kStepPx * ny));
-        if (qx < 0 || qy < 0 || qx >= cloth.cols || qy >= cloth.rows || !cloth.at<uchar>(qy, qx)) return At::edge;
-        return unreadable.at<uchar>(qy, qx) ? At::other : At::cloth;
-    };
-    int lo = 0, hi = 0;  // the readable run around the point, in samples
-    while (lo > -half && at(lo - 1) == At::cloth) --lo;
-    while (hi < half && at(hi + 1) == At::cloth) ++hi;
-    // A shoulder at the end of the run is the band's only where the cloth ends there.
-    const bool lo_edge = lo > -half && at(lo - 1) == At::edge, hi_edge = hi < half && at(hi + 1) == At::edge;
-    const int n = hi - lo + 1;
-    if (lo == 0 || hi == 0) return {};
-    std::vector<float> q(static_cast<size_t>(n)), coarse(static_cast<size_t>(n));
-    for (int i = 0; i < n; ++i) {
-        const float t = (lo + i) * kStepPx;
-        float sum = 0.0f;
-        for (int u = -1; u <= 1; ++u) sum += sample(image, x + t * nx - u * ny, y + t * ny + u * nx);
-        q[size_t(i)] = sign * sum / 3.0f;  // the band is a peak of q
-    }
-    cv::GaussianBlur(cv::Mat(1, n, CV_32F, q.data()), cv::Mat(1, n, CV_32F, coarse.data()), cv::Size(0, 0),
-                     coarse_px / kStepPx, 0.0, cv::BORDER_REPLICATE);
-    int peak = -lo;
-    while (true) {
-        if (peak + 1 < n && coarse[size_t(peak + 1)] > coarse[size_t(peak)])
-            ++peak;
-        else if (peak > 0 && coarse[size_t(peak - 1)] > coarse[size_t(peak)])
-            --peak;
-        else
-            break;
-    }
-    // Down each side to where the coarse profile stops falling or levels off (its fall per
-    // sample under 5 % of the steepest on that side: the flat cloth below the lowest fold).
-    // Where the readable run ends first, the band ends there if the cloth ends there or if
-    // the finest profile has nearly levelled off there (its fall under a quarter of the
-    // coarse profile's steepest: a fold inside a print, its shoulders short of the print's
-    // outline); otherwise the rest of the band is not readable and the point is no
-    // measurement.
-    bool cut = false;
-    const auto shoulder = [&](int step, bool edge) {
-        int i = peak;
-        float steepest = 0.0f;
-        while (i + step >= 0 && i + step < n) {
-            const float fall = coarse[size_t(i)] - coarse[size_t(i + step)];
-            if (!(fall > 0.05f * steepest)) return i;
-            steepest = std::max(steepest, fall);
-            i += step;
-        }
-        // The fine profile's fall over the last coarse scale, per sample: the coarse one is
-        // still falling beside a narrow fold that has levelled off.
-        const int back = std::clamp(i - 16 * step, 0, n - 1);
-        const float fine_fall = (q[size_t(back)] - q[size_t(i)]) / static_cast<float>(std::max(1, std::abs(i - back)));
-        cut |= !edge && !(fine_fall < 0.25f * steepest);
-        return i;
-    };
-    const int left = shoulder(-1, lo_edge), right = shoulder(1, hi_edge);
-    if (cut) return {WideBand::Read::cut};
-    const float top = *std::max_element(q.begin() + left, q.begin() + right + 1);
-    const float floor_level = std::max(q[size_t(left)], q[size_t(right)]);
-    if (!(top - floor_level > 1e-4f)) return {};
-    const float level = 0.5f * (top + floor_level);
-    int a = left;
-    while (q[size_t(a + 1)] < level) ++a;
-    int b = right;
-    while (q[size_t(b - 1)] < level) --b;
-    for (int i = a + 1; i < b; ++i)
-        if (q[size_t(i)] < level) return {};  // two bands
-    const float t_left = (lo + a + (level - q[size_t(a)]) / (q[size_t(a + 1)] - q[size_t(a)])) * kStepPx;
-    const float t_right = (lo + b - (level - q[size_t(b)]) / (q[size_t(b - 1)] - q[size_t(b)])) * kStepPx;
-    if (!(t_left <= 0.0f && 0.0f <= t_right)) return {};
-    return {WideBand::Read::centre, 0.5f * (t_left + t_right)};
-}
-
 // Where a fold's band lies across the line: the midpoint of the two places where the
 // brightness profile across it (along the normal, averaged over 3 px along the line) crosses
 // half the band's depth.  The extremum of the brightness, and with it the strongest ridge
@@ -666,12 +569,11 @@ cv::Mat grow_by_hysteresis(const RidgeField& field, const cv::Mat& candidate, co
 // whatever is left (loops), preferring the neighbour that continues the current direction.
 class FoldLinker {
 public:
-    FoldLinker(const RidgeField& field, const cv::Mat& kept, const cv::Mat& offset, const cv::Mat& cloth,
-               const cv::Mat& unreadable, double min_length, FoldDetection& out)
+    FoldLinker(const RidgeField& field, const cv::Mat& kept, const cv::Mat& offset, const cv::Mat& unreadable,
+               double min_length, FoldDetection& out)
         : field_(field),
           kept_(kept),
           offset_(offset),
-          cloth_(cloth),
           unreadable_(unreadable),
           min_length_(min_length),
           out_(out),
@@ -679,8 +581,7 @@ public:
           h_(kept.rows),
           unvisited_(kept.clone()),
           finest_(static_cast<size_t>(std::min_element(out.sigmas_px.begin(), out.sigmas_px.end()) -
-                                      out.sigmas_px.begin())),
-          sigma_max_(*std::max_element(out.sigmas_px.begin(), out.sigmas_px.end())) {}
+                                      out.sigmas_px.begin())) {}
 
     void link() {
         for (int pass = 0; pass < 2; ++pass)
@@ -733,24 +634,12 @@ private:
         while (true) {
             unvisited_.at<uchar>(p.y, p.x) = 0;
             const float nx = field_.nx.at<float>(p.y, p.x), ny = field_.ny.at<float>(p.y, p.x);
-            const float px = static_cast<float>(p.x), py = static_cast<float>(p.y);
-            const WideBand band =
-                wide_band_centre(field_.smooth[finest_], cloth_, unreadable_, px, py, nx, ny, sigma_max_, fold.sign);
-            // Inside a band of the other sign: a deep valley's lit floor (or a crest's shaded
-            // top), part of that band's fold, not a fold of its own.
-            const bool inside_other =
-                band.read != WideBand::Read::centre &&
-                wide_band_centre(field_.smooth[finest_], cloth_, unreadable_, px, py, nx, ny, sigma_max_, -fold.sign)
-                        .read == WideBand::Read::centre;
-            if (profile_reads_print(p, nx, ny) || band.read == WideBand::Read::cut || inside_other) {
+            if (profile_reads_print(p, nx, ny)) {
                 finish_piece();
             } else {
-                std::optional<float> centre;
-                if (band.read == WideBand::Read::centre) centre = band.offset_px;
-                if (!centre)
-                    centre = band_centre(field_.smooth[finest_], px, py, nx, ny,
-                                         out_.sigmas_px[field_.scale.at<uchar>(p.y, p.x)], fold.sign);
-                const float o = centre.value_or(offset_.at<float>(p.y, p.x));
+                const float o = band_centre(field_.smooth[finest_], static_cast<float>(p.x), static_cast<float>(p.y),
+                                            nx, ny, out_.sigmas_px[field_.scale.at<uchar>(p.y, p.x)], fold.sign)
+                                    .value_or(offset_.at<float>(p.y, p.x));
                 fold.points_px.emplace_back(p.x + o * nx, p.y + o * ny);
                 strength_sum += field_.strength.at<float>(p.y, p.x);
             }
@@ -777,14 +666,12 @@ private:
     const RidgeField& field_;
     const cv::Mat& kept_;
     const cv::Mat& offset_;
-    const cv::Mat& cloth_;
     const cv::Mat& unreadable_;
     const double min_length_;
     FoldDetection& out_;
     const int w_, h_;
     cv::Mat unvisited_;
     const size_t finest_;
-    const double sigma_max_;
 };
 
 }  // namespace
@@ -853,7 +740,7 @@ FoldDetection detect_folds(const Image& photo, const Image& mask, const FoldDete
     out.low_floor = options.low_ratio * out.high_floor;
     const cv::Mat kept = grow_by_hysteresis(field, candidate, stored_strength, out);
     const double min_length = options.min_length_px > 0 ? options.min_length_px : std::max(10.0, 0.03 * diagonal);
-    FoldLinker(field, kept, offset, in.cloth, in.unreadable, min_length, out).link();
+    FoldLinker(field, kept, offset, in.unreadable, min_length, out).link();
     return out;
 }
 
