@@ -1,9 +1,7 @@
 #!/usr/bin/env python3
 # The comparison step: Blender's cached results (bench/blender_cloth_compare.sh) against
 # `foldcast drape --json` for the same cloth, as Markdown tables for docs/benchmarks.md.
-#   bench/blender_cloth_table.py [--legacy] [CSV] [FOLDCAST]
-# --legacy: where a case has no row at <= 1.04 cm, compare with its 2.1 cm row instead (marked
-# "2.1 cm"; such rows are not converged, so the figures are a first look, not the reference).
+#   bench/blender_cloth_table.py [CSV] [FOLDCAST]
 # Seconds to run: only foldcast runs (the fold model may change; Blender's rows stay).
 #
 # Blender's reference for a case is its finest grid at rest; a case is converged when the
@@ -16,11 +14,8 @@ import subprocess
 import sys
 
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-args = sys.argv[1:]
-legacy = "--legacy" in args
-args = [a for a in args if a != "--legacy"]
-path = args[0] if len(args) > 0 else os.path.join(root, "bench", "blender_cloth.csv")
-foldcast = args[1] if len(args) > 1 else os.path.join(root, "build", "foldcast")
+path = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "bench", "blender_cloth.csv")
+foldcast = sys.argv[2] if len(sys.argv) > 2 else os.path.join(root, "build", "foldcast")
 COARSE_M, FINE_M = 0.0104, 0.0070  # the two spacings' upper bounds
 
 
@@ -58,10 +53,10 @@ for r in csv.DictReader(open(path)):
 print("| look | inset (m) | n Blender 1.0 / 0.7 cm (at rest) | n foldcast | within 1 | fold depth Blender / zmax (m) | "
       "hem width Blender / foldcast (m) | hem centre - corners Blender / foldcast (m) |")
 print("|---|---|---|---|---|---|---|---|")
-stats = {"cases": 0, "within": 0, "converged": 0, "hem_cases": 0, "hem_width": 0, "hem_side": 0}
+stats = {"cases": 0, "within": 0, "converged": 0, "hem_width": 0, "hem_side": 0}
 sweeps = {}
 for (name, inset), by in cases.items():
-    ref = by.get("fine") or by.get("coarse") or (by.get("legacy") if legacy else None)
+    ref = by.get("fine") or by.get("coarse")
     if ref is None:
         continue
     j = model(ref)
@@ -69,38 +64,29 @@ for (name, inset), by in cases.items():
     n_b, n_f = int(ref["sign_changes"]), int(j["folds"])
     counts = " / ".join(f"{by[k]['sign_changes']}{'' if by[k]['at_rest'] == '1' else ' (moving)'}" if k in by else "-"
                         for k in ("coarse", "fine"))
-    if ref is by.get("legacy"):
-        counts = f"{ref['sign_changes']}{'' if ref['at_rest'] == '1' else ' (moving)'} at 2.1 cm"
     converged = ("coarse" in by and "fine" in by and by["coarse"]["at_rest"] == by["fine"]["at_rest"] == "1" and
                  by["coarse"]["sign_changes"] == by["fine"]["sign_changes"])
     stats["converged"] += converged
     ok = abs(n_b - n_f) <= 1
     stats["within"] += ok
     sweeps.setdefault(name, []).append((inset, n_b, n_f))
-    hem_f = j["hem"]["width_m"]
+    hem_b, hem_f = float(ref["hem_width_m"]), j["hem"]["width_m"]
+    stats["hem_width"] += abs(hem_f - hem_b) <= 0.2 * hem_b
+    lift_b = float(ref["hem_centre_m"]) - float(ref["hem_corners_m"])
     lift_f = j["hem"]["centre_y_m"] - j["hem"]["corners_y_m"]
-    if ref["hem_width_m"]:  # the 2.1 cm rows predate the hem measures
-        hem_b = float(ref["hem_width_m"])
-        lift_b = float(ref["hem_centre_m"]) - float(ref["hem_corners_m"])
-        stats["hem_cases"] += 1
-        stats["hem_width"] += abs(hem_f - hem_b) <= 0.2 * hem_b
-        same_side = side(lift_b, 0.0) == side(lift_f, 0.0)
-        stats["hem_side"] += same_side
-        hem = f"{hem_b:.3f} / {hem_f:.3f} | {lift_b:+.3f} / {lift_f:+.3f}{'' if same_side else ' (other side)'}"
-        depth = f"{float(ref['fold_depth_m']):.3f} / {j['zmax_m']:.3f}"
-    else:
-        hem = f"- / {hem_f:.3f} | - / {lift_f:+.3f}"
-        depth = f"- / {j['zmax_m']:.3f}"
+    same_side = side(lift_b, 0.0) == side(lift_f, 0.0)
+    stats["hem_side"] += same_side
     print(f"| {name} | {inset:g} | {counts}{'' if converged else ' (not converged)'} | {n_f} | {'yes' if ok else 'no'} | "
-          f"{depth} | {hem} |")
+          f"{float(ref['fold_depth_m']):.3f} / {j['zmax_m']:.3f} | {hem_b:.3f} / {hem_f:.3f} | "
+          f"{lift_b:+.3f} / {lift_f:+.3f}{'' if same_side else ' (other side)'} |")
 
 n = max(stats["cases"], 1)
 print()
-print(f"Cases compared: {stats['cases']}{' (2.1 cm rows where nothing finer exists)' if legacy else ''}; converged (both spacings at rest, same n): "
+print(f"Cases with a Blender reference at <= 1.04 cm: {stats['cases']}; converged (both spacings at rest, same n): "
       f"{stats['converged']}.")
 print(f"n within 1 of Blender's: {stats['within']} of {stats['cases']} ({100 * stats['within'] / n:.0f} %).")
-print(f"Hem width within 20 %: {stats['hem_width']} of {stats['hem_cases']}; hem centre on the same side of its corners: "
-      f"{stats['hem_side']} of {stats['hem_cases']}.")
+print(f"Hem width within 20 %: {stats['hem_width']} of {stats['cases']}; hem centre on the same side of its corners: "
+      f"{stats['hem_side']} of {stats['cases']}.")
 print()
 print("| look | n along the inset sweep, Blender | foldcast | same direction |")
 print("|---|---|---|---|")

@@ -1,6 +1,5 @@
 // The tension-field fold solve (docs/drape.md, "The model") with the hem closure (docs/drape.md):
-// the critical-stress ratio S says whether the cloth wrinkles at all, the fold width from
-// bending against tension sets Q (fold_width.cpp), then for each fold count n one configuration fixed
+// Q from the critical-stress equation, then for each fold count n one configuration fixed
 // by the top edge and the hem keeping their length, and n chosen as the most folds whose
 // zig-zag fits the centre fibre.
 //
@@ -143,31 +142,6 @@ CandidateSolve solve_candidate(const ClothParams& p, double slack_a, double q, i
     return out;
 }
 
-// Solves n = 1, 2, ... at s.Q until no larger n fits; sets s's candidates, feasible counts and
-// the chosen n (the most folds that fit), returning whether even one fold is cut by the hem.
-bool scan_fold_counts(const ClothParams& p, FoldSolution& s) {
-    s.candidates.clear();
-    s.feasible_folds.clear();
-    std::vector<std::vector<double>> amplitudes;  // per candidate, when solved
-    for (int n = 1; n <= kMaxFolds; ++n) {
-        CandidateSolve c = solve_candidate(p, s.slack_amplitude_m, s.Q, n);
-        s.candidates.push_back(c.candidate);
-        amplitudes.push_back(std::move(c.amplitudes));
-        if (c.candidate.feasible) s.feasible_folds.push_back(n);
-        if (c.stop_scan) break;
-    }
-    // When even one fold is longer than the cloth, the top still buckles: one fold, cut by the hem.
-    const bool cut = s.feasible_folds.empty();
-    const std::size_t best = cut ? 0 : std::size_t(s.feasible_folds.back() - 1);
-    const FoldCandidate& chosen = s.candidates.at(best);
-    s.folds = chosen.folds;
-    s.zmax_m = chosen.zmax_m;
-    s.fold_length_m = chosen.fold_length_m;
-    s.amplitudes_m = amplitudes[best];
-    s.residual = chosen.residual;
-    return cut;
-}
-
 void set_smooth_sag(FoldSolution& s) {
     s.folds = 0;
     s.zmax_m = 0.0;
@@ -217,15 +191,27 @@ FoldSolution solve_folds(const ClothParams& params) {
     }
     if (p.closure == Closure::paper) return detail::solve_paper_closure(p, std::move(s));
 
-    // The fold width sets Q (docs/drape.md, "The fold width"): the top fold's step is the
-    // half-width on the scale of the top edge's slack amplitude A, known before n.
-    s.fold_half_width_m = fold_half_width_m(p);
-    s.Q = 1.0 + s.fold_half_width_m / s.slack_amplitude_m;
-    const bool cut = scan_fold_counts(p, s);
+    std::vector<std::vector<double>> amplitudes;  // per candidate, when solved
+    for (int n = 1; n <= kMaxFolds; ++n) {
+        CandidateSolve c = solve_candidate(p, s.slack_amplitude_m, s.Q, n);
+        s.candidates.push_back(c.candidate);
+        amplitudes.push_back(std::move(c.amplitudes));
+        if (c.candidate.feasible) s.feasible_folds.push_back(n);
+        if (c.stop_scan) break;
+    }
+    // Rule: the most folds whose zig-zag fits the centre fibre.  When even one fold is longer
+    // than the cloth, S < 1 still buckles the top: one fold, cut by the hem.
+    const bool cut = s.feasible_folds.empty();
+    const std::size_t best = cut ? 0 : std::size_t(s.feasible_folds.back() - 1);
+    const FoldCandidate& chosen = s.candidates.at(best);
     s.regime = FoldSolution::Regime::wrinkled;
+    s.folds = chosen.folds;
+    s.zmax_m = chosen.zmax_m;
+    s.fold_length_m = chosen.fold_length_m;
+    s.amplitudes_m = amplitudes[best];
+    s.residual = chosen.residual;
     const std::string head = std::to_string(s.folds) + (s.folds == 1 ? " fold" : " folds") +
-                             ": S = " + detail::format_number(s.stress_ratio) + " < 1 so the cloth buckles, in folds " +
-                             detail::format_number(s.fold_half_width_m) + " m wide at the top (Q = " + detail::format_number(s.Q) + "); ";
+                             ": S = " + detail::format_number(s.stress_ratio) + " < 1 so the cloth buckles with Q = " + detail::format_number(s.Q) + "; ";
     if (cut)
         s.explanation = head + "even one fold's zig-zag (" + detail::format_number(s.fold_length_m) + " m) is longer than the height " +
                         detail::format_number(p.height_m) + " m, so the hem cuts across it";

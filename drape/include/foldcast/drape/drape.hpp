@@ -60,12 +60,6 @@ double critical_stress_pa(const ClothParams& params);
 double stress_ratio(const ClothParams& params);
 // The root Q > 1 of (1-S) Q^2 - (2+S) Q + 1 = 0, or 0 when S >= 1 (no such root).
 double amplitude_ratio(double stress_ratio);
-// B = E t^3 / (12 (1 - nu^2)), in N m.
-double bending_stiffness_nm(const ClothParams& params);
-// Half the wavelength of folds from bending against the hanging tension w h along fold lines
-// the support span l long (docs/drape.md, "The fold width"): sqrt(pi) (B l^2 / (w h))^(1/4),
-// per bay.  The hem closure spaces its top folds by it.
-double fold_half_width_m(const ClothParams& params);
 // Length of the curve (x, A cos(pi x/l)) over [-l/2, l/2]: (2l/pi) sqrt(1+k^2) E(k^2/(1+k^2))
 // with k = pi A / l (complete elliptic integral of the second kind).
 double top_edge_length_m(double span_m, double amplitude_m);
@@ -102,7 +96,6 @@ struct FoldSolution {
     // Q of the critical-stress equation; the paper closure reports Q = (a_0/a_n)^(1/n) as the
     // paper does, which differs from it once n is rounded to an integer.
     double critical_Q = 1.0;
-    double fold_half_width_m = 0.0;  // hem closure: the top folds' spacing a_n (Q - 1)
     int closure_steps = 0;  // paper closure: steps of zmax until the top edge was within 5 %
     enum class Regime { wrinkled, no_wrinkles, no_feasible_folds } regime = Regime::wrinkled;
     std::string explanation;  // one sentence for users, always set
