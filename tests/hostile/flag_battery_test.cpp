@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "run_command.hpp"
+#include "battery.hpp"
 #include "spawn.hpp"
 #include "test_paths.hpp"
 
@@ -100,16 +101,6 @@ struct Case {
     std::string flag, value;
 };
 
-// The longest run of digits in `text` (a double printed with %f has 309).
-std::size_t longest_digit_run(const std::string& text) {
-    std::size_t longest = 0, run = 0;
-    for (char c : text) {
-        run = std::isdigit(static_cast<unsigned char>(c)) ? run + 1 : 0;
-        longest = std::max(longest, run);
-    }
-    return longest;
-}
-
 // Runs one case in a folder of its own; returns what is wrong with the outcome ("" if nothing).
 std::string check(const Case& c, const fs::path& dir) {
     fs::create_directories(dir);
@@ -145,8 +136,8 @@ std::string check(const Case& c, const fs::path& dir) {
         const std::string first = o.err.substr(0, o.err.find('\n'));
         if (first.find(c.flag) == std::string::npos)
             return line + ": the first line does not name " + c.flag + ": " + first;
-        if (longest_digit_run(first) > std::max<std::size_t>(24, longest_digit_run(c.value)))
-            return line + ": the first line prints a number of " + std::to_string(longest_digit_run(first)) +
+        if (test::longest_digit_run(first) > std::max<std::size_t>(24, test::longest_digit_run(c.value)))
+            return line + ": the first line prints a number of " + std::to_string(test::longest_digit_run(first)) +
                    " digits: " + first;
         for (const std::string& out : c.command->outputs)
             if (fs::exists(dir / out)) return line + ": refused, yet " + out + " was written";
@@ -164,22 +155,11 @@ TEST_F(FlagBattery, EveryFlagOfEveryCommandTakesHostileValues) {
             for (const std::string& value : kValues) cases.push_back({&command, flag, value});
         }
     }
-    std::atomic<std::size_t> next{0};
-    std::mutex mutex;
-    std::vector<std::string> failures;
-    auto work = [&] {
-        for (std::size_t i; (i = next++) < cases.size();) {
-            const std::string wrong = check(cases[i], dir_ / ("case" + std::to_string(i)));
-            fs::remove_all(dir_ / ("case" + std::to_string(i)));
-            if (!wrong.empty()) {
-                std::lock_guard lock(mutex);
-                failures.push_back(wrong);
-            }
-        }
-    };
-    std::thread a(work), b(work);  // the CI machine's two cores
-    a.join();
-    b.join();
+    const std::vector<std::string> failures = test::run_on_two_threads(cases.size(), [&](std::size_t i) {
+        const std::string wrong = check(cases[i], dir_ / ("case" + std::to_string(i)));
+        fs::remove_all(dir_ / ("case" + std::to_string(i)));
+        return wrong;
+    });
     std::cout << cases.size() << " cases, " << failures.size() << " failed\n";
     for (const std::string& f : failures) ADD_FAILURE() << f;
 }

@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "battery.hpp"
 #include "spawn.hpp"
 #include "test_paths.hpp"
 
@@ -160,16 +161,6 @@ std::vector<std::string> allowed_keys(const Subject& s, std::size_t t, const fs:
     return keys;
 }
 
-// The longest run of digits in `text`.
-std::size_t longest_digit_run(const std::string& text) {
-    std::size_t longest = 0, run = 0;
-    for (char c : text) {
-        run = std::isdigit(static_cast<unsigned char>(c)) ? run + 1 : 0;
-        longest = std::max(longest, run);
-    }
-    return longest;
-}
-
 // Runs one case in a folder of its own; returns what is wrong with the outcome ("" if nothing).
 std::string check(const Case& c, const fs::path& dir, std::atomic<std::size_t>& accepted) {
     const Subject& s = *c.subject;
@@ -197,8 +188,8 @@ std::string check(const Case& c, const fs::path& dir, std::atomic<std::size_t>& 
     const bool names_line = first.find(file + ":" + std::to_string(line) + ":") != std::string::npos;
     if (first.find(file) == std::string::npos || !(names_key || names_line))
         return what + ": the first line does not name " + file + " and " + c.key + ": " + first;
-    if (longest_digit_run(first) > std::max<std::size_t>(24, longest_digit_run(c.value)))
-        return what + ": the first line prints a number of " + std::to_string(longest_digit_run(first)) +
+    if (test::longest_digit_run(first) > std::max<std::size_t>(24, test::longest_digit_run(c.value)))
+        return what + ": the first line prints a number of " + std::to_string(test::longest_digit_run(first)) +
                " digits: " + first;
     std::set<std::string> inputs = {tried.name};
     for (const TomlFile& f : s.files)
@@ -258,24 +249,14 @@ TEST_F(KeyBattery, EveryKeyOfEveryFileTakesHostileValues) {
                 for (const std::string& value : kValues) cases.push_back({&s, t, key, value});
         }
     }
-    std::atomic<std::size_t> next{0}, accepted{0};
-    std::mutex mutex;
-    std::vector<std::string> failures;
-    auto work = [&] {
-        for (std::size_t i; (i = next++) < cases.size();) {
-            const fs::path dir = dir_ / ("case" + std::to_string(i));
-            const std::string wrong = check(cases[i], dir, accepted);
-            fs::remove_all(dir);
-            fs::remove(dir_ / ("case" + std::to_string(i) + ".stderr"));
-            if (!wrong.empty()) {
-                std::lock_guard lock(mutex);
-                failures.push_back(wrong);
-            }
-        }
-    };
-    std::thread a(work), b(work);  // the CI machine's two cores
-    a.join();
-    b.join();
+    std::atomic<std::size_t> accepted{0};
+    const std::vector<std::string> failures = test::run_on_two_threads(cases.size(), [&](std::size_t i) {
+        const fs::path dir = dir_ / ("case" + std::to_string(i));
+        const std::string wrong = check(cases[i], dir, accepted);
+        fs::remove_all(dir);
+        fs::remove(dir_ / ("case" + std::to_string(i) + ".stderr"));
+        return wrong;
+    });
     std::cout << cases.size() << " cases (" << accepted << " accepted, the rest refused), " << failures.size()
               << " failed\n";
     for (const std::string& f : failures) ADD_FAILURE() << f;
