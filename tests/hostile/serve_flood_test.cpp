@@ -52,6 +52,16 @@ int free_port() {
     return ntohs(addr.sin_port);
 }
 
+// A connection to `foldcast serve` once it listens (it may still be starting): -1 after 10 s.
+int connect_when_serving(int port) {
+    for (int i = 0; i < 200; ++i) {
+        const int fd = connect_to(port);
+        if (fd >= 0) return fd;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return -1;
+}
+
 long resident_kib(pid_t pid) {
     std::ifstream status("/proc/" + std::to_string(pid) + "/status");
     for (std::string line; std::getline(status, line);)
@@ -66,11 +76,7 @@ TEST(ServeFlood, HeaderLinesPastTheBudgetAreNotRead) {
     const test::Child child =
         test::spawn({test::foldcast_under_test(), "serve", dir.string(), "--port", std::to_string(port)},
                     dir / "stderr.txt");
-    int fd = -1;
-    for (int i = 0; i < 200 && fd < 0; ++i) {
-        fd = connect_to(port);
-        if (fd < 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    const int fd = connect_when_serving(port);
     ASSERT_GE(fd, 0) << "foldcast serve did not start";
     const long before_kib = resident_kib(child.pid);
     timeval timeout{10, 0};
@@ -109,11 +115,7 @@ TEST(ServeFlood, SlowReadersAreCutAtTheirDeadline) {
     const test::Child child =
         test::spawn({test::foldcast_under_test(), "serve", dir.string(), "--port", std::to_string(port)},
                     dir / "stderr.txt");
-    int probe = -1;
-    for (int i = 0; i < 200 && probe < 0; ++i) {
-        probe = connect_to(port);
-        if (probe < 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    const int probe = connect_when_serving(port);
     ASSERT_GE(probe, 0) << "foldcast serve did not start";
     ::close(probe);
     std::vector<int> slow;
