@@ -5,7 +5,7 @@
 // (drape::animate with default cloth parameters; --quick: 32x32, 60 frames), unless
 // --no-builtin; --input adds a PC2 animation (triangles from the .obj beside it, e.g. from
 // bench/blender_codec_animations.py).  --ratio: instead of every method, the .fca profiles at
-// max-error 8e-4 .. 2.5e-5 x diagonal and meshopt+zstd at 10..15 bits, then per input the size
+// max-error 8e-4 .. 2.5e-5 x diagonal and meshopt+zstd at 8..15 bits, then per input the size
 // ratio .fca / meshopt+zstd at equal Karni-Gotsman error (both curves interpolated in log-log
 // at KG 0.03, 0.065, 0.14 and 0.275 %; "-" outside the baseline's range).
 // Methods: the `paper` and `default` profiles swept over error bounds, and two baselines
@@ -179,14 +179,14 @@ Coded fca(const Animation& a, codec::Profile p, double rel) {
 
 std::string setting_name(double rel) {
     char setting[64];
-    std::snprintf(setting, sizeof setting, "max-error %.0e diag", rel);
+    std::snprintf(setting, sizeof setting, "max-error %.2g diag", rel);
     return setting;
 }
 
 // The .fca profiles against meshopt+zstd at equal KG error (the measurement).
 void ratios(const char* name, const Animation& a, const std::vector<codec::Profile>& profiles) {
     std::vector<Point> baseline;
-    for (int bits = 10; bits <= 15; ++bits)
+    for (int bits = 8; bits <= 15; ++bits)
         baseline.push_back(report(name, "meshopt+zstd19", std::to_string(bits) + "-bit", a,
                                   [&] { return meshopt_baseline(a, bits); }));
     for (const codec::Profile p : profiles) {
@@ -258,7 +258,7 @@ int main(int argc, char** argv) {
         const Animation& a = in.anim;
         const char* name = in.name.c_str();
         if (ratio) {
-            ratios(name, a, {codec::Profile::predictive});
+            ratios(name, a, {codec::Profile::predictive, codec::Profile::motion});
             continue;
         }
         report(name, "raw-float32+zstd19", "lossless", a, [&] { return raw_zstd(a); });

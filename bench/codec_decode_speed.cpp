@@ -1,6 +1,6 @@
-// Decode speed of the `default` profile in CPU time (CLOCK_THREAD_CPUTIME_ID: the figure
+// Decode speed of the `default` (or --profile motion) profile in CPU time (CLOCK_THREAD_CPUTIME_ID: the figure
 // that counts on a shared machine), plus its rate at Karni-Gotsman error 0.05 % (docs/benchmarks.md).
-//   build/bench/codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids]
+//   build/bench/codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids] [--profile default|motion]
 // Inputs: basicCloth (tests/data) and the 128x128-vertex, 240-frame drape animation
 // (--grids: also 16x16, 32x32 and 64x64, speed only)
 // (drape::animate, default cloth; written to DIR/drape128x128x240.{pc2,obj} once and read
@@ -45,8 +45,11 @@ Animation drape_animation(const std::filesystem::path& cache, int grid = 128) {
     return read_pc2_animation(pc2, obj);  // what later runs see (float round trip through the files)
 }
 
+codec::Profile profile = codec::Profile::predictive;  // --profile
+
 std::string encode_at(const Animation& a, double rel) {
     codec::EncodeOptions o;
+    o.profile = profile;
     o.max_error_m = rel * bounds(a).diagonal();
     return codec::encode(a, o);
 }
@@ -133,8 +136,13 @@ int main(int argc, char** argv) {
             do_rate = false;
         else if (std::strcmp(argv[i], "--grids") == 0)
             grids = true;
+        else if (std::strcmp(argv[i], "--profile") == 0 && i + 1 < argc &&
+                 (std::strcmp(argv[i + 1], "default") == 0 || std::strcmp(argv[i + 1], "motion") == 0))
+            profile = codec::parse_profile(argv[++i]);
         else {
-            std::fprintf(stderr, "usage: codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids]\n");
+            std::fprintf(stderr,
+                         "usage: codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids] "
+                         "[--profile default|motion]\n");
             return 2;
         }
     }

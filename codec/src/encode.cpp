@@ -12,12 +12,15 @@
 
 namespace foldcast::codec {
 
-std::string profile_name(Profile p) { return p == Profile::paper ? "paper" : "default"; }
+std::string profile_name(Profile p) {
+    return p == Profile::paper ? "paper" : p == Profile::motion ? "motion" : "default";
+}
 
 Profile parse_profile(const std::string& name) {
     if (name == "paper") return Profile::paper;
     if (name == "default") return Profile::predictive;
-    throw InputError("codec profile '" + name + "' is unknown (allowed: paper, default)");
+    if (name == "motion") return Profile::motion;
+    throw InputError("codec profile '" + name + "' is unknown (allowed: paper, default, motion)");
 }
 
 namespace {
@@ -142,7 +145,8 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
                     grid[(t * n + v) * 3 + static_cast<std::size_t>(c)] = static_cast<std::int32_t>(
                         std::llround((double(anim.frames[t][v][c]) - double(header.bounds.min[c])) / header.step));
         const PredictiveLayout layout(anim.frame_count(), static_cast<int>(header.profile_param));
-        packets = predictive_packets(layout, spatial_references(n, anim.topology.triangles), n, grid, m);
+        packets = predictive_packets(layout, spatial_references(n, anim.topology.triangles), n, grid, m, -1,
+                                     options.profile == Profile::motion);
     }
     if (progress) progress("encode", 1.0);
     return assemble(header, anim.frames.front(), packets);

@@ -111,7 +111,7 @@ TEST_P(Streaming, DecodingIntoAnEarlierAnimationGivesTheSameFrames) {
         EXPECT_EQ(earlier.topology.triangles, fresh.topology.triangles);
         EXPECT_EQ(earlier.fps, fresh.fps);
     }
-    if (GetParam() == Profile::predictive) {
+    if (GetParam() != Profile::paper) {
         Animation earlier = fresh;
         const Vec3f* buffer = earlier.frames[7].data();
         decode(bytes, earlier);
@@ -176,7 +176,7 @@ TEST(StreamingDefault, SmallMeshesGroupMoreFramesPerPacket) {
     EXPECT_EQ(default_stride_log2(std::size_t(1) << 28, 1), 17);  // within the header's limit of 20
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, Streaming, ::testing::Values(Profile::paper, Profile::predictive),
+INSTANTIATE_TEST_SUITE_P(Profiles, Streaming, ::testing::Values(Profile::paper, Profile::predictive, Profile::motion),
                          [](const auto& info) { return profile_name(info.param); });
 
 }  // namespace

@@ -26,8 +26,9 @@ namespace foldcast::codec {
 enum class Profile : std::uint8_t {
     paper = 0,       // reference method: velocity + cubic B-spline wavelets + Huffman
     predictive = 1,  // the `default` profile (docs/codec.md): error-bounded hierarchical prediction
+    motion = 2,      // `default` plus rigid transport of neighbourhoods and finer reference frames
 };
-std::string profile_name(Profile p);             // "paper" / "default"
+std::string profile_name(Profile p);             // "paper" / "default" / "motion"
 Profile parse_profile(const std::string& name);  // throws InputError
 
 // Key-value pairs stored in the header (format version 4), in order: e.g. {"look", "denim"}
