@@ -8,8 +8,9 @@
 //   prediction(v) = D_a + R (P_v - P_a),
 // exact for any rigid motion of the neighbourhood however curved it is.  Encoder and
 // decoder both call it, in IEEE double with the operations in one fixed order and no
-// fused multiply-add (the file is compiled without contraction, and it has no FMA target
-// clone), then round, so they agree bit for bit on every machine (WebAssembly included).
+// fused multiply-add (the codec and its WebAssembly build compile with -ffp-contract=off,
+// and no caller has an FMA target clone), then round, so they agree bit for bit on every
+// machine.
 #include <cmath>
 #include <cstdint>
 
