@@ -391,6 +391,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             int mode = -1;
             best.bits = 0.0;
             const std::int64_t step = level_residual_step(m, layout.level_class[t], motion);
+            double best_cost = 0.0;
             for (int candidate = 0; candidate < mode_count; ++candidate) {
                 if (!frame_mode_allowed(ref, candidate, motion) || (forced_mode >= 0 && candidate != forced_mode))
                     continue;
@@ -398,9 +399,11 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
                 if (fm.temporal == TemporalMode::linear && ref.kind == TemporalReference::Kind::linear) continue;
                 predict_frame(ref, fm.temporal, t, decoded_frames.data(), row, largest, trial.temporal.data());
                 run_frame(refs, neighbours, n, target, step, fm.spatial, trial);
-                if (mode < 0 || trial.bits < best.bits) {
+                const double cost = fm.spatial == 2 ? trial.bits * kRigidBitsWeight : trial.bits;
+                if (mode < 0 || cost < best_cost) {
                     std::swap(trial, best);
                     mode = candidate;
+                    best_cost = cost;
                 }
             }
             if (mode < 0) {  // forced mode not allowed here: the layout's reference with spatial prediction

@@ -74,6 +74,10 @@ constexpr int kFrameModes = 2 * kTemporalModes;
 // the spatial prediction is the rigid transport of rigid_prediction.hpp instead.
 constexpr int kRigidModes = 4;
 constexpr int kMotionFrameModes = kFrameModes + kRigidModes;
+// The encoder takes a rigid mode only where its estimated bits, times this, still beat the
+// other modes: the transport decodes several times slower per vertex than the
+// parallelogram, so a frame must save enough to be worth it (docs/codec.md).
+constexpr double kRigidBitsWeight = 1.0;
 bool frame_mode_allowed(const TemporalReference& reference, int mode, bool motion = false);
 struct FrameMode {
     TemporalMode temporal;

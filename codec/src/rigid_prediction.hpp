@@ -18,55 +18,68 @@
 
 namespace foldcast::codec {
 
+// A triangle (a, b, c) as the rigid transport reads it: e1 = b - a, the normal cr = e1 x
+// (c - a), w = cr x e1 (in the plane, across e1), and the lengths of e1 and cr.  Unit
+// vectors are never formed: the transport divides once per axis by the product of both
+// frames' lengths, which keeps two square roots and three divisions on the decoder's
+// vertex-to-vertex dependency chain instead of twelve operations of that cost.
 struct RigidFrame {
-    double u[3], w[3], n[3];  // orthonormal: along a->b, in the triangle's plane, normal
+    double e1[3], cr[3], w[3], l1, ln;
 };
 
-// False for a triangle too thin to give a direction (edges or area below a grid step).
-inline bool rigid_frame(const double* a, const double* b, const double* c, RigidFrame& f) {
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    const double l1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    const double ln = std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-    if (!(l1 >= 1.0) || !(ln >= l1)) return false;
-    for (int k = 0; k < 3; ++k) {
-        f.u[k] = e1[k] / l1;
-        f.n[k] = cr[k] / ln;
+inline void cross(const double* a, const double* b, double* out) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// False for a triangle too thin to give a direction (edge or area below a grid step).
+template <typename G>
+inline bool rigid_frame(const G* grid, std::size_t ia, std::size_t ib, std::size_t ic, RigidFrame& f) {
+    double e2[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+        f.e1[k] = double(grid[ib + k]) - double(grid[ia + k]);
+        e2[k] = double(grid[ic + k]) - double(grid[ia + k]);
     }
-    f.w[0] = f.n[1] * f.u[2] - f.n[2] * f.u[1];
-    f.w[1] = f.n[2] * f.u[0] - f.n[0] * f.u[2];
-    f.w[2] = f.n[0] * f.u[1] - f.n[1] * f.u[0];
-    return true;
+    cross(f.e1, e2, f.cr);
+    cross(f.cr, f.e1, f.w);
+    f.l1 = std::sqrt(dot(f.e1, f.e1));
+    f.ln = std::sqrt(dot(f.cr, f.cr));
+    return f.l1 >= 1.0 && f.ln >= f.l1;
 }
 
-// Writes the predicted grid coordinates of v into out[3]; false (out untouched) where the
-// triangle is degenerate in either frame, and the caller falls back to the parallelogram.
-// P and D are the 3N-coordinate rows of the temporal prediction and of the decoded frame.
+// floor(p + 0.5) without a libm call (x86-64's baseline has no rounding instruction), for
+// |p| < 2^62: truncation, then one step down where it rounded a negative value up.
+inline std::int64_t round_half_up(double p) {
+    const double r = p + 0.5;
+    if (!(r > -0x1p62 && r < 0x1p62)) return r > 0 ? std::int64_t(1) << 62 : -(std::int64_t(1) << 62);
+    const auto i = static_cast<std::int64_t>(r);
+    return double(i) > r ? i - 1 : i;
+}
+
+// Writes the predicted grid coordinates of v into out[3]; false (out untouched) where v has
+// no triangle or it is degenerate in either frame, and the caller falls back to the
+// parallelogram.  P and D are the 3N-coordinate rows of the temporal prediction and of the
+// decoded frame (D read only at a, b, c).
 template <typename P, typename D>
 inline bool rigid_prediction(const SpatialReference& s, std::size_t v, const P* predicted, const D* decoded,
                              std::int64_t* out) {
     if (s.c < 0) return false;
-    double pa[3], pb[3], pc[3], da[3], db[3], dc[3], d[3];
     const auto ia = 3 * static_cast<std::size_t>(s.a), ib = 3 * static_cast<std::size_t>(s.b),
                ic = 3 * static_cast<std::size_t>(s.c);
-    for (int k = 0; k < 3; ++k) {
-        pa[k] = double(predicted[ia + k]);
-        pb[k] = double(predicted[ib + k]);
-        pc[k] = double(predicted[ic + k]);
-        da[k] = double(decoded[ia + k]);
-        db[k] = double(decoded[ib + k]);
-        dc[k] = double(decoded[ic + k]);
-        d[k] = double(predicted[3 * v + k]) - pa[k];
-    }
     RigidFrame from, to;
-    if (!rigid_frame(pa, pb, pc, from) || !rigid_frame(da, db, dc, to)) return false;
-    const double x = from.u[0] * d[0] + from.u[1] * d[1] + from.u[2] * d[2];
-    const double y = from.w[0] * d[0] + from.w[1] * d[1] + from.w[2] * d[2];
-    const double z = from.n[0] * d[0] + from.n[1] * d[1] + from.n[2] * d[2];
-    for (int k = 0; k < 3; ++k) {
-        const double p = da[k] + (x * to.u[k] + y * to.w[k] + z * to.n[k]);
-        out[k] = static_cast<std::int64_t>(std::floor(p + 0.5));
+    if (!rigid_frame(predicted, ia, ib, ic, from) || !rigid_frame(decoded, ia, ib, ic, to)) return false;
+    double d[3];
+    for (std::size_t k = 0; k < 3; ++k) d[k] = double(predicted[3 * v + k]) - double(predicted[ia + k]);
+    // v's offset from a in the frame (e1, w, cr) of P, in units that the same axes of D
+    // turn back into grid steps.
+    const double sx = dot(from.e1, d) / (from.l1 * to.l1);
+    const double sy = dot(from.w, d) / ((from.ln * from.l1) * (to.ln * to.l1));
+    const double sz = dot(from.cr, d) / (from.ln * to.ln);
+    for (std::size_t k = 0; k < 3; ++k) {
+        const double p = double(decoded[ia + k]) + (sx * to.e1[k] + sy * to.w[k] + sz * to.cr[k]);
+        out[k] = round_half_up(p);
     }
     return true;
 }
