@@ -258,7 +258,7 @@ int main(int argc, char** argv) {
         const Animation& a = in.anim;
         const char* name = in.name.c_str();
         if (ratio) {
-            ratios(name, a, {codec::Profile::predictive, codec::Profile::motion});
+            ratios(name, a, {codec::Profile::predictive, codec::Profile::cascade});
             continue;
         }
         report(name, "raw-float32+zstd19", "lossless", a, [&] { return raw_zstd(a); });

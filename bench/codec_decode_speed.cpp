@@ -1,6 +1,6 @@
-// Decode speed of the `default` (or --profile motion) profile in CPU time (CLOCK_THREAD_CPUTIME_ID: the figure
+// Decode speed of the `default` (or --profile cascade) profile in CPU time (CLOCK_THREAD_CPUTIME_ID: the figure
 // that counts on a shared machine), plus its rate at Karni-Gotsman error 0.05 % (docs/benchmarks.md).
-//   build/bench/codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids] [--profile default|motion]
+//   build/bench/codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids] [--profile default|cascade]
 // Inputs: basicCloth (tests/data) and the 128x128-vertex, 240-frame drape animation
 // (--grids: also 16x16, 32x32 and 64x64, speed only)
 // (drape::animate, default cloth; written to DIR/drape128x128x240.{pc2,obj} once and read
@@ -137,12 +137,12 @@ int main(int argc, char** argv) {
         else if (std::strcmp(argv[i], "--grids") == 0)
             grids = true;
         else if (std::strcmp(argv[i], "--profile") == 0 && i + 1 < argc &&
-                 (std::strcmp(argv[i + 1], "default") == 0 || std::strcmp(argv[i + 1], "motion") == 0))
+                 (std::strcmp(argv[i + 1], "default") == 0 || std::strcmp(argv[i + 1], "cascade") == 0))
             profile = codec::parse_profile(argv[++i]);
         else {
             std::fprintf(stderr,
                          "usage: codec_decode_speed [--cache DIR] [--runs K] [--no-rate] [--grids] "
-                         "[--profile default|motion]\n");
+                         "[--profile default|cascade]\n");
             return 2;
         }
     }

@@ -98,10 +98,10 @@ int main(int argc, char** argv) {
     write_seed(dir, "tiny_default.bin", def, def.size());
     write_seed(dir, "tiny_default_truncated.bin", def, def.size() / 2);
     write_seed(dir, "tiny_default_preview_truncated.bin", def, end_of_packet(def, 1));
-    bounded.profile = codec::Profile::motion;
-    const std::string motion = codec::encode(a, bounded);
-    write_seed(dir, "tiny_motion.bin", motion, motion.size());
-    write_seed(dir, "tiny_motion_truncated.bin", motion, motion.size() / 2);
+    bounded.profile = codec::Profile::cascade;
+    const std::string cascade = codec::encode(a, bounded);
+    write_seed(dir, "tiny_cascade.bin", cascade, cascade.size());
+    write_seed(dir, "tiny_cascade_truncated.bin", cascade, cascade.size() / 2);
     bounded.profile = codec::Profile::paper;
     const std::string paper = codec::encode(a, bounded);
     write_seed(dir, "tiny_paper.bin", paper, paper.size());

@@ -80,8 +80,8 @@ Header parse_header(std::string_view payload, const std::string& what, std::opti
                std::to_string(kOldestReadableVersion) + " to " + std::to_string(kFormatVersion) + ")");
     h.version = version;
     const auto profile = r.get<std::uint8_t>("profile");
-    if (profile > static_cast<std::uint8_t>(Profile::motion))
-        r.fail("unknown profile " + std::to_string(profile) + " (known: 0 paper, 1 default, 2 motion)");
+    if (profile > static_cast<std::uint8_t>(Profile::cascade))
+        r.fail("unknown profile " + std::to_string(profile) + " (known: 0 paper, 1 default, 2 cascade)");
     h.profile = static_cast<Profile>(profile);
     h.vertices = r.get<std::uint32_t>("vertex count");
     h.frames = r.get<std::uint32_t>("frame count");

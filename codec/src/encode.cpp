@@ -13,14 +13,14 @@
 namespace foldcast::codec {
 
 std::string profile_name(Profile p) {
-    return p == Profile::paper ? "paper" : p == Profile::motion ? "motion" : "default";
+    return p == Profile::paper ? "paper" : p == Profile::cascade ? "cascade" : "default";
 }
 
 Profile parse_profile(const std::string& name) {
     if (name == "paper") return Profile::paper;
     if (name == "default") return Profile::predictive;
-    if (name == "motion") return Profile::motion;
-    throw InputError("codec profile '" + name + "' is unknown (allowed: paper, default, motion)");
+    if (name == "cascade") return Profile::cascade;
+    throw InputError("codec profile '" + name + "' is unknown (allowed: paper, default, cascade)");
 }
 
 namespace {
@@ -146,7 +146,7 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
                         std::llround((double(anim.frames[t][v][c]) - double(header.bounds.min[c])) / header.step));
         const PredictiveLayout layout(anim.frame_count(), static_cast<int>(header.profile_param));
         packets = predictive_packets(layout, spatial_references(n, anim.topology.triangles), n, grid, m, -1,
-                                     options.profile == Profile::motion);
+                                     options.profile == Profile::cascade);
     }
     if (progress) progress("encode", 1.0);
     return assemble(header, anim.frames.front(), packets);

@@ -12,7 +12,6 @@
 #include "profile_decoder.hpp"
 #include "rans_coder.hpp"
 #include "residual_tokens.hpp"
-#include "rigid_prediction.hpp"
 #include "spatial_runs.hpp"
 #include "target_clones.hpp"
 
@@ -160,9 +159,10 @@ public:
           refs_(spatial_references(h.vertices, h.topology.triangles)),
           neighbours_(context_neighbours(refs_)),
           plan_(spatial_plan(refs_)),
-          motion_(h.profile == Profile::motion),
+          cascade_(h.profile == Profile::cascade),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
-          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / level_residual_step(residual_step_, 0, motion_) +
+          // The finest step any frame uses bounds |q| (level 0 is the finest).
+          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / level_residual_step(residual_step_, 0, cascade_) +
                             1),
           grid_high_(grid_high(h)),
           positions_(h.frames),
@@ -202,7 +202,7 @@ public:
         std::vector<int> modes;
         for (std::size_t t : frames) {
             const int mode = static_cast<int>(bits.get(kModeBits));
-            if (!frame_mode_allowed(layout_.references[t], mode, motion_))
+            if (!frame_mode_allowed(layout_.references[t], mode))
                 r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) +
                        " is not allowed there (corrupt data)");
             modes.push_back(mode);
@@ -240,9 +240,8 @@ public:
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
             decode_residuals(rans, raw, layout_.level_class[t], r);
-            const FrameMode mode = split_mode(modes[i]);
-            predict_frame(layout_.references[t], mode.temporal, t, frame_grid_.data(), row, grid_high_,
-                          temporal_.data());
+            predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row,
+                          grid_high_, temporal_.data());
             std::int32_t* grid = scratch_.get();
             if (layout_.referenced_later[t]) {
                 if (!grids_[t])
@@ -252,8 +251,9 @@ public:
                 grid = scratch_.get() + row * next_scratch++;
             }
             positions_[t].resize(n);
-            const auto step = static_cast<std::uint32_t>(level_residual_step(residual_step_, layout_.level_class[t], motion_));
-            if (!reconstruct_grid(mode.spatial, step, grid, positions_[t]))
+            const auto step =
+                static_cast<std::uint32_t>(level_residual_step(residual_step_, layout_.level_class[t], cascade_));
+            if (!reconstruct_grid(modes[i] % 2 == 1, step, grid, positions_[t]))
                 r.fail("frame " + std::to_string(t) + ": position leaves the quantisation grid (corrupt data)");
             frame_grid_[t] = layout_.referenced[t] ? grid : nullptr;
             decoded_[t] = 1;
@@ -324,44 +324,18 @@ private:
     // range, and the positions it stands for.  The sums wrap modulo 2^32 (unsigned): for a
     // valid file every true value lies in int32, so wrapping changes nothing, and corrupt
     // data can only produce an out-of-range coordinate, caught below, never overflow.
-    bool reconstruct_grid(int spatial, std::uint32_t m, std::int32_t* grid, std::vector<Vec3f>& positions) {
+    bool reconstruct_grid(bool use_spatial, std::uint32_t m, std::int32_t* grid, std::vector<Vec3f>& positions) {
         const std::size_t row = 3 * std::size_t(header_.vertices);
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
         std::uint32_t* r = residual_.data();
-        if (spatial == 2) {
-            if (!rigid_residuals(m, grid)) return false;
-        } else if (spatial == 1) {
+        if (use_spatial)
             spatial_residuals(plan_, q, m, r);
-        } else {
+        else
             for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
-        }
         const double origin[3] = {header_.bounds.min.x(), header_.bounds.min.y(), header_.bounds.min.z()};
         return finish_row(reinterpret_cast<const std::uint32_t*>(temporal_.data()), r, row,
                           -std::int32_t(kMaxResidualStep), grid_high_, origin, header_.step, grid,
                           positions.data()->data());
-    }
-
-    // Profile `motion`'s rigid transport (rigid_prediction.hpp), vertex by vertex as the
-    // encoder runs it, into residual_ (grid minus temporal prediction); `grid` holds the
-    // decoded coordinates of the vertices before v, which predict v's.  Each vertex is checked
-    // against the grid's range at once, so the transport only ever reads in-range values.
-    bool rigid_residuals(std::uint32_t m, std::int32_t* grid) {
-        const std::size_t n = header_.vertices;
-        const std::int32_t* temporal = temporal_.data();
-        auto* r = reinterpret_cast<std::int32_t*>(residual_.data());
-        for (std::size_t v = 0; v < n; ++v) {
-            std::int64_t p[3];
-            const bool transported = rigid_prediction(refs_[v], v, temporal, grid, p);
-            for (int c = 0; c < 3; ++c) {
-                const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                if (!transported) p[c] = std::int64_t(temporal[k]) + spatial_prediction(refs_[v], r, c);
-                const std::int64_t g = p[c] + std::int64_t(q_[k]) * std::int64_t(m);
-                if (g < -std::int64_t(kMaxResidualStep) || g > grid_high_) return false;
-                grid[k] = static_cast<std::int32_t>(g);
-                r[k] = static_cast<std::int32_t>(g - temporal[k]);
-            }
-        }
-        return true;
     }
 
     Header header_;
@@ -370,7 +344,7 @@ private:
     std::vector<SpatialReference> refs_;
     std::vector<ContextNeighbours> neighbours_;
     SpatialPlan plan_;
-    bool motion_;
+    bool cascade_;
     std::int64_t residual_step_;
     std::int64_t largest_residual_;  // |q| above it cannot land on the grid; bounding it keeps the sums in int32
     std::int32_t grid_high_;         // decoded coordinates lie in [-kMaxResidualStep, grid_high_]

@@ -9,7 +9,6 @@
 #include "byte_io.hpp"
 #include "rans_coder.hpp"
 #include "residual_tokens.hpp"
-#include "rigid_prediction.hpp"
 #include "target_clones.hpp"
 
 namespace foldcast::codec {
@@ -128,43 +127,19 @@ double entropy_bits(const std::uint32_t* histogram, int symbols) {
     return bits;
 }
 
-// Closed loop with the rigid transport (spatial kind 2): vertex by vertex, since each reads
-// the decoded coordinates of earlier vertices of the frame.
-void run_rigid(const std::vector<SpatialReference>& refs, std::size_t n, const std::int32_t* target, std::int64_t m,
-               FrameTrial& f) {
+void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours,
+               std::size_t n, const std::int32_t* target, std::int64_t m, bool use_spatial, FrameTrial& f) {
     const FloorDivider divide(m);
-    for (std::size_t v = 0; v < n; ++v) {
-        std::int64_t rigid[3];
-        const bool transported = rigid_prediction(refs[v], v, f.temporal.data(), f.decoded.data(), rigid);
-        for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t v = 0; v < n; ++v) {
             const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-            const std::int64_t p = transported
-                                       ? rigid[c]
-                                       : f.temporal[k] + spatial_prediction(refs[v], f.temporal_residual.data(), c);
+            const std::int64_t p =
+                f.temporal[k] + (use_spatial ? spatial_prediction(refs[v], f.temporal_residual.data(), c) : 0);
             const std::int64_t q = divide(target[k] - p + m / 2);
             f.q[k] = q;
             f.decoded[k] = p + q * m;
             f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
         }
-    }
-}
-
-void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours,
-               std::size_t n, const std::int32_t* target, std::int64_t m, int spatial, FrameTrial& f) {
-    const FloorDivider divide(m);
-    if (spatial == 2)
-        run_rigid(refs, n, target, m, f);
-    else
-        for (int c = 0; c < 3; ++c)
-            for (std::size_t v = 0; v < n; ++v) {
-                const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                const std::int64_t p =
-                    f.temporal[k] + (spatial == 1 ? spatial_prediction(refs[v], f.temporal_residual.data(), c) : 0);
-                const std::int64_t q = divide(target[k] - p + m / 2);
-                f.q[k] = q;
-                f.decoded[k] = p + q * m;
-                f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
-            }
     std::array<std::uint32_t, kActivityBuckets * kRansAlphabet> tokens{};
     std::array<std::uint32_t, kRansAlphabet> escapes{};
     double raw_bits = 0.0;
@@ -187,11 +162,9 @@ void run_frame(const std::vector<SpatialReference>& refs, const std::vector<Cont
 }
 }  // namespace
 
-bool frame_mode_allowed(const TemporalReference& reference, int mode, bool motion) {
-    if (mode < 0 || mode >= (motion ? kMotionFrameModes : kFrameModes)) return false;
-    // The rigid transport needs a temporal prediction to carry along (not frame 0, not `none`).
-    if (mode >= kFrameModes && reference.kind == TemporalReference::Kind::none) return false;
-    const TemporalMode temporal = split_mode(mode).temporal;
+bool frame_mode_allowed(const TemporalReference& reference, int mode) {
+    if (mode < 0 || mode >= kFrameModes) return false;
+    const auto temporal = static_cast<TemporalMode>(mode / 2);
     switch (reference.kind) {
         case TemporalReference::Kind::none:
             return temporal == TemporalMode::layout;  // frame 0: nothing to predict from
@@ -355,10 +328,9 @@ std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vec
 
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& refs,
                                             std::size_t n, const std::vector<std::int32_t>& grid,
-                                            std::uint32_t residual_step, int forced_mode, bool motion) {
+                                            std::uint32_t residual_step, int forced_mode, bool cascade) {
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
-    const int mode_count = motion ? kMotionFrameModes : kFrameModes;
     const std::vector<ContextNeighbours> neighbours = context_neighbours(refs);
     // Decoded coordinates lie within m / 2 of the grid's.
     std::int64_t largest = 0;
@@ -390,26 +362,24 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             const std::int32_t* target = grid.data() + t * row;
             int mode = -1;
             best.bits = 0.0;
-            const std::int64_t step = level_residual_step(m, layout.level_class[t], motion);
-            double best_cost = 0.0;
-            for (int candidate = 0; candidate < mode_count; ++candidate) {
-                if (!frame_mode_allowed(ref, candidate, motion) || (forced_mode >= 0 && candidate != forced_mode))
+            const std::int64_t step = level_residual_step(m, layout.level_class[t], cascade);
+            for (int candidate = 0; candidate < kFrameModes; ++candidate) {
+                if (!frame_mode_allowed(ref, candidate) || (forced_mode >= 0 && candidate != forced_mode)) continue;
+                if (candidate / 2 == static_cast<int>(TemporalMode::linear) &&
+                    ref.kind == TemporalReference::Kind::linear)
                     continue;
-                const FrameMode fm = split_mode(candidate);
-                if (fm.temporal == TemporalMode::linear && ref.kind == TemporalReference::Kind::linear) continue;
-                predict_frame(ref, fm.temporal, t, decoded_frames.data(), row, largest, trial.temporal.data());
-                run_frame(refs, neighbours, n, target, step, fm.spatial, trial);
-                const double cost = fm.spatial == 2 ? trial.bits * kRigidBitsWeight : trial.bits;
-                if (mode < 0 || cost < best_cost) {
+                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded_frames.data(), row, largest,
+                              trial.temporal.data());
+                run_frame(refs, neighbours, n, target, step, candidate % 2 == 1, trial);
+                if (mode < 0 || trial.bits < best.bits) {
                     std::swap(trial, best);
                     mode = candidate;
-                    best_cost = cost;
                 }
             }
             if (mode < 0) {  // forced mode not allowed here: the layout's reference with spatial prediction
                 mode = 1;
                 predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, best.temporal.data());
-                run_frame(refs, neighbours, n, target, step, 1, best);
+                run_frame(refs, neighbours, n, target, step, true, best);
             }
             modes.push_back(mode);
             // Symbol k of a frame (tokens, then escapes) goes to rANS state k mod kRansLanes.

@@ -70,32 +70,16 @@ constexpr std::uint32_t kMaxResidualStep = 1024;
 enum class TemporalMode : int { layout = 0, linear = 1, copy_left = 2, copy_right = 3, none = 4 };
 constexpr int kTemporalModes = 5;
 constexpr int kFrameModes = 2 * kTemporalModes;
-// Profile `motion` adds modes kFrameModes + temporal, for the four temporal modes but `none`:
-// the spatial prediction is the rigid transport of rigid_prediction.hpp instead.
-constexpr int kRigidModes = 4;
-constexpr int kMotionFrameModes = kFrameModes + kRigidModes;
-// The encoder takes a rigid mode only where its estimated bits, times this, still beat the
-// other modes: the transport decodes several times slower per vertex than the
-// parallelogram, so a frame must save enough to be worth it (docs/codec.md).
-constexpr double kRigidBitsWeight = 1.0;
-bool frame_mode_allowed(const TemporalReference& reference, int mode, bool motion = false);
-struct FrameMode {
-    TemporalMode temporal;
-    int spatial;  // 0 none, 1 parallelogram of temporal residuals, 2 rigid transport
-};
-constexpr FrameMode split_mode(int mode) {
-    return mode >= kFrameModes ? FrameMode{static_cast<TemporalMode>(mode - kFrameModes), 2}
-                               : FrameMode{static_cast<TemporalMode>(mode / 2), mode % 2};
-}
+bool frame_mode_allowed(const TemporalReference& reference, int mode);
 
 // Residual step of a frame of level class L (PredictiveLayout::level_class) for the header's
-// step m.  `default`: m everywhere.  `motion`: the frames others are predicted from are
+// step m.  `default`: m everywhere.  `cascade`: the frames others are predicted from are
 // quantised finer (m / 2 for keyframes and spacings >= 4, 3m / 4 at spacing 2; the
 // unreferenced spacing-1 frames m), which costs bits there but makes every prediction from
-// them better and lowers the error; at equal Karni-Gotsman error it is 10-20 % smaller on the
-// Blender animations (docs/codec.md).  Never coarser than m, so the error bound holds.
-constexpr std::int64_t level_residual_step(std::int64_t m, int level_class, bool motion) {
-    if (!motion || level_class == 1) return m;
+// them better and lowers the error of the frames predicted to within the step
+// (docs/codec.md).  Never coarser than m, so the error bound holds.
+constexpr std::int64_t level_residual_step(std::int64_t m, int level_class, bool cascade) {
+    if (!cascade || level_class == 1) return m;
     const std::int64_t step = level_class == 2 ? 3 * m / 4 : m / 2;
     return step < 1 ? 1 : step;
 }
@@ -131,11 +115,11 @@ std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vec
 
 // Packet payloads in streaming order; `grid` holds T x 3N fine-grid coordinates
 // (frame-major), `residual_step` is m.  `forced_mode` >= 0 codes every frame in that mode
-// where allowed (tests); otherwise the encoder picks each frame's cheapest mode.  `motion`:
-// profile `motion` (its rigid modes and level_residual_step).
+// where allowed (tests); otherwise the encoder picks each frame's cheapest mode.  `cascade`:
+// profile `cascade` (level_residual_step).
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout,
                                             const std::vector<SpatialReference>& spatial, std::size_t vertices,
                                             const std::vector<std::int32_t>& grid, std::uint32_t residual_step,
-                                            int forced_mode = -1, bool motion = false);
+                                            int forced_mode = -1, bool cascade = false);
 
 }  // namespace foldcast::codec

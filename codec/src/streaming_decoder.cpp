@@ -213,7 +213,7 @@ std::optional<double> StreamingDecoder::max_error_m() const {
     const Header& h = impl_->header;
     if (h.profile == Profile::paper) return std::nullopt;
     // Per coordinate: the fine grid rounds by <= step/2, the residual quantiser (step m x
-    // step) by <= m step / 2 (docs/codec.md; `motion` quantises some frames finer, never
+    // step) by <= m step / 2 (docs/codec.md; `cascade` quantises some frames finer, never
     // coarser); Euclidean over three coordinates.
     return std::sqrt(3.0) * h.step * (h.threshold + 1.0) / 2.0;
 }

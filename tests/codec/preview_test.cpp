@@ -97,7 +97,7 @@ TEST_P(Preview, ComesRightAfterTheHeaderAndShowsFrameZeroWithinItsGrid) {
     EXPECT_EQ(decoder.animation().frames, decode(file).frames);
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, Preview, ::testing::Values(Profile::predictive, Profile::paper, Profile::motion),
+INSTANTIATE_TEST_SUITE_P(Profiles, Preview, ::testing::Values(Profile::predictive, Profile::paper, Profile::cascade),
                          [](const auto& info) { return profile_name(info.param); });
 
 TEST(Preview, DrapeSizedGarmentNeedsAFewKilobytes) {

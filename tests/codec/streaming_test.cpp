@@ -176,7 +176,7 @@ TEST(StreamingDefault, SmallMeshesGroupMoreFramesPerPacket) {
     EXPECT_EQ(default_stride_log2(std::size_t(1) << 28, 1), 17);  // within the header's limit of 20
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, Streaming, ::testing::Values(Profile::paper, Profile::predictive, Profile::motion),
+INSTANTIATE_TEST_SUITE_P(Profiles, Streaming, ::testing::Values(Profile::paper, Profile::predictive, Profile::cascade),
                          [](const auto& info) { return profile_name(info.param); });
 
 }  // namespace

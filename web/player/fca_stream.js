@@ -36,7 +36,7 @@ export class FcaStream {
       this.vertices = M._fca_vertex_count(this.handle);
       this.frames = M._fca_frame_count(this.handle);
       this.fps = M._fca_fps(this.handle);
-      this.profile = ['paper', 'default', 'motion'][M._fca_profile(this.handle)] ?? 'default';
+      this.profile = ['paper', 'default', 'cascade'][M._fca_profile(this.handle)] ?? 'default';
       this.metadata = {};
       for (let k = 0; k < M._fca_metadata_count(this.handle); ++k)
         this.metadata[M.UTF8ToString(M._fca_metadata_key(this.handle, k))] = M.UTF8ToString(M._fca_metadata_value(this.handle, k));

@@ -18,10 +18,10 @@ mkdirSync(args.tmp, { recursive: true });
 const run = (cmd, list) => execFileSync(cmd, list, { encoding: 'utf8', maxBuffer: 1 << 26, stdio: ['ignore', 'pipe', 'ignore'] });
 
 // Reference files: a real Blender cache in every profile, drape animations of one and
-// several packets (the larger also re-encoded in profile motion), and a truncated file.
+// several packets (the larger also re-encoded in profile cascade), and a truncated file.
 const pc2 = join(args.data, 'animations/basicCloth.pc2');
 const files = [];
-for (const profile of ['default', 'paper', 'motion']) {
+for (const profile of ['default', 'paper', 'cascade']) {
   const out = join(args.tmp, `basicCloth-${profile}.fca`);
   run(args.foldcast, ['encode', pc2, '-o', out, '--profile', profile]);
   files.push(out);
@@ -31,9 +31,9 @@ for (const [grid, frames] of [['24x24', 40], ['48x48', 96]]) {
   run(args.foldcast, ['drape', '--grid', grid, '--frames', String(frames), '--sway-m', '0.02', '-o', out]);
   files.push(out);
 }
-const motion = join(args.tmp, 'drape-48x48x96-motion.fca');
-run(args.foldcast, ['encode', files[files.length - 1], '-o', motion, '--profile', 'motion']);
-files.push(motion);
+const cascade = join(args.tmp, 'drape-48x48x96-cascade.fca');
+run(args.foldcast, ['encode', files[files.length - 1], '-o', cascade, '--profile', 'cascade']);
+files.push(cascade);
 
 // A version 3 file (before the preview packet) decodes the same on both sides too.
 files.push(join(args.data, 'fca/v3_drape16.fca'));

@@ -26,9 +26,9 @@ namespace foldcast::codec {
 enum class Profile : std::uint8_t {
     paper = 0,       // reference method: velocity + cubic B-spline wavelets + Huffman
     predictive = 1,  // the `default` profile (docs/codec.md): error-bounded hierarchical prediction
-    motion = 2,      // `default` plus rigid transport of neighbourhoods and finer reference frames
+    cascade = 2,     // `default` with the frames others predict from quantised finer
 };
-std::string profile_name(Profile p);             // "paper" / "default" / "motion"
+std::string profile_name(Profile p);             // "paper" / "default" / "cascade"
 Profile parse_profile(const std::string& name);  // throws InputError
 
 // Key-value pairs stored in the header (format version 4), in order: e.g. {"look", "denim"}

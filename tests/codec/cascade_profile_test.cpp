@@ -1,0 +1,139 @@
+// Profile `cascade` (level_residual_step): every mode decodes to what the encoder meant
+// within each frame's own half step, no frame is quantised coarser than the header's step,
+// the error bound holds, and the finer references lower the error at the same bound.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "container.hpp"
+#include "foldcast/codec/codec.hpp"
+#include "foldcast/core/error.hpp"
+#include "predictive_profile.hpp"
+#include "profile_decoder.hpp"
+#include "test_animations.hpp"
+
+namespace foldcast::codec {
+namespace cascade_test {
+
+constexpr std::size_t kCols = 14, kRows = 12;
+
+std::vector<Triangle> grid_triangles() {
+    std::vector<Triangle> tris;
+    for (std::size_t r = 0; r + 1 < kRows; ++r)
+        for (std::size_t c = 0; c + 1 < kCols; ++c) {
+            const auto v = static_cast<std::uint32_t>(r * kCols + c);
+            tris.push_back({v, v + 1, v + static_cast<std::uint32_t>(kCols)});
+            tris.push_back({v + 1, v + static_cast<std::uint32_t>(kCols) + 1, v + static_cast<std::uint32_t>(kCols)});
+        }
+    return tris;
+}
+
+// A folded sheet turning about the y axis and moving along x (grid coordinates, T x 3N).
+std::vector<std::int32_t> turning_sequence(std::size_t frames) {
+    std::vector<std::int32_t> g;
+    for (std::size_t t = 0; t < frames; ++t) {
+        const double radians = 0.05 * double(t) + 0.002 * double(t * t), shift = 400.0 * double(t);
+        const double c = std::cos(radians), s = std::sin(radians);
+        for (std::size_t v = 0; v < kCols * kRows; ++v) {
+            const double x = 1000.0 * double(v % kCols) - 6500.0, y = 1000.0 * double(v / kCols) - 5500.0;
+            const double z = 2500.0 * std::sin(0.0015 * y) + 800.0 * std::cos(0.001 * x);
+            for (double p : {40000.0 + shift + c * x + s * z, 40000.0 + y, 40000.0 - s * x + c * z})
+                g.push_back(static_cast<std::int32_t>(std::lround(p)));
+        }
+    }
+    return g;
+}
+
+// Through the profile decoder with the grid step 1 m, so positions are grid coordinates.
+std::vector<std::int32_t> code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode) {
+    const std::size_t n = kCols * kRows;
+    Header h;
+    h.profile = Profile::cascade;
+    h.vertices = static_cast<std::uint32_t>(n);
+    h.frames = static_cast<std::uint32_t>(frames);
+    h.topology.triangles = grid_triangles();
+    h.step = 1.0;
+    for (std::size_t k = 0; k < grid.size(); ++k) {
+        const auto c = static_cast<Eigen::Index>(k % 3);
+        h.bounds.max[c] = std::max(h.bounds.max[c], static_cast<float>(grid[k]));
+    }
+    h.threshold = m;
+    h.profile_param = 3;
+    const PredictiveLayout layout(frames, 3);
+    const auto packets =
+        predictive_packets(layout, spatial_references(n, h.topology.triangles), n, grid, m, mode, true);
+    auto decoder = make_predictive_decoder(h, "test");
+    for (std::size_t i = 0; i < packets.size(); ++i) decoder->accept(i, packets[i]);
+    std::vector<std::vector<Vec3f>> positions;
+    decoder->reconstruct(positions);
+    std::vector<std::int32_t> out;
+    for (const auto& f : positions)
+        for (const auto& p : f)
+            for (int c = 0; c < 3; ++c) out.push_back(static_cast<std::int32_t>(std::lround(p[c])));
+    return out;
+}
+
+TEST(CascadeProfile, EveryModeRoundTripsWithinEachFramesHalfStep) {
+    const std::size_t frames = 20;
+    const auto grid = turning_sequence(frames);
+    const PredictiveLayout layout(frames, 3);
+    for (std::uint32_t m : {1u, 6u, 32u})
+        for (int mode = -1; mode < kFrameModes; ++mode) {
+            const auto decoded = code(grid, frames, m, mode);
+            ASSERT_EQ(decoded.size(), grid.size());
+            std::int64_t worst_fine = 0;
+            for (std::size_t k = 0; k < grid.size(); ++k) {
+                const int level = layout.level_class[k / (3 * kCols * kRows)];
+                const std::int64_t error = std::abs(std::int64_t(decoded[k]) - grid[k]);
+                ASSERT_LE(error, level_residual_step(m, level, true) / 2)
+                    << "m " << m << " mode " << mode << " coordinate " << k;
+                if (level != 1) worst_fine = std::max(worst_fine, error);
+            }
+            // The reference frames really are quantised finer than m / 2.
+            if (m == 32) {
+                EXPECT_LE(worst_fine, 12) << "mode " << mode;
+            }
+        }
+}
+
+TEST(CascadeProfile, ReferenceFramesAreQuantisedFinerNeverCoarser) {
+    for (std::int64_t m : {1, 2, 3, 32, 1024})
+        for (int level = 0; level < 8; ++level) {
+            EXPECT_EQ(level_residual_step(m, level, false), m);
+            EXPECT_GE(level_residual_step(m, level, true), 1);
+            EXPECT_LE(level_residual_step(m, level, true), m);
+            EXPECT_GE(level_residual_step(m, level, true), level_residual_step(m, 0, true));
+        }
+    EXPECT_EQ(level_residual_step(32, 1, true), 32);
+    EXPECT_EQ(level_residual_step(32, 2, true), 24);
+    EXPECT_EQ(level_residual_step(32, 0, true), 16);
+    EXPECT_EQ(level_residual_step(32, 5, true), 16);
+    EXPECT_EQ(level_residual_step(1, 0, true), 1);
+}
+
+TEST(CascadeProfile, MeetsItsBoundAndHasLessErrorThanDefaultAtTheSameBound) {
+    for (const Animation& a : {test::basic_cloth(), test::wave_grid(40, 40, 64)}) {
+        EncodeOptions o;
+        o.max_error_m = 2e-4 * bounds(a).diagonal();
+        o.profile = Profile::cascade;
+        const std::string bytes = encode(a, o);
+        const Metrics cascade = measure(a, decode(bytes), bytes.size());
+        EXPECT_LE(cascade.max_error_m, *o.max_error_m * (1 + 1e-6));
+        StreamingDecoder d;
+        d.feed(bytes);
+        EXPECT_EQ(d.profile(), Profile::cascade);
+        ASSERT_TRUE(d.max_error_m());
+        EXPECT_LE(cascade.max_error_m, *d.max_error_m() * (1 + 1e-6));
+        EXPECT_EQ(encode(a, o), bytes);  // deterministic
+        o.profile = Profile::predictive;
+        const std::string plain = encode(a, o);
+        const Metrics standard = measure(a, decode(plain), plain.size());
+        EXPECT_LT(cascade.kg_error, 0.9 * standard.kg_error);
+    }
+    EXPECT_EQ(parse_profile("cascade"), Profile::cascade);
+    EXPECT_EQ(profile_name(Profile::cascade), "cascade");
+    EXPECT_THROW((void)parse_profile("motion"), InputError);
+}
+
+}  // namespace cascade_test
+}  // namespace foldcast::codec
