@@ -5,7 +5,7 @@
 // (drape::animate with default cloth parameters; --quick: 32x32, 60 frames), unless
 // --no-builtin; --input adds a PC2 animation (triangles from the .obj beside it, e.g. from
 // bench/blender_codec_animations.py).  --ratio: instead of every method, the .fca profiles at
-// max-error 8e-4 .. 2.5e-5 x diagonal and meshopt+zstd at 8..15 bits, then per input the size
+// max-error 3.2e-3 .. 2.5e-5 x diagonal and meshopt+zstd at 8..15 bits, then per input the size
 // ratio .fca / meshopt+zstd at equal Karni-Gotsman error (both curves interpolated in log-log
 // at KG 0.03, 0.065, 0.14 and 0.275 %; "-" outside the baseline's range).
 // Methods: the `paper` and `default` profiles swept over error bounds, and two baselines
@@ -191,7 +191,7 @@ void ratios(const char* name, const Animation& a, const std::vector<codec::Profi
                                   [&] { return meshopt_baseline(a, bits); }));
     for (const codec::Profile p : profiles) {
         std::vector<Point> points;
-        for (double rel : {8e-4, 4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5})
+        for (double rel : {3.2e-3, 1.6e-3, 8e-4, 4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5})
             points.push_back(report(name, codec::profile_name(p), setting_name(rel), a, [&] { return fca(a, p, rel); }));
         std::printf("ratio,%s,%s,%zux%zu", name, codec::profile_name(p).c_str(), a.vertex_count(), a.frame_count());
         for (double kg : {0.03, 0.065, 0.14, 0.275}) {
