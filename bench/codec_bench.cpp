@@ -4,10 +4,11 @@
 // Inputs: basicCloth (tests/data) and a 128x128-vertex, 240-frame drape animation
 // (drape::animate with default cloth parameters; --quick: 32x32, 60 frames), unless
 // --no-builtin; --input adds a PC2 animation (triangles from the .obj beside it, e.g. from
-// bench/blender_codec_animations.py).  --ratio: instead of every method, the .fca profiles at
-// max-error 3.2e-3 .. 2.5e-5 x diagonal and meshopt+zstd at 8..15 bits, then per input the size
-// ratio .fca / meshopt+zstd at equal Karni-Gotsman error (both curves interpolated in log-log
-// at KG 0.03, 0.065, 0.14 and 0.275 %; "-" outside the baseline's range).
+// bench/blender_codec_animations.py).  --ratio: instead of every method, profiles default and
+// cascade at max-error 3.2e-3 .. 2.5e-5 x diagonal and meshopt+zstd at 8..15 bits, then per
+// input the size ratio .fca / meshopt+zstd at equal Karni-Gotsman error (both curves
+// interpolated in log-log at KG 0.03, 0.065, 0.14 and 0.275 %; "-" outside either curve's
+// measured range).
 // Methods: the `paper` and `default` profiles swept over error bounds, and two baselines
 // built from Debian libraries: 12-bit quantisation + per-frame temporal delta +
 // meshoptimizer's vertex codec + zstd -19, and raw float32 + zstd -19.
