@@ -161,9 +161,7 @@ public:
           plan_(spatial_plan(refs_)),
           cascade_(h.profile == Profile::cascade),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
-          // The finest step any frame uses bounds |q| (level 0 is the finest).
-          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / level_residual_step(residual_step_, 0, cascade_) +
-                            1),
+          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1),
           grid_high_(grid_high(h)),
           positions_(h.frames),
           decoded_(h.frames, 0),
@@ -239,6 +237,9 @@ public:
         std::size_t next_scratch = 1;
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
+            const auto step =
+                static_cast<std::uint32_t>(level_residual_step(residual_step_, layout_.level_class[t], cascade_));
+            largest_residual_ = (kMaxGridValue + 2 * kMaxResidualStep) / step + 1;  // per frame: its own step
             decode_residuals(rans, raw, layout_.level_class[t], r);
             predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row,
                           grid_high_, temporal_.data());
@@ -251,8 +252,6 @@ public:
                 grid = scratch_.get() + row * next_scratch++;
             }
             positions_[t].resize(n);
-            const auto step =
-                static_cast<std::uint32_t>(level_residual_step(residual_step_, layout_.level_class[t], cascade_));
             if (!reconstruct_grid(modes[i] % 2 == 1, step, grid, positions_[t]))
                 r.fail("frame " + std::to_string(t) + ": position leaves the quantisation grid (corrupt data)");
             frame_grid_[t] = layout_.referenced[t] ? grid : nullptr;
@@ -346,7 +345,9 @@ private:
     SpatialPlan plan_;
     bool cascade_;
     std::int64_t residual_step_;
-    std::int64_t largest_residual_;  // |q| above it cannot land on the grid; bounding it keeps the sums in int32
+    // For the frame being decoded (its own residual step): |q| above it cannot land on the
+    // grid; bounding it keeps the sums in int32.
+    std::int64_t largest_residual_;
     std::int32_t grid_high_;         // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
