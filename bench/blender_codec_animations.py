@@ -1,16 +1,17 @@
-# Makes the codec's test animations with Blender's cloth solver, garments moving with a
-# body, which nothing in codec/ was tuned on (docs/benchmarks.md, section "codec"):
+# Makes test animations for the codec with Blender's cloth solver: garments moving with a
+# body (docs/benchmarks.md, section "codec"):
 #
 #   blender -b --factory-startup -P bench/blender_codec_animations.py -- OUT_DIR [SCENE ...]
 #
 # Scenes (all by default): skirt (a skirt pinned at the waist of a body that walks and turns),
 # scarf (a scarf hanging from an arm that swings up and round), drop (a cloth falling over a
-# sphere that then rolls away, past a box), flag (a flag on a pole waved from
-# side to side, in gusty wind).  Each writes OUT_DIR/NAME.pc2
-# (world-space positions of every frame) and OUT_DIR/NAME.obj (the triangles, frame 0), what
-# `foldcast encode` and bench/codec_bench --input read.  Prints "SCENE,vertices,frames,seconds".
-# Blender only: never part of the build or the tests.  Deterministic: no random numbers but
-# a fixed seed; the solver runs single-threaded with CLOTH_THREADS unset.
+# sphere that then rolls away, past a box), flag (a flag on a pole waved from side to side, in
+# gusty wind).  Each writes OUT_DIR/NAME.pc2 (world-space positions of every frame) and
+# OUT_DIR/NAME.obj (the triangles, frame 0), what `foldcast encode` and bench/codec_bench
+# --input read.  Prints "SCENE,vertices,frames,seconds".  CODEC_ANIMATION_FRAMES=K makes K
+# frames instead (trial runs).  Blender only: never part of the build or the tests.  No
+# random numbers but the wind's fixed seeds; whether Blender's solver gives the same
+# positions on another machine or Blender version was not checked.
 import math
 import os
 import struct
@@ -246,7 +247,7 @@ def main():
         reset()
         t0 = time.time()
         obj, frames = SCENES[name]()
-        frames = int(os.environ.get("CODEC_ANIMATION_FRAMES", frames))  # shorter trial runs
+        frames = int(os.environ.get("CODEC_ANIMATION_FRAMES", frames))
         n = bake_and_write(obj, frames, out_dir, name)
         print("%s,%d,%d,%.1f" % (name, n, frames, time.time() - t0), flush=True)
 
