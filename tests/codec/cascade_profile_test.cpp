@@ -17,17 +17,6 @@ namespace cascade_test {
 
 constexpr std::size_t kCols = 14, kRows = 12;
 
-std::vector<Triangle> grid_triangles() {
-    std::vector<Triangle> tris;
-    for (std::size_t r = 0; r + 1 < kRows; ++r)
-        for (std::size_t c = 0; c + 1 < kCols; ++c) {
-            const auto v = static_cast<std::uint32_t>(r * kCols + c);
-            tris.push_back({v, v + 1, v + static_cast<std::uint32_t>(kCols)});
-            tris.push_back({v + 1, v + static_cast<std::uint32_t>(kCols) + 1, v + static_cast<std::uint32_t>(kCols)});
-        }
-    return tris;
-}
-
 // A folded sheet turning about the y axis and moving along x (grid coordinates, T x 3N).
 std::vector<std::int32_t> turning_sequence(std::size_t frames) {
     std::vector<std::int32_t> g;
@@ -51,7 +40,7 @@ std::vector<std::int32_t> code(const std::vector<std::int32_t>& grid, std::size_
     h.profile = Profile::cascade;
     h.vertices = static_cast<std::uint32_t>(n);
     h.frames = static_cast<std::uint32_t>(frames);
-    h.topology.triangles = grid_triangles();
+    h.topology.triangles = test::grid_triangles(kCols, kRows);
     h.step = 1.0;
     for (std::size_t k = 0; k < grid.size(); ++k) {
         const auto c = static_cast<Eigen::Index>(k % 3);

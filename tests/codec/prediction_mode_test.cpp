@@ -10,22 +10,12 @@
 #include "foldcast/core/error.hpp"
 #include "predictive_profile.hpp"
 #include "profile_decoder.hpp"
+#include "test_animations.hpp"
 
 namespace foldcast::codec {
 namespace {
 
 constexpr std::size_t kCols = 12, kRows = 10;
-
-std::vector<Triangle> grid_triangles() {
-    std::vector<Triangle> tris;
-    for (std::size_t r = 0; r + 1 < kRows; ++r)
-        for (std::size_t c = 0; c + 1 < kCols; ++c) {
-            const auto v = static_cast<std::uint32_t>(r * kCols + c);
-            tris.push_back({v, v + 1, v + static_cast<std::uint32_t>(kCols)});
-            tris.push_back({v + 1, v + static_cast<std::uint32_t>(kCols) + 1, v + static_cast<std::uint32_t>(kCols)});
-        }
-    return tris;
-}
 
 // Grid coordinates (T x 3N, frame-major) of a sheet drifting smoothly; from `jump_frame`
 // on, a fold pattern (smooth across the sheet, large against the motion) switches on.
@@ -58,7 +48,7 @@ Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint3
     Header h;
     h.vertices = static_cast<std::uint32_t>(n);
     h.frames = static_cast<std::uint32_t>(frames);
-    h.topology.triangles = grid_triangles();
+    h.topology.triangles = test::grid_triangles(kCols, kRows);
     h.step = 1.0;
     // Bounds as the encoder writes them: the decoder bounds the grid's range by them.
     for (std::size_t k = 0; k < grid.size(); ++k) {

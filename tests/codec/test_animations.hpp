@@ -12,16 +12,23 @@ inline Animation basic_cloth() {
     return read_pc2_animation(test_data("animations/basicCloth.pc2"), test_data("animations/basicCloth.obj"), 24.0);
 }
 
+// Two triangles per cell of a cols x rows vertex grid (row-major).
+inline std::vector<Triangle> grid_triangles(std::size_t cols, std::size_t rows) {
+    std::vector<Triangle> tris;
+    for (std::size_t r = 0; r + 1 < rows; ++r)
+        for (std::size_t c = 0; c + 1 < cols; ++c) {
+            const auto v = static_cast<std::uint32_t>(r * cols + c);
+            const auto below = v + static_cast<std::uint32_t>(cols);
+            tris.push_back({v, v + 1, below});
+            tris.push_back({v + 1, below + 1, below});
+        }
+    return tris;
+}
+
 inline Animation wave_grid(int nu, int nv, int frames) {
     Animation a;
     a.fps = 30.0;
-    for (int j = 0; j + 1 < nv; ++j)
-        for (int i = 0; i + 1 < nu; ++i) {
-            const auto v = static_cast<std::uint32_t>(j * nu + i);
-            a.topology.triangles.push_back({v, v + 1, v + static_cast<std::uint32_t>(nu)});
-            a.topology.triangles.push_back(
-                {v + 1, v + static_cast<std::uint32_t>(nu) + 1, v + static_cast<std::uint32_t>(nu)});
-        }
+    a.topology.triangles = grid_triangles(std::size_t(nu), std::size_t(nv));
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) a.topology.uvs.emplace_back(0.01f * float(i), 0.01f * float(j));
     for (int t = 0; t < frames; ++t) {
