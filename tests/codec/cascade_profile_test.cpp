@@ -5,12 +5,9 @@
 
 #include <cmath>
 
-#include "container.hpp"
 #include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
-#include "predictive_profile.hpp"
-#include "profile_decoder.hpp"
-#include "test_animations.hpp"
+#include "grid_round_trip.hpp"
 
 namespace foldcast::codec {
 namespace cascade_test {
@@ -33,33 +30,9 @@ std::vector<std::int32_t> turning_sequence(std::size_t frames) {
     return g;
 }
 
-// Through the profile decoder with the grid step 1 m, so positions are grid coordinates.
+// Through the profile decoder (grid_round_trip.hpp), stride 8 frames.
 std::vector<std::int32_t> code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode) {
-    const std::size_t n = kCols * kRows;
-    Header h;
-    h.profile = Profile::cascade;
-    h.vertices = static_cast<std::uint32_t>(n);
-    h.frames = static_cast<std::uint32_t>(frames);
-    h.topology.triangles = test::grid_triangles(kCols, kRows);
-    h.step = 1.0;
-    for (std::size_t k = 0; k < grid.size(); ++k) {
-        const auto c = static_cast<Eigen::Index>(k % 3);
-        h.bounds.max[c] = std::max(h.bounds.max[c], static_cast<float>(grid[k]));
-    }
-    h.threshold = m;
-    h.profile_param = 3;
-    const PredictiveLayout layout(frames, 3);
-    const auto packets =
-        predictive_packets(layout, spatial_references(n, h.topology.triangles), n, grid, m, mode, true);
-    auto decoder = make_predictive_decoder(h, "test");
-    for (std::size_t i = 0; i < packets.size(); ++i) decoder->accept(i, packets[i]);
-    std::vector<std::vector<Vec3f>> positions;
-    decoder->reconstruct(positions);
-    std::vector<std::int32_t> out;
-    for (const auto& f : positions)
-        for (const auto& p : f)
-            for (int c = 0; c < 3; ++c) out.push_back(static_cast<std::int32_t>(std::lround(p[c])));
-    return out;
+    return test::round_trip({grid, kCols, kRows, frames}, Profile::cascade, m, mode, 3).decoded;
 }
 
 TEST(CascadeProfile, EveryModeRoundTripsWithinEachFramesHalfStep) {

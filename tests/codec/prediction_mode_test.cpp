@@ -5,12 +5,9 @@
 
 #include <cmath>
 
-#include "container.hpp"
 #include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
-#include "predictive_profile.hpp"
-#include "profile_decoder.hpp"
-#include "test_animations.hpp"
+#include "grid_round_trip.hpp"
 
 namespace foldcast::codec {
 namespace {
@@ -34,44 +31,12 @@ std::vector<std::int32_t> sheet_grid(std::size_t frames, std::size_t jump_frame)
     return g;
 }
 
-struct Coded {
-    std::vector<std::string> packets;
-    std::vector<std::int32_t> decoded;  // T x 3N grid coordinates the decoder reconstructs
-    std::size_t bytes = 0;
-};
-
 // Encodes with `mode` (-1: the encoder's choice) and decodes through the profile decoder;
 // the grid step is 1 m so decoded positions are grid coordinates.
-Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode,
-           float bounds_scale = 1.0f) {
-    const std::size_t n = kCols * kRows;
-    Header h;
-    h.vertices = static_cast<std::uint32_t>(n);
-    h.frames = static_cast<std::uint32_t>(frames);
-    h.topology.triangles = test::grid_triangles(kCols, kRows);
-    h.step = 1.0;
-    // Bounds as the encoder writes them: the decoder bounds the grid's range by them.
-    for (std::size_t k = 0; k < grid.size(); ++k) {
-        const auto c = static_cast<Eigen::Index>(k % 3);
-        h.bounds.max[c] = std::max(h.bounds.max[c], static_cast<float>(grid[k]));
-    }
-    h.bounds.max *= bounds_scale;
-    h.threshold = m;
-    h.profile_param = static_cast<std::uint32_t>(default_stride_log2(frames, n));
-    const PredictiveLayout layout(frames, static_cast<int>(h.profile_param));
-    Coded out;
-    out.packets = predictive_packets(layout, spatial_references(n, h.topology.triangles), n, grid, m, mode);
-    auto decoder = make_predictive_decoder(h, "test");
-    for (std::size_t i = 0; i < out.packets.size(); ++i) {
-        decoder->accept(i, out.packets[i]);
-        out.bytes += out.packets[i].size();
-    }
-    std::vector<std::vector<Vec3f>> positions;
-    decoder->reconstruct(positions);
-    for (const auto& f : positions)
-        for (const auto& p : f)
-            for (int c = 0; c < 3; ++c) out.decoded.push_back(static_cast<std::int32_t>(std::lround(p[c])));
-    return out;
+test::Coded code(const std::vector<std::int32_t>& grid, std::size_t frames, std::uint32_t m, int mode,
+                 float bounds_scale = 1.0f) {
+    return test::round_trip({grid, kCols, kRows, frames}, Profile::predictive, m, mode,
+                            default_stride_log2(frames, kCols * kRows), bounds_scale);
 }
 
 std::int64_t max_abs_error(const std::vector<std::int32_t>& a, const std::vector<std::int32_t>& b) {
@@ -86,7 +51,7 @@ TEST(PredictionModes, EveryModeRoundTripsWithinHalfTheResidualStep) {
     const auto grid = sheet_grid(frames, 21);
     for (std::uint32_t m : {1u, 6u, 32u})
         for (int mode = 0; mode < kFrameModes; ++mode) {
-            const Coded c = code(grid, frames, m, mode);
+            const test::Coded c = code(grid, frames, m, mode);
             // m = 1 is lossless; otherwise every coordinate is within m / 2 grid units.
             EXPECT_LE(max_abs_error(grid, c.decoded), std::int64_t(m / 2)) << "m " << m << " mode " << mode;
         }
@@ -106,8 +71,8 @@ TEST(PredictionModes, ModesAreAllowedOnlyWhereTheirReferencesExist) {
 TEST(PredictionModes, EncoderChoiceBeatsTheFixedHierarchyAcrossAnAbruptJump) {
     const std::size_t frames = 48;
     const auto grid = sheet_grid(frames, 21);  // inside a 16-frame group: poisons its interpolations
-    const Coded chosen = code(grid, frames, 8, -1);
-    const Coded fixed = code(grid, frames, 8, 1);  // the layout's reference + spatial prediction every frame
+    const test::Coded chosen = code(grid, frames, 8, -1);
+    const test::Coded fixed = code(grid, frames, 8, 1);  // the layout's reference + spatial prediction every frame
     EXPECT_LE(max_abs_error(grid, chosen.decoded), 4);
     // Both files carry the same kind of side information (frequency tables: about half of
     // so small a file), so the residuals' saving shows as a smaller share of the total.
