@@ -464,7 +464,7 @@ TEST(DetectorOnRender, FindsThePrintedDrapesFoldsWithinTwoPixelsAndNoneOnThePrin
     // thresholds find the strongest fold (beside the right support, ~75 px), not all of them.
     EXPECT_GT(length, 50.0);
     EXPECT_EQ(on_print_edge, 0);
-    // The target: every point within 2 px of a fold.  Measured: worst 0.59 px,
+    // The target: every point within 2 px of a fold.  Measured: worst 0.59 px,
     // median 0.20 px (docs/compare.md).  Before the band's centre: worst 2.73 px, 23 of 112
     // points beyond 2 px; with it but without cutting lines where their profile reads the
     // print's inpainted fill: worst 2.47 px, 2 beyond 2 px (a valley's end at the disc).
