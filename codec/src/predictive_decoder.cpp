@@ -8,6 +8,7 @@
 
 #include "bit_stream.hpp"
 #include "byte_io.hpp"
+#include "isometric_prediction.hpp"
 #include "predictive_profile.hpp"
 #include "profile_decoder.hpp"
 #include "rans_coder.hpp"
@@ -160,6 +161,7 @@ public:
           neighbours_(context_neighbours(refs_)),
           plan_(spatial_plan(refs_)),
           cascade_(h.profile == Profile::cascade),
+          isometric_(cascade_ && h.version >= kIsometricVersion && isometric_step(std::int64_t(h.threshold), std::int64_t(h.threshold)) >= 1),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
           largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1),
           grid_high_(grid_high(h)),
@@ -200,7 +202,7 @@ public:
         std::vector<int> modes;
         for (std::size_t t : frames) {
             const int mode = static_cast<int>(bits.get(kModeBits));
-            if (!frame_mode_allowed(layout_.references[t], mode))
+            if (!frame_mode_allowed(layout_.references[t], mode, isometric_))
                 r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) +
                        " is not allowed there (corrupt data)");
             modes.push_back(mode);
@@ -237,12 +239,14 @@ public:
         std::size_t next_scratch = 1;
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const std::size_t t = frames[i];
-            const auto step =
-                static_cast<std::uint32_t>(level_residual_step(residual_step_, layout_.level_class[t], cascade_));
-            largest_residual_ = (kMaxGridValue + 2 * kMaxResidualStep) / step + 1;  // per frame: its own step
+            const SpatialMode spatial = spatial_mode(modes[i]);
+            const std::int64_t level_step = level_residual_step(residual_step_, layout_.level_class[t], cascade_);
+            const auto step = static_cast<std::uint32_t>(
+                spatial == SpatialMode::isometric ? isometric_step(level_step, residual_step_) : level_step);
+            largest_residual_ = largest_residual(step, spatial);  // per frame: its own step
             decode_residuals(rans, raw, layout_.level_class[t], r);
-            predict_frame(layout_.references[t], static_cast<TemporalMode>(modes[i] / 2), t, frame_grid_.data(), row,
-                          grid_high_, temporal_.data());
+            predict_frame(layout_.references[t], temporal_mode(modes[i]), t, frame_grid_.data(), row, grid_high_,
+                          temporal_.data());
             std::int32_t* grid = scratch_.get();
             if (layout_.referenced_later[t]) {
                 if (!grids_[t])
@@ -252,7 +256,8 @@ public:
                 grid = scratch_.get() + row * next_scratch++;
             }
             positions_[t].resize(n);
-            if (!reconstruct_grid(modes[i] % 2 == 1, step, grid, positions_[t]))
+            if (!reconstruct_grid(spatial, step, frame_grid_[bracket(layout_.references[t]).first], grid,
+                                  positions_[t]))
                 r.fail("frame " + std::to_string(t) + ": position leaves the quantisation grid (corrupt data)");
             frame_grid_[t] = layout_.referenced[t] ? grid : nullptr;
             decoded_[t] = 1;
@@ -323,18 +328,55 @@ private:
     // range, and the positions it stands for.  The sums wrap modulo 2^32 (unsigned): for a
     // valid file every true value lies in int32, so wrapping changes nothing, and corrupt
     // data can only produce an out-of-range coordinate, caught below, never overflow.
-    bool reconstruct_grid(bool use_spatial, std::uint32_t m, std::int32_t* grid, std::vector<Vec3f>& positions) {
+    bool reconstruct_grid(SpatialMode spatial, std::uint32_t m, const std::int32_t* lengths, std::int32_t* grid,
+                          std::vector<Vec3f>& positions) {
         const std::size_t row = 3 * std::size_t(header_.vertices);
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
         std::uint32_t* r = residual_.data();
-        if (use_spatial)
+        if (spatial == SpatialMode::isometric) {
+            if (!isometric_residuals(m, lengths, grid)) return false;
+        } else if (spatial == SpatialMode::parallelogram) {
             spatial_residuals(plan_, q, m, r);
-        else
+        } else {
             for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
+        }
         const double origin[3] = {header_.bounds.min.x(), header_.bounds.min.y(), header_.bounds.min.z()};
         return finish_row(reinterpret_cast<const std::uint32_t*>(temporal_.data()), r, row,
                           -std::int32_t(kMaxResidualStep), grid_high_, origin, header_.step, grid,
                           positions.data()->data());
+    }
+
+    // The residuals of an isometric frame into residual_, vertex by vertex (each prediction
+    // reads decoded corners), its grid coordinates into `grid` as they are decoded; false if
+    // a coordinate leaves the grid's range.  `lengths`: the decoded frame whose edge lengths
+    // it keeps.
+    bool isometric_residuals(std::int64_t s, const std::int32_t* lengths, std::int32_t* grid) {
+        const std::size_t n = header_.vertices;
+        const std::int64_t low = -std::int64_t(kMaxResidualStep), high = grid_high_;
+        wide_residual_.resize(3 * n + 3);
+        for (std::size_t v = 0; v < n; ++v) {
+            const SpatialReference& ref = refs_[v];
+            const std::int64_t q[3] = {q_[3 * v], q_[3 * v + 1], q_[3 * v + 2]};
+            std::int64_t d[3];
+            IsometricFrame frame;
+            if (ref.c >= 0 && isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b),
+                                                               std::size_t(ref.c), temporal_.data(), grid,
+                                                               wide_residual_.data(), lengths),
+                                              frame)) {
+                isometric_reconstruct(frame, q, s, d);
+            } else {
+                for (int c = 0; c < 3; ++c)
+                    d[c] = temporal_[3 * v + c] + spatial_prediction(ref, wide_residual_.data(), c) + q[c] * s;
+            }
+            for (int c = 0; c < 3; ++c) {
+                if (d[c] < low || d[c] > high) return false;
+                const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+                grid[k] = static_cast<std::int32_t>(d[c]);
+                wide_residual_[k] = d[c] - temporal_[k];
+                residual_[k] = static_cast<std::uint32_t>(wide_residual_[k]);
+            }
+        }
+        return true;
     }
 
     Header header_;
@@ -344,6 +386,7 @@ private:
     std::vector<ContextNeighbours> neighbours_;
     SpatialPlan plan_;
     bool cascade_;
+    bool isometric_;  // the file may use the isometric modes
     std::int64_t residual_step_;
     // For the frame being decoded (its own residual step): |q| above it cannot land on the
     // grid; bounding it keeps the sums in int32.
@@ -366,6 +409,7 @@ private:
     std::vector<std::int32_t> q_;
     std::vector<std::int32_t> temporal_;
     std::vector<std::uint32_t> residual_;
+    std::vector<std::int64_t> wide_residual_;  // an isometric frame's, exact
 };
 }  // namespace
 

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "bit_stream.hpp"
 #include "byte_io.hpp"
+#include "isometric_prediction.hpp"
 #include "rans_coder.hpp"
 #include "residual_tokens.hpp"
 #include "target_clones.hpp"
@@ -74,15 +76,13 @@ void predict_row(const TemporalReference& ref, std::size_t t, const std::int32_t
     }
 }
 
-// The two decoded frames a midpoint lies between (left < t < right); keyframes: the
-// previous keyframe twice.
-inline std::pair<std::size_t, std::size_t> bracket(const TemporalReference& ref) {
+}  // namespace
+
+std::pair<std::size_t, std::size_t> bracket(const TemporalReference& ref) {
     if (ref.kind == TemporalReference::Kind::cubic) return {ref.frames[1], ref.frames[2]};
     if (ref.kind == TemporalReference::Kind::linear) return {ref.frames[0], ref.frames[1]};
     return {ref.frames[0], ref.frames[0]};
 }
-
-}  // namespace
 
 void predict_frame(const TemporalReference& ref, TemporalMode mode, std::size_t t, const std::int32_t* const* frames,
                    std::size_t row, std::int64_t largest, std::int32_t* out) {
@@ -127,19 +127,62 @@ double entropy_bits(const std::uint32_t* histogram, int symbols) {
     return bits;
 }
 
-void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours,
-               std::size_t n, const std::int32_t* target, std::int64_t m, bool use_spatial, FrameTrial& f) {
-    const FloorDivider divide(m);
-    for (int c = 0; c < 3; ++c)
-        for (std::size_t v = 0; v < n; ++v) {
+// Grid-axis quantisation of vertex v's coordinates c in [c0, c1) with step m.
+void quantise_grid_axes(const SpatialReference& ref, bool use_spatial, std::size_t v, int c0, int c1,
+                        const std::int32_t* target, const FloorDivider& divide, std::int64_t m, FrameTrial& f) {
+    for (int c = c0; c < c1; ++c) {
+        const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+        const std::int64_t p = f.temporal[k] + (use_spatial ? spatial_prediction(ref, f.temporal_residual.data(), c) : 0);
+        const std::int64_t q = divide(target[k] - p + m / 2);
+        f.q[k] = q;
+        f.decoded[k] = p + q * m;
+        f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
+    }
+}
+
+// Isometric quantisation (isometric_prediction.hpp) of vertex v with step s; vertices
+// without a parallelogram, or whose circle is undefined, along the grid's axes.  Vertex by
+// vertex, as the decoder goes: the prediction reads the decoded corners.
+void quantise_isometric(const SpatialReference& ref, std::size_t v, const std::int32_t* target,
+                        const std::int32_t* lengths, const FloorDivider& divide, std::int64_t s, FrameTrial& f) {
+    IsometricFrame frame;
+    if (ref.c >= 0 && isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), std::size_t(ref.c),
+                                                       f.temporal.data(), f.decoded.data(),
+                                                       f.temporal_residual.data(), lengths),
+                                      frame)) {
+        std::int64_t decoded[3];
+        isometric_quantise(frame, target + 3 * v, s, &f.q[3 * v]);
+        isometric_reconstruct(frame, &f.q[3 * v], s, decoded);
+        for (int c = 0; c < 3; ++c) {
             const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-            const std::int64_t p =
-                f.temporal[k] + (use_spatial ? spatial_prediction(refs[v], f.temporal_residual.data(), c) : 0);
-            const std::int64_t q = divide(target[k] - p + m / 2);
-            f.q[k] = q;
-            f.decoded[k] = p + q * m;
-            f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
+            f.decoded[k] = decoded[c];
+            f.temporal_residual[k] = decoded[c] - f.temporal[k];
         }
+        return;
+    }
+    quantise_grid_axes(ref, true, v, 0, 3, target, divide, s, f);
+}
+
+// `lengths`: the decoded frame whose edge lengths an isometric frame keeps.
+void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours,
+               std::size_t n, const std::int32_t* target, std::int64_t m, SpatialMode spatial,
+               const std::int32_t* lengths, FrameTrial& f) {
+    const FloorDivider divide(m);
+    if (spatial == SpatialMode::isometric) {
+        for (std::size_t v = 0; v < n; ++v) quantise_isometric(refs[v], v, target, lengths, divide, m, f);
+        // A residual the decoder would refuse (possible only far off the grid): not this mode.
+        const std::int64_t limit = largest_residual(m, spatial);
+        for (std::int64_t q : f.q)
+            if (q > limit || q < -limit) {
+                f.bits = std::numeric_limits<double>::infinity();
+                return;
+            }
+    } else {
+        // Coordinate-major: each pass reads one coordinate of earlier vertices.
+        for (int c = 0; c < 3; ++c)
+            for (std::size_t v = 0; v < n; ++v)
+                quantise_grid_axes(refs[v], spatial == SpatialMode::parallelogram, v, c, c + 1, target, divide, m, f);
+    }
     std::array<std::uint32_t, kActivityBuckets * kRansAlphabet> tokens{};
     std::array<std::uint32_t, kRansAlphabet> escapes{};
     double raw_bits = 0.0;
@@ -162,9 +205,11 @@ void run_frame(const std::vector<SpatialReference>& refs, const std::vector<Cont
 }
 }  // namespace
 
-bool frame_mode_allowed(const TemporalReference& reference, int mode) {
-    if (mode < 0 || mode >= kFrameModes) return false;
-    const auto temporal = static_cast<TemporalMode>(mode / 2);
+bool frame_mode_allowed(const TemporalReference& reference, int mode, bool isometric) {
+    if (mode < 0 || mode >= (isometric ? kFrameModes : kIsometricModes)) return false;
+    const TemporalMode temporal = temporal_mode(mode);
+    if (spatial_mode(mode) == SpatialMode::isometric && reference.kind == TemporalReference::Kind::none)
+        return false;  // no decoded frame to keep the lengths of
     switch (reference.kind) {
         case TemporalReference::Kind::none:
             return temporal == TemporalMode::layout;  // frame 0: nothing to predict from
@@ -332,6 +377,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
     const std::vector<ContextNeighbours> neighbours = context_neighbours(refs);
+    const bool isometric = cascade && isometric_step(m, m) >= 1;
     // Decoded coordinates lie within m / 2 of the grid's.
     std::int64_t largest = 0;
     for (std::int32_t g : grid) largest = std::max<std::int64_t>(largest, g < 0 ? -std::int64_t(g) : g);
@@ -364,13 +410,15 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             best.bits = 0.0;
             const std::int64_t step = level_residual_step(m, layout.level_class[t], cascade);
             for (int candidate = 0; candidate < kFrameModes; ++candidate) {
-                if (!frame_mode_allowed(ref, candidate) || (forced_mode >= 0 && candidate != forced_mode)) continue;
-                if (candidate / 2 == static_cast<int>(TemporalMode::linear) &&
-                    ref.kind == TemporalReference::Kind::linear)
+                if (!frame_mode_allowed(ref, candidate, isometric) || (forced_mode >= 0 && candidate != forced_mode))
                     continue;
-                predict_frame(ref, static_cast<TemporalMode>(candidate / 2), t, decoded_frames.data(), row, largest,
+                if (temporal_mode(candidate) == TemporalMode::linear && ref.kind == TemporalReference::Kind::linear)
+                    continue;
+                const SpatialMode spatial = spatial_mode(candidate);
+                predict_frame(ref, temporal_mode(candidate), t, decoded_frames.data(), row, largest,
                               trial.temporal.data());
-                run_frame(refs, neighbours, n, target, step, candidate % 2 == 1, trial);
+                run_frame(refs, neighbours, n, target, spatial == SpatialMode::isometric ? isometric_step(step, m) : step,
+                          spatial, decoded_frames[bracket(ref).first], trial);
                 if (mode < 0 || trial.bits < best.bits) {
                     std::swap(trial, best);
                     mode = candidate;
@@ -379,7 +427,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             if (mode < 0) {  // forced mode not allowed here: the layout's reference with spatial prediction
                 mode = 1;
                 predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, best.temporal.data());
-                run_frame(refs, neighbours, n, target, step, true, best);
+                run_frame(refs, neighbours, n, target, step, SpatialMode::parallelogram, nullptr, best);
             }
             modes.push_back(mode);
             // Symbol k of a frame (tokens, then escapes) goes to rANS state k mod kRansLanes.

@@ -12,6 +12,7 @@
 #include <climits>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "foldcast/core/mesh.hpp"
@@ -62,15 +63,52 @@ int default_stride_log2(std::size_t frames, std::size_t vertices);
 constexpr std::uint32_t kDefaultResidualStep = 32;
 constexpr std::uint32_t kMaxResidualStep = 1024;
 
-// Per-frame prediction mode, sent before the frame's residuals as one integer
-// 2 * temporal + spatial.  temporal: the layout's reference (TemporalReference above), the
-// linear one between the frames the layout interpolates (midpoints only), a copy of the
-// left or right one (midpoints only), or no temporal prediction; spatial: whether the
-// temporal residual is predicted across mesh neighbours as well.
+// Grid coordinates must stay below this so every intermediate fits comfortably in int64.
+constexpr std::int64_t kMaxGridValue = std::int64_t(1) << 30;
+
+// Per-frame prediction mode, sent before the frame's residuals as one integer: 2 * temporal
+// + spatial, or kIsometricModes + temporal.  temporal: the layout's reference
+// (TemporalReference above), the linear one between the frames the layout interpolates
+// (midpoints only), a copy of the left or right one (midpoints only), or no temporal
+// prediction; spatial: whether the temporal residual is predicted across mesh neighbours as
+// well; isometric (profile `cascade`, format 5): that prediction moved onto the circle the
+// vertex's edge lengths allow, the residual quantised along the circle's axes
+// (isometric_prediction.hpp).
 enum class TemporalMode : int { layout = 0, linear = 1, copy_left = 2, copy_right = 3, none = 4 };
+enum class SpatialMode : int { none, parallelogram, isometric };
 constexpr int kTemporalModes = 5;
-constexpr int kFrameModes = 2 * kTemporalModes;
-bool frame_mode_allowed(const TemporalReference& reference, int mode);
+constexpr int kIsometricModes = 2 * kTemporalModes;  // the first isometric mode
+constexpr int kFrameModes = kIsometricModes + kTemporalModes;
+constexpr TemporalMode temporal_mode(int mode) {
+    return static_cast<TemporalMode>(mode >= kIsometricModes ? mode - kIsometricModes : mode / 2);
+}
+constexpr SpatialMode spatial_mode(int mode) {
+    return mode >= kIsometricModes ? SpatialMode::isometric
+                                   : mode % 2 == 1 ? SpatialMode::parallelogram : SpatialMode::none;
+}
+// `isometric`: whether the file may use the isometric modes (not where nothing is decoded
+// before the frame).
+bool frame_mode_allowed(const TemporalReference& reference, int mode, bool isometric);
+// The two decoded frames a midpoint lies between (left < t < right); keyframes: the
+// previous keyframe twice.  An isometric frame keeps the edge lengths of the left one.
+std::pair<std::size_t, std::size_t> bracket(const TemporalReference& reference);
+
+// The step of an isometric frame whose grid-axis step is `step`: the prediction and the
+// reconstruction are each rounded to the grid (half a grid step per coordinate, twice,
+// where grid-axis quantisation rounds once), so the step is at most m - 1 and the
+// Euclidean error stays within sqrt(3) (m + 1) / 2 grid steps, the bound --max-error-m
+// sets.  0 where m is too small for it (no isometric modes).
+constexpr std::int64_t isometric_step(std::int64_t step, std::int64_t m) { return step < m - 1 ? step : m - 1; }
+
+// The first format version whose `cascade` files may use the isometric modes.
+constexpr std::uint16_t kIsometricVersion = 5;
+
+// The largest |q| a frame of step s can carry: more cannot land on the grid.  Along the
+// isometric axes a residual can be sqrt(3) times a grid-axis one.
+constexpr std::int64_t largest_residual(std::int64_t s, SpatialMode spatial) {
+    const std::int64_t span = (kMaxGridValue + 2 * kMaxResidualStep) * (spatial == SpatialMode::isometric ? 2 : 1);
+    return span / s + 1 < INT32_MAX ? span / s + 1 : INT32_MAX;
+}
 
 // Residual step of a frame of level class L (PredictiveLayout::level_class) for the header's
 // step m.  `default`: m everywhere.  `cascade`: the frames others are predicted from are
@@ -84,8 +122,6 @@ constexpr std::int64_t level_residual_step(std::int64_t m, int level_class, bool
     return step < 1 ? 1 : step;
 }
 
-// Grid coordinates must stay below this so every intermediate fits comfortably in int64.
-constexpr std::int64_t kMaxGridValue = std::int64_t(1) << 30;
 
 constexpr int kModeBits = 4;  // per frame, in the packet's side information
 

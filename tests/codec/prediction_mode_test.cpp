@@ -50,7 +50,7 @@ TEST(PredictionModes, EveryModeRoundTripsWithinHalfTheResidualStep) {
     const std::size_t frames = 40;
     const auto grid = sheet_grid(frames, 21);
     for (std::uint32_t m : {1u, 6u, 32u})
-        for (int mode = 0; mode < kFrameModes; ++mode) {
+        for (int mode = 0; mode < kIsometricModes; ++mode) {
             const test::Coded c = code(grid, frames, m, mode);
             // m = 1 is lossless; otherwise every coordinate is within m / 2 grid units.
             EXPECT_LE(max_abs_error(grid, c.decoded), std::int64_t(m / 2)) << "m " << m << " mode " << mode;
@@ -59,13 +59,22 @@ TEST(PredictionModes, EveryModeRoundTripsWithinHalfTheResidualStep) {
 
 TEST(PredictionModes, ModesAreAllowedOnlyWhereTheirReferencesExist) {
     const PredictiveLayout layout(40, 4);
-    EXPECT_TRUE(frame_mode_allowed(layout.references[0], 0));
-    EXPECT_FALSE(frame_mode_allowed(layout.references[0], 2 * int(TemporalMode::copy_left)));
-    EXPECT_TRUE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::none) + 1));  // keyframe
-    EXPECT_FALSE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::copy_right)));
-    for (int mode = 0; mode < kFrameModes; ++mode) EXPECT_TRUE(frame_mode_allowed(layout.references[8], mode));
-    EXPECT_FALSE(frame_mode_allowed(layout.references[8], kFrameModes));
-    EXPECT_FALSE(frame_mode_allowed(layout.references[8], -1));
+    for (bool isometric : {false, true}) {
+        EXPECT_TRUE(frame_mode_allowed(layout.references[0], 0, isometric));
+        EXPECT_FALSE(frame_mode_allowed(layout.references[0], 2 * int(TemporalMode::copy_left), isometric));
+        EXPECT_TRUE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::none) + 1, isometric));  // keyframe
+        EXPECT_FALSE(frame_mode_allowed(layout.references[16], 2 * int(TemporalMode::copy_right), isometric));
+        EXPECT_FALSE(frame_mode_allowed(layout.references[8], kFrameModes, isometric));
+        EXPECT_FALSE(frame_mode_allowed(layout.references[8], -1, isometric));
+    }
+    for (int mode = 0; mode < kIsometricModes; ++mode) EXPECT_TRUE(frame_mode_allowed(layout.references[8], mode, false));
+    // The isometric modes: only where the file allows them, with the same temporal references.
+    for (int mode = kIsometricModes; mode < kFrameModes; ++mode) {
+        EXPECT_FALSE(frame_mode_allowed(layout.references[8], mode, false));
+        EXPECT_TRUE(frame_mode_allowed(layout.references[8], mode, true));
+        EXPECT_EQ(frame_mode_allowed(layout.references[16], mode, true),
+                  frame_mode_allowed(layout.references[16], 2 * (mode - kIsometricModes) + 1, true));
+    }
 }
 
 TEST(PredictionModes, EncoderChoiceBeatsTheFixedHierarchyAcrossAnAbruptJump) {
@@ -77,7 +86,7 @@ TEST(PredictionModes, EncoderChoiceBeatsTheFixedHierarchyAcrossAnAbruptJump) {
     // Both files carry the same kind of side information (frequency tables: about half of
     // so small a file), so the residuals' saving shows as a smaller share of the total.
     EXPECT_LT(double(chosen.bytes), 0.9 * double(fixed.bytes)) << chosen.bytes << " vs " << fixed.bytes;
-    for (int mode = 0; mode < kFrameModes; ++mode)  // no single mode does better than choosing per frame
+    for (int mode = 0; mode < kIsometricModes; ++mode)  // no single mode does better than choosing per frame
         EXPECT_LE(double(chosen.bytes), 1.05 * double(code(grid, frames, 8, mode).bytes)) << "mode " << mode;
 }
 
