@@ -2,7 +2,7 @@
 // Isometric prediction (profile `cascade`, docs/codec.md): cloth hardly stretches, so a
 // vertex whose parallelogram corners a and b are decoded lies close to the circle of points
 // at its predicted distances from a and from b.  The prediction is the point of that circle
-// nearest the parallelogram's, and the residual is quantised along three orthonormal axes:
+// nearest the spatial prediction's, and the residual is quantised along three orthonormal axes:
 // the circle's tangent (the fold's hinge angle, what the motion really changes), the
 // direction to the circle's centre and the axis a -> b (both only stretch), so two of the
 // three quantised values are nearly always 0.
@@ -23,7 +23,7 @@ struct IsometricFrame {
 };
 
 // What the frame of a vertex v is made from, all grid coordinates: p0 its temporal plus
-// parallelogram prediction, xa and xb its corners a and b as decoded, lv, la and lb v, a
+// spatial prediction, xa and xb its corners a and b as decoded, lv, la and lb v, a
 // and b in the decoded frame whose edge lengths are kept.
 struct IsometricInputs {
     std::int64_t p0[3], xa[3], xb[3], lv[3], la[3], lb[3];
@@ -33,17 +33,15 @@ struct IsometricInputs {
 // their axis): the caller quantises along the grid's axes instead.
 bool isometric_frame(const IsometricInputs& in, IsometricFrame& out);
 
-// The inputs of vertex v with parallelogram corners (a, b, c) from a frame's temporal
-// prediction, its decoded coordinates, its temporal residuals (decoded - temporal) and the
-// frame whose lengths are kept, each 3 values per vertex; only vertices before v are read
-// from the second and third.
-template <typename Temporal, typename Decoded, typename Residual>
-IsometricInputs isometric_inputs(std::size_t v, std::size_t a, std::size_t b, std::size_t c, const Temporal* temporal,
-                                 const Decoded* decoded, const Residual* residual, const std::int32_t* lengths) {
+// The inputs of vertex v predicted at p0, with parallelogram corners a and b, from a frame's
+// decoded coordinates (only vertices before v are read) and the frame whose lengths are
+// kept, each 3 values per vertex.
+template <typename Decoded>
+IsometricInputs isometric_inputs(std::size_t v, std::size_t a, std::size_t b, const std::int64_t p0[3],
+                                 const Decoded* decoded, const std::int32_t* lengths) {
     IsometricInputs in;
     for (std::size_t k = 0; k < 3; ++k) {
-        in.p0[k] = std::int64_t(temporal[3 * v + k]) + std::int64_t(residual[3 * a + k]) +
-                   std::int64_t(residual[3 * b + k]) - std::int64_t(residual[3 * c + k]);
+        in.p0[k] = p0[k];
         in.xa[k] = decoded[3 * a + k];
         in.xb[k] = decoded[3 * b + k];
         in.lv[k] = lengths[3 * v + k];

@@ -9,6 +9,7 @@
 #include "bit_stream.hpp"
 #include "byte_io.hpp"
 #include "isometric_prediction.hpp"
+#include "spatial_weights.hpp"
 #include "predictive_profile.hpp"
 #include "profile_decoder.hpp"
 #include "rans_coder.hpp"
@@ -151,6 +152,15 @@ const DecodeTable& uniform_decode_table() {
     return table;
 }
 
+// How a frame's residuals become coordinates: its spatial prediction and weights, its
+// residual step and, for an isometric frame, the decoded frame whose edge lengths it keeps.
+struct FrameCoding {
+    SpatialMode spatial;
+    SpatialWeights weights;
+    std::uint32_t step;
+    const std::int32_t* lengths;
+};
+
 class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
@@ -161,7 +171,10 @@ public:
           neighbours_(context_neighbours(refs_)),
           plan_(spatial_plan(refs_)),
           cascade_(h.profile == Profile::cascade),
-          isometric_(cascade_ && h.version >= kIsometricVersion && isometric_step(std::int64_t(h.threshold), std::int64_t(h.threshold)) >= 1),
+          extended_(cascade_ && h.version >= kExtendedVersion &&
+                    isometric_step(std::int64_t(h.threshold), std::int64_t(h.threshold)) >= 1),
+          second_(cascade_ ? second_spatial_references(h.vertices, h.topology.triangles)
+                           : std::vector<SpatialReference>(h.vertices)),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
           largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1),
           grid_high_(grid_high(h)),
@@ -200,12 +213,14 @@ public:
         RansDecoder rans(r.get_bytes(r.remaining(), "residual stream"), 4 * std::size_t(header_.vertices), stream_);
 
         std::vector<int> modes;
+        std::vector<SpatialWeights> weights;
         for (std::size_t t : frames) {
             const int mode = static_cast<int>(bits.get(kModeBits));
-            if (!frame_mode_allowed(layout_.references[t], mode, isometric_))
+            if (!frame_mode_allowed(layout_.references[t], mode, extended_))
                 r.fail("frame " + std::to_string(t) + ": prediction mode " + std::to_string(mode) +
                        " is not allowed there (corrupt data)");
             modes.push_back(mode);
+            weights.push_back(extended_ ? read_spatial_weights(bits, spatial_mode(mode)) : kParallelogramWeights);
         }
         for (int id : packet_table_ids(layout_, frames)) {
             if (!bits.get(1)) continue;
@@ -256,8 +271,8 @@ public:
                 grid = scratch_.get() + row * next_scratch++;
             }
             positions_[t].resize(n);
-            if (!reconstruct_grid(spatial, step, frame_grid_[bracket(layout_.references[t]).first], grid,
-                                  positions_[t]))
+            const FrameCoding coding{spatial, weights[i], step, frame_grid_[bracket(layout_.references[t]).first]};
+            if (!reconstruct_grid(coding, grid, positions_[t]))
                 r.fail("frame " + std::to_string(t) + ": position leaves the quantisation grid (corrupt data)");
             frame_grid_[t] = layout_.referenced[t] ? grid : nullptr;
             decoded_[t] = 1;
@@ -328,15 +343,17 @@ private:
     // range, and the positions it stands for.  The sums wrap modulo 2^32 (unsigned): for a
     // valid file every true value lies in int32, so wrapping changes nothing, and corrupt
     // data can only produce an out-of-range coordinate, caught below, never overflow.
-    bool reconstruct_grid(SpatialMode spatial, std::uint32_t m, const std::int32_t* lengths, std::int32_t* grid,
-                          std::vector<Vec3f>& positions) {
+    bool reconstruct_grid(const FrameCoding& coding, std::int32_t* grid, std::vector<Vec3f>& positions) {
         const std::size_t row = 3 * std::size_t(header_.vertices);
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
+        const std::uint32_t m = coding.step;
         std::uint32_t* r = residual_.data();
-        if (spatial == SpatialMode::isometric) {
-            if (!isometric_residuals(m, lengths, grid)) return false;
-        } else if (spatial == SpatialMode::parallelogram) {
+        if (coding.spatial == SpatialMode::isometric) {
+            if (!isometric_residuals(coding, grid)) return false;
+        } else if (coding.spatial == SpatialMode::parallelogram && coding.weights == kParallelogramWeights) {
             spatial_residuals(plan_, q, m, r);
+        } else if (coding.spatial == SpatialMode::parallelogram) {
+            weighted_residuals(coding);
         } else {
             for (std::size_t k = 0; k < row; ++k) r[k] = q[k] * m;
         }
@@ -350,23 +367,24 @@ private:
     // reads decoded corners), its grid coordinates into `grid` as they are decoded; false if
     // a coordinate leaves the grid's range.  `lengths`: the decoded frame whose edge lengths
     // it keeps.
-    bool isometric_residuals(std::int64_t s, const std::int32_t* lengths, std::int32_t* grid) {
+    bool isometric_residuals(const FrameCoding& coding, std::int32_t* grid) {
         const std::size_t n = header_.vertices;
-        const std::int64_t low = -std::int64_t(kMaxResidualStep), high = grid_high_;
+        const std::int64_t low = -std::int64_t(kMaxResidualStep), high = grid_high_, s = coding.step;
         wide_residual_.resize(3 * n + 3);
         for (std::size_t v = 0; v < n; ++v) {
             const SpatialReference& ref = refs_[v];
             const std::int64_t q[3] = {q_[3 * v], q_[3 * v + 1], q_[3 * v + 2]};
             std::int64_t d[3];
+            for (int c = 0; c < 3; ++c)
+                d[c] = temporal_[3 * v + c] +
+                       weighted_prediction(ref, second_[v], coding.weights, wide_residual_.data(), c);
             IsometricFrame frame;
-            if (ref.c >= 0 && isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b),
-                                                               std::size_t(ref.c), temporal_.data(), grid,
-                                                               wide_residual_.data(), lengths),
+            if (ref.c >= 0 && isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), d, grid,
+                                                               coding.lengths),
                                               frame)) {
                 isometric_reconstruct(frame, q, s, d);
             } else {
-                for (int c = 0; c < 3; ++c)
-                    d[c] = temporal_[3 * v + c] + spatial_prediction(ref, wide_residual_.data(), c) + q[c] * s;
+                for (int c = 0; c < 3; ++c) d[c] += q[c] * s;
             }
             for (int c = 0; c < 3; ++c) {
                 if (d[c] < low || d[c] > high) return false;
@@ -379,6 +397,23 @@ private:
         return true;
     }
 
+    // The residuals of a frame with its own weights into residual_ (wrapping, as
+    // spatial_residuals), vertex by vertex.  Corrupt weights could make them grow without
+    // bound; clamped far beyond any valid residual (|r| < 2^32), they cannot overflow.
+    void weighted_residuals(const FrameCoding& coding) {
+        const std::size_t n = header_.vertices;
+        constexpr std::int64_t kClamp = std::int64_t(1) << 40;
+        wide_residual_.resize(3 * n + 3);
+        for (std::size_t v = 0; v < n; ++v)
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+                const std::int64_t r = std::int64_t(q_[k]) * coding.step +
+                                       weighted_prediction(refs_[v], second_[v], coding.weights, wide_residual_.data(), c);
+                wide_residual_[k] = std::clamp(r, -kClamp, kClamp);
+                residual_[k] = static_cast<std::uint32_t>(wide_residual_[k]);
+            }
+    }
+
     Header header_;
     std::string what_;
     PredictiveLayout layout_;
@@ -386,7 +421,8 @@ private:
     std::vector<ContextNeighbours> neighbours_;
     SpatialPlan plan_;
     bool cascade_;
-    bool isometric_;  // the file may use the isometric modes
+    bool extended_;  // the file may use the isometric modes and its own weights
+    std::vector<SpatialReference> second_;  // profile cascade: the weighted prediction's other taps
     std::int64_t residual_step_;
     // For the frame being decoded (its own residual step): |q| above it cannot land on the
     // grid; bounding it keeps the sums in int32.

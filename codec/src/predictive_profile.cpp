@@ -11,6 +11,7 @@
 #include "isometric_prediction.hpp"
 #include "rans_coder.hpp"
 #include "residual_tokens.hpp"
+#include "spatial_weights.hpp"
 #include "target_clones.hpp"
 
 namespace foldcast::codec {
@@ -116,6 +117,7 @@ struct FrameTrial {
     std::vector<std::int64_t> q, decoded, temporal_residual;
     std::vector<std::int32_t> temporal;
     std::vector<std::uint8_t> token, bucket;  // per vertex: its token and the token's activity bucket
+    SpatialWeights weights = kParallelogramWeights;
     double bits = 0.0;
 };
 
@@ -127,12 +129,34 @@ double entropy_bits(const std::uint32_t* histogram, int symbols) {
     return bits;
 }
 
-// Grid-axis quantisation of vertex v's coordinates c in [c0, c1) with step m.
-void quantise_grid_axes(const SpatialReference& ref, bool use_spatial, std::size_t v, int c0, int c1,
-                        const std::int32_t* target, const FloorDivider& divide, std::int64_t m, FrameTrial& f) {
+// What every frame's spatial prediction reads: per vertex its parallelogram, its second one
+// (weighted prediction; all missing for profile `default`) and its context neighbours.
+struct MeshTaps {
+    const std::vector<SpatialReference>& first;
+    const std::vector<SpatialReference>& second;
+    const std::vector<ContextNeighbours>& neighbours;
+};
+
+// How a trial codes its frame: the spatial prediction, its weights (the parallelogram's
+// unless the frame sends its own), the residual step and, for an isometric frame, the
+// decoded frame whose edge lengths it keeps.
+struct FrameSetting {
+    SpatialMode spatial = SpatialMode::none;
+    SpatialWeights weights = kParallelogramWeights;
+    std::int64_t step = 1;
+    const std::int32_t* lengths = nullptr;
+};
+
+// Grid-axis quantisation of vertex v's coordinates c in [c0, c1).
+void quantise_grid_axes(const MeshTaps& mesh, const FrameSetting& setting, std::size_t v, int c0, int c1,
+                        const std::int32_t* target, const FloorDivider& divide, FrameTrial& f) {
+    const std::int64_t m = setting.step;
     for (int c = c0; c < c1; ++c) {
         const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-        const std::int64_t p = f.temporal[k] + (use_spatial ? spatial_prediction(ref, f.temporal_residual.data(), c) : 0);
+        const std::int64_t p = f.temporal[k] + (setting.spatial == SpatialMode::none
+                                                    ? 0
+                                                    : weighted_prediction(mesh.first[v], mesh.second[v], setting.weights,
+                                                                          f.temporal_residual.data(), c));
         const std::int64_t q = divide(target[k] - p + m / 2);
         f.q[k] = q;
         f.decoded[k] = p + q * m;
@@ -140,38 +164,43 @@ void quantise_grid_axes(const SpatialReference& ref, bool use_spatial, std::size
     }
 }
 
-// Isometric quantisation (isometric_prediction.hpp) of vertex v with step s; vertices
-// without a parallelogram, or whose circle is undefined, along the grid's axes.  Vertex by
-// vertex, as the decoder goes: the prediction reads the decoded corners.
-void quantise_isometric(const SpatialReference& ref, std::size_t v, const std::int32_t* target,
-                        const std::int32_t* lengths, const FloorDivider& divide, std::int64_t s, FrameTrial& f) {
-    IsometricFrame frame;
-    if (ref.c >= 0 && isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), std::size_t(ref.c),
-                                                       f.temporal.data(), f.decoded.data(),
-                                                       f.temporal_residual.data(), lengths),
-                                      frame)) {
-        std::int64_t decoded[3];
-        isometric_quantise(frame, target + 3 * v, s, &f.q[3 * v]);
-        isometric_reconstruct(frame, &f.q[3 * v], s, decoded);
-        for (int c = 0; c < 3; ++c) {
-            const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-            f.decoded[k] = decoded[c];
-            f.temporal_residual[k] = decoded[c] - f.temporal[k];
+// Isometric quantisation (isometric_prediction.hpp) of vertex v; vertices without a
+// parallelogram, or whose circle is undefined, along the grid's axes.  Vertex by vertex, as
+// the decoder goes: the prediction reads the decoded corners.
+void quantise_isometric(const MeshTaps& mesh, const FrameSetting& setting, std::size_t v, const std::int32_t* target,
+                        const FloorDivider& divide, FrameTrial& f) {
+    const SpatialReference& ref = mesh.first[v];
+    if (ref.c >= 0) {
+        std::int64_t p0[3];
+        for (int c = 0; c < 3; ++c)
+            p0[c] = f.temporal[3 * v + static_cast<std::size_t>(c)] +
+                    weighted_prediction(ref, mesh.second[v], setting.weights, f.temporal_residual.data(), c);
+        IsometricFrame frame;
+        if (isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), p0, f.decoded.data(),
+                                             setting.lengths),
+                            frame)) {
+            std::int64_t decoded[3];
+            isometric_quantise(frame, target + 3 * v, setting.step, &f.q[3 * v]);
+            isometric_reconstruct(frame, &f.q[3 * v], setting.step, decoded);
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t k = 3 * v + static_cast<std::size_t>(c);
+                f.decoded[k] = decoded[c];
+                f.temporal_residual[k] = decoded[c] - f.temporal[k];
+            }
+            return;
         }
-        return;
     }
-    quantise_grid_axes(ref, true, v, 0, 3, target, divide, s, f);
+    quantise_grid_axes(mesh, setting, v, 0, 3, target, divide, f);
 }
 
-// `lengths`: the decoded frame whose edge lengths an isometric frame keeps.
-void run_frame(const std::vector<SpatialReference>& refs, const std::vector<ContextNeighbours>& neighbours,
-               std::size_t n, const std::int32_t* target, std::int64_t m, SpatialMode spatial,
-               const std::int32_t* lengths, FrameTrial& f) {
-    const FloorDivider divide(m);
-    if (spatial == SpatialMode::isometric) {
-        for (std::size_t v = 0; v < n; ++v) quantise_isometric(refs[v], v, target, lengths, divide, m, f);
+void run_frame(const MeshTaps& mesh, const std::int32_t* target, const FrameSetting& setting, FrameTrial& f) {
+    const std::size_t n = mesh.first.size();
+    const FloorDivider divide(setting.step);
+    f.weights = setting.weights;
+    if (setting.spatial == SpatialMode::isometric) {
+        for (std::size_t v = 0; v < n; ++v) quantise_isometric(mesh, setting, v, target, divide, f);
         // A residual the decoder would refuse (possible only far off the grid): not this mode.
-        const std::int64_t limit = largest_residual(m, spatial);
+        const std::int64_t limit = largest_residual(setting.step, setting.spatial);
         for (std::int64_t q : f.q)
             if (q > limit || q < -limit) {
                 f.bits = std::numeric_limits<double>::infinity();
@@ -180,9 +209,9 @@ void run_frame(const std::vector<SpatialReference>& refs, const std::vector<Cont
     } else {
         // Coordinate-major: each pass reads one coordinate of earlier vertices.
         for (int c = 0; c < 3; ++c)
-            for (std::size_t v = 0; v < n; ++v)
-                quantise_grid_axes(refs[v], spatial == SpatialMode::parallelogram, v, c, c + 1, target, divide, m, f);
+            for (std::size_t v = 0; v < n; ++v) quantise_grid_axes(mesh, setting, v, c, c + 1, target, divide, f);
     }
+    const std::vector<ContextNeighbours>& neighbours = mesh.neighbours;
     std::array<std::uint32_t, kActivityBuckets * kRansAlphabet> tokens{};
     std::array<std::uint32_t, kRansAlphabet> escapes{};
     double raw_bits = 0.0;
@@ -279,8 +308,16 @@ PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), 
         }
 }
 
-std::vector<SpatialReference> spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {
-    std::vector<SpatialReference> refs(n);
+namespace {
+// Per vertex, the first two parallelograms (a, b, c) of its triangles in triangle order whose
+// corners all come before it, on different edges ((-1, -1, -1) where there are fewer), and
+// its highest earlier neighbour.
+struct Parallelograms {
+    std::vector<std::array<SpatialReference, 2>> found;
+    std::vector<std::int32_t> best_neighbour;
+};
+
+Parallelograms find_parallelograms(std::size_t n, const std::vector<Triangle>& triangles) {
     // Triangles around each vertex, in triangle order (compressed rows): the parallelogram's
     // fourth corner is the third vertex of another triangle on the same edge.
     std::vector<std::uint32_t> first(n + 1, 0), around(3 * triangles.size());
@@ -300,21 +337,37 @@ std::vector<SpatialReference> spatial_references(std::size_t n, const std::vecto
         }
         return -1;
     };
-    std::vector<std::int32_t> best_neighbour(n, -1);
+    Parallelograms p{std::vector<std::array<SpatialReference, 2>>(n), std::vector<std::int32_t>(n, -1)};
     for (const auto& tri : triangles)
         for (int e = 0; e < 3; ++e) {
             const std::uint32_t v = tri[e];
             for (int o = 1; o < 3; ++o) {
                 const std::uint32_t u = tri[(e + o) % 3];
-                if (u < v) best_neighbour[v] = std::max(best_neighbour[v], static_cast<std::int32_t>(u));
+                if (u < v) p.best_neighbour[v] = std::max(p.best_neighbour[v], static_cast<std::int32_t>(u));
             }
-            const std::uint32_t a = tri[(e + 1) % 3], b = tri[(e + 2) % 3];
-            if (a < v && b < v && refs[v].c < 0)
-                if (const std::int32_t c = opposite(a, b, v); c >= 0)
-                    refs[v] = {static_cast<std::int32_t>(a), static_cast<std::int32_t>(b), c};
+            const auto a = static_cast<std::int32_t>(tri[(e + 1) % 3]), b = static_cast<std::int32_t>(tri[(e + 2) % 3]);
+            auto& [one, two] = p.found[v];
+            const bool same_edge = (one.a == a && one.b == b) || (one.a == b && one.b == a);
+            if (a >= std::int32_t(v) || b >= std::int32_t(v) || two.c >= 0 || same_edge) continue;
+            if (const std::int32_t c = opposite(std::uint32_t(a), std::uint32_t(b), v); c >= 0)
+                (one.c < 0 ? one : two) = {a, b, c};
         }
+    return p;
+}
+}  // namespace
+
+std::vector<SpatialReference> spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {
+    const Parallelograms p = find_parallelograms(n, triangles);
+    std::vector<SpatialReference> refs(n);
     for (std::size_t v = 0; v < n; ++v)
-        if (refs[v].c < 0) refs[v] = {best_neighbour[v], -1, -1};
+        refs[v] = p.found[v][0].c >= 0 ? p.found[v][0] : SpatialReference{p.best_neighbour[v], -1, -1};
+    return refs;
+}
+
+std::vector<SpatialReference> second_spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {
+    const Parallelograms p = find_parallelograms(n, triangles);
+    std::vector<SpatialReference> refs(n);
+    for (std::size_t v = 0; v < n; ++v) refs[v] = p.found[v][1];
     return refs;
 }
 
@@ -371,13 +424,70 @@ std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vec
     return ids;
 }
 
-std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<SpatialReference>& refs,
+namespace {
+// Chooses how each frame is coded, through the closed loop over decoded frames.
+struct FrameChooser {
+    const PredictiveLayout& layout;
+    MeshTaps mesh;
+    const std::vector<const std::int32_t*>& decoded_frames;
+    std::int64_t largest;  // bounds every decoded coordinate (predict_frame)
+    std::int64_t m;
+    bool cascade;
+    bool extended;    // isometric modes and fitted weights allowed (profile cascade, format 5)
+    int forced_mode;  // >= 0: that mode wherever allowed (tests)
+
+    // The cheapest of the allowed modes for frame t (the forced one, else the layout's
+    // reference with the parallelogram), spatial ones of an extended file both with the
+    // parallelogram's weights and with weights fitted to the frame; `best` holds its trial.
+    int choose(std::size_t t, const std::int32_t* target, FrameTrial& trial, FrameTrial& best) const {
+        const TemporalReference& ref = layout.references[t];
+        const std::size_t row = 3 * mesh.first.size();
+        const std::int64_t step = level_residual_step(m, layout.level_class[t], cascade);
+        int mode = -1;
+        for (int candidate = 0; candidate < kFrameModes; ++candidate) {
+            if (!frame_mode_allowed(ref, candidate, extended) || (forced_mode >= 0 && candidate != forced_mode))
+                continue;
+            if (temporal_mode(candidate) == TemporalMode::linear && ref.kind == TemporalReference::Kind::linear)
+                continue;
+            FrameSetting setting;
+            setting.spatial = spatial_mode(candidate);
+            setting.step = setting.spatial == SpatialMode::isometric ? isometric_step(step, m) : step;
+            setting.lengths = decoded_frames[bracket(ref).first];
+            predict_frame(ref, temporal_mode(candidate), t, decoded_frames.data(), row, largest, trial.temporal.data());
+            const bool fit = extended && setting.spatial != SpatialMode::none;
+            const SpatialWeights fitted =
+                fit ? fit_spatial_weights(mesh.first, mesh.second, target, trial.temporal.data()) : setting.weights;
+            for (int variant = 0; variant < (fit && fitted != kParallelogramWeights ? 2 : 1); ++variant) {
+                setting.weights = variant == 0 ? kParallelogramWeights : fitted;
+                run_frame(mesh, target, setting, trial);
+                if (mode < 0 || trial.bits < best.bits) {
+                    std::swap(trial, best);
+                    mode = candidate;
+                    // The next trial starts from the same temporal prediction.
+                    trial.temporal = best.temporal;
+                }
+            }
+        }
+        if (mode < 0) {  // forced mode not allowed here
+            mode = 1;
+            predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, best.temporal.data());
+            run_frame(mesh, target, FrameSetting{SpatialMode::parallelogram, kParallelogramWeights, step, nullptr}, best);
+        }
+        return mode;
+    }
+};
+}  // namespace
+
+std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<Triangle>& triangles,
                                             std::size_t n, const std::vector<std::int32_t>& grid,
                                             std::uint32_t residual_step, int forced_mode, bool cascade) {
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
+    const std::vector<SpatialReference> refs = spatial_references(n, triangles);
+    const bool extended = cascade && isometric_step(m, m) >= 1;
+    const std::vector<SpatialReference> second =
+        extended ? second_spatial_references(n, triangles) : std::vector<SpatialReference>(n);
     const std::vector<ContextNeighbours> neighbours = context_neighbours(refs);
-    const bool isometric = cascade && isometric_step(m, m) >= 1;
     // Decoded coordinates lie within m / 2 of the grid's.
     std::int64_t largest = 0;
     for (std::int32_t g : grid) largest = std::max<std::int64_t>(largest, g < 0 ? -std::int64_t(g) : g);
@@ -386,6 +496,8 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     std::vector<std::int32_t> decoded(grid.size(), 0);
     std::vector<const std::int32_t*> decoded_frames(layout.frames);
     for (std::size_t t = 0; t < layout.frames; ++t) decoded_frames[t] = decoded.data() + t * row;
+    const FrameChooser chooser{layout, MeshTaps{refs, second, neighbours}, decoded_frames, largest, m, cascade,
+                               extended, forced_mode};
     FrameTrial trial, best;
     for (FrameTrial* f : {&trial, &best}) {
         f->q = f->decoded = f->temporal_residual = std::vector<std::int64_t>(row);
@@ -400,35 +512,14 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     };
     for (const auto& frames : layout.packets) {
         std::vector<int> modes;
+        std::vector<SpatialWeights> weights;
         std::vector<Symbol> symbols;
         std::vector<std::pair<std::uint32_t, int>> raw;  // mantissas: value, bits
         std::vector<SymbolCounts> counts(kTables, SymbolCounts{});
         for (std::size_t t : frames) {
-            const TemporalReference& ref = layout.references[t];
             const std::int32_t* target = grid.data() + t * row;
-            int mode = -1;
-            best.bits = 0.0;
-            const std::int64_t step = level_residual_step(m, layout.level_class[t], cascade);
-            for (int candidate = 0; candidate < kFrameModes; ++candidate) {
-                if (!frame_mode_allowed(ref, candidate, isometric) || (forced_mode >= 0 && candidate != forced_mode))
-                    continue;
-                if (temporal_mode(candidate) == TemporalMode::linear && ref.kind == TemporalReference::Kind::linear)
-                    continue;
-                const SpatialMode spatial = spatial_mode(candidate);
-                predict_frame(ref, temporal_mode(candidate), t, decoded_frames.data(), row, largest,
-                              trial.temporal.data());
-                run_frame(refs, neighbours, n, target, spatial == SpatialMode::isometric ? isometric_step(step, m) : step,
-                          spatial, decoded_frames[bracket(ref).first], trial);
-                if (mode < 0 || trial.bits < best.bits) {
-                    std::swap(trial, best);
-                    mode = candidate;
-                }
-            }
-            if (mode < 0) {  // forced mode not allowed here: the layout's reference with spatial prediction
-                mode = 1;
-                predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, best.temporal.data());
-                run_frame(refs, neighbours, n, target, step, SpatialMode::parallelogram, nullptr, best);
-            }
+            const int mode = chooser.choose(t, target, trial, best);
+            weights.push_back(best.weights);
             modes.push_back(mode);
             // Symbol k of a frame (tokens, then escapes) goes to rANS state k mod kRansLanes.
             std::size_t k = 0;
@@ -454,7 +545,10 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
         }
         // Side information first (modes, tables), then the raw mantissas in decoding order.
         BitWriter bits;
-        for (int mode : modes) bits.put(static_cast<std::uint32_t>(mode), kModeBits);
+        for (std::size_t i = 0; i < modes.size(); ++i) {
+            bits.put(static_cast<std::uint32_t>(modes[i]), kModeBits);
+            if (extended) write_spatial_weights(bits, spatial_mode(modes[i]), weights[i]);
+        }
         for (int id : packet_table_ids(layout, frames)) {
             const TableChoice choice =
                 choose_table(counts[static_cast<std::size_t>(id)], tables[static_cast<std::size_t>(id)]);

@@ -48,6 +48,10 @@ struct SpatialReference {
     std::int32_t a = -1, b = -1, c = -1;
 };
 std::vector<SpatialReference> spatial_references(std::size_t vertices, const std::vector<Triangle>& triangles);
+// Per vertex, a second parallelogram on another edge whose corners all come before it
+// ((-1, -1, -1) where it has none): the weighted spatial prediction's other three taps
+// (spatial_weights.hpp).
+std::vector<SpatialReference> second_spatial_references(std::size_t vertices, const std::vector<Triangle>& triangles);
 
 // Log2 of the keyframe stride the encoder uses for T frames of N vertices.  Each group (the
 // frames between two keyframes) is one packet with frequency tables of its own (about
@@ -100,8 +104,9 @@ std::pair<std::size_t, std::size_t> bracket(const TemporalReference& reference);
 // sets.  0 where m is too small for it (no isometric modes).
 constexpr std::int64_t isometric_step(std::int64_t step, std::int64_t m) { return step < m - 1 ? step : m - 1; }
 
-// The first format version whose `cascade` files may use the isometric modes.
-constexpr std::uint16_t kIsometricVersion = 5;
+// The first format version whose `cascade` files may use the isometric modes and weights of
+// their own (spatial_weights.hpp): "extended" files.
+constexpr std::uint16_t kExtendedVersion = 5;
 
 // The largest |q| a frame of step s can carry: more cannot land on the grid.  Along the
 // isometric axes a residual can be sqrt(3) times a grid-axis one.
@@ -153,9 +158,8 @@ std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vec
 // (frame-major), `residual_step` is m.  `forced_mode` >= 0 codes every frame in that mode
 // where allowed (tests); otherwise the encoder picks each frame's cheapest mode.  `cascade`:
 // profile `cascade` (level_residual_step).
-std::vector<std::string> predictive_packets(const PredictiveLayout& layout,
-                                            const std::vector<SpatialReference>& spatial, std::size_t vertices,
-                                            const std::vector<std::int32_t>& grid, std::uint32_t residual_step,
-                                            int forced_mode = -1, bool cascade = false);
+std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<Triangle>& triangles,
+                                            std::size_t vertices, const std::vector<std::int32_t>& grid,
+                                            std::uint32_t residual_step, int forced_mode = -1, bool cascade = false);
 
 }  // namespace foldcast::codec
