@@ -7,11 +7,15 @@ namespace {
 
 double dot(const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
 
-// A NaN-safe clamp to [-kIsometricClamp, kIsometricClamp], then the integer.
+// A NaN-safe clamp to [-kIsometricClamp, kIsometricClamp], then the nearest integer (halves
+// upwards).  Truncation, corrected for negative values, instead of std::floor: the
+// baseline x86-64 target has no rounding instruction, and a call per coordinate showed.
 std::int64_t to_integer(double x) {
     if (!(x > -kIsometricClamp)) return -static_cast<std::int64_t>(kIsometricClamp);
     if (!(x < kIsometricClamp)) return static_cast<std::int64_t>(kIsometricClamp);
-    return static_cast<std::int64_t>(std::floor(x + 0.5));
+    const double y = x + 0.5;
+    const auto t = static_cast<std::int64_t>(y);  // towards zero
+    return t - (static_cast<double>(t) > y);
 }
 
 }  // namespace
@@ -29,11 +33,11 @@ bool isometric_frame(const IsometricInputs& in, IsometricFrame& out) {
     const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
     const double d2 = dot(d, d);
     if (!(d2 >= 1.0)) return false;  // a and b on one grid point
-    const double length = std::sqrt(d2);
-    const double u[3] = {d[0] / length, d[1] / length, d[2] / length};
+    const double inverse = 1.0 / std::sqrt(d2);
+    const double u[3] = {d[0] * inverse, d[1] * inverse, d[2] * inverse};
     // The circle: centre on the axis `along` from a, radius `radius`; two spheres that do not
     // meet give the point of the axis between them (radius 0).
-    const double along = (la2 - lb2 + d2) / (2.0 * length);
+    const double along = (la2 - lb2 + d2) * (0.5 * inverse);
     const double h2 = la2 - along * along;
     const double radius = h2 > 0.0 ? std::sqrt(h2) : 0.0;
     const double centre[3] = {xa[0] + along * u[0], xa[1] + along * u[1], xa[2] + along * u[2]};
@@ -42,8 +46,8 @@ bool isometric_frame(const IsometricInputs& in, IsometricFrame& out) {
     for (int c = 0; c < 3; ++c) w[c] -= wu * u[c];
     const double w2 = dot(w, w);
     if (!(w2 >= 1e-6)) return false;  // p0 on the axis: every point of the circle is as near
-    const double wn = std::sqrt(w2);
-    for (double& x : w) x /= wn;
+    const double w_inverse = 1.0 / std::sqrt(w2);
+    for (double& x : w) x *= w_inverse;
     const double t[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
     for (int c = 0; c < 3; ++c) {
         out.origin[c] = centre[c] + radius * w[c];
@@ -57,7 +61,8 @@ bool isometric_frame(const IsometricInputs& in, IsometricFrame& out) {
 void isometric_quantise(const IsometricFrame& frame, const std::int32_t target[3], std::int64_t s, std::int64_t q[3]) {
     const double e[3] = {double(target[0]) - frame.origin[0], double(target[1]) - frame.origin[1],
                          double(target[2]) - frame.origin[2]};
-    for (int j = 0; j < 3; ++j) q[j] = to_integer(dot(e, frame.axis[j]) / double(s));
+    const double inverse = 1.0 / double(s);
+    for (int j = 0; j < 3; ++j) q[j] = to_integer(dot(e, frame.axis[j]) * inverse);
 }
 
 void isometric_reconstruct(const IsometricFrame& frame, const std::int64_t q[3], std::int64_t s, std::int64_t out[3]) {

@@ -10,6 +10,7 @@
 #include "byte_io.hpp"
 #include "isometric_prediction.hpp"
 #include "spatial_weights.hpp"
+#include "weighted_runs.hpp"
 #include "predictive_profile.hpp"
 #include "profile_decoder.hpp"
 #include "rans_coder.hpp"
@@ -175,6 +176,7 @@ public:
                     isometric_step(std::int64_t(h.threshold), std::int64_t(h.threshold)) >= 1),
           second_(cascade_ ? second_spatial_references(h.vertices, h.topology.triangles)
                            : std::vector<SpatialReference>(h.vertices)),
+          weighted_plan_(extended_ ? weighted_plan(refs_, second_) : WeightedPlan{}),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
           largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1),
           grid_high_(grid_high(h)),
@@ -398,20 +400,13 @@ private:
     }
 
     // The residuals of a frame with its own weights into residual_ (wrapping, as
-    // spatial_residuals), vertex by vertex.  Corrupt weights could make them grow without
-    // bound; clamped far beyond any valid residual (|r| < 2^32), they cannot overflow.
+    // spatial_residuals does), exact in wide_residual_ (weighted_runs.hpp).
     void weighted_residuals(const FrameCoding& coding) {
-        const std::size_t n = header_.vertices;
-        constexpr std::int64_t kClamp = std::int64_t(1) << 40;
-        wide_residual_.resize(3 * n + 3);
-        for (std::size_t v = 0; v < n; ++v)
-            for (int c = 0; c < 3; ++c) {
-                const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                const std::int64_t r = std::int64_t(q_[k]) * coding.step +
-                                       weighted_prediction(refs_[v], second_[v], coding.weights, wide_residual_.data(), c);
-                wide_residual_[k] = std::clamp(r, -kClamp, kClamp);
-                residual_[k] = static_cast<std::uint32_t>(wide_residual_[k]);
-            }
+        const std::size_t row = 3 * std::size_t(header_.vertices);
+        wide_residual_.resize(row + 3);
+        codec::weighted_residuals(weighted_plan_, refs_, second_, coding.weights, q_.data(), coding.step,
+                                  wide_residual_.data());
+        for (std::size_t k = 0; k < row; ++k) residual_[k] = static_cast<std::uint32_t>(wide_residual_[k]);
     }
 
     Header header_;
@@ -423,6 +418,7 @@ private:
     bool cascade_;
     bool extended_;  // the file may use the isometric modes and its own weights
     std::vector<SpatialReference> second_;  // profile cascade: the weighted prediction's other taps
+    WeightedPlan weighted_plan_;
     std::int64_t residual_step_;
     // For the frame being decoded (its own residual step): |q| above it cannot land on the
     // grid; bounding it keeps the sums in int32.
