@@ -39,6 +39,32 @@ Animation tiny_animation() {
     return a;
 }
 
+// A 9 x 7 vertex sheet rolled round cylinders of erratically changing radius, 24 frames:
+// where profile cascade codes frames isometrically and with weights of their own.
+Animation bending_animation() {
+    Animation a;
+    constexpr int kCols = 9, kRows = 7, kFrames = 24;
+    for (int r = 0; r + 1 < kRows; ++r)
+        for (int c = 0; c + 1 < kCols; ++c) {
+            const auto v = static_cast<std::uint32_t>(r * kCols + c);
+            a.topology.triangles.push_back({v, v + 1, v + kCols});
+            a.topology.triangles.push_back({v + 1, v + kCols + 1, v + kCols});
+        }
+    for (int t = 0; t < kFrames; ++t) {
+        const float curvature = 0.5f + 6.0f * std::fmod(0.618034f * float(t), 1.0f);  // per metre
+        std::vector<Vec3f> frame;
+        for (int r = 0; r < kRows; ++r)
+            for (int c = 0; c < kCols; ++c) {
+                const float arc = 0.08f * float(c) + 0.06f * float(r), along = -0.06f * float(c) + 0.08f * float(r);
+                const float bent = std::sin(arc * curvature) / curvature;
+                frame.emplace_back(0.8f * bent - 0.6f * along, 0.6f * bent + 0.8f * along,
+                                   (1.0f - std::cos(arc * curvature)) / curvature);
+            }
+        a.frames.push_back(std::move(frame));
+    }
+    return a;
+}
+
 // A seed of fuzz_fca_paper: N - 1, T - 2 (u16), then each data packet's profile payload as
 // a u16 length and its bytes (the packet framing, sequence numbers and CRCs left out).
 void write_paper_seed(const std::filesystem::path& dir, const std::string& name, const std::string& fca,
@@ -102,6 +128,9 @@ int main(int argc, char** argv) {
     const std::string cascade = codec::encode(a, bounded);
     write_seed(dir, "tiny_cascade.bin", cascade, cascade.size());
     write_seed(dir, "tiny_cascade_truncated.bin", cascade, cascade.size() / 2);
+    const std::string bending = codec::encode(bending_animation(), bounded);
+    write_seed(dir, "bending_cascade.bin", bending, bending.size());
+    write_seed(dir, "bending_cascade_truncated.bin", bending, bending.size() * 2 / 3);
     bounded.profile = codec::Profile::paper;
     const std::string paper = codec::encode(a, bounded);
     write_seed(dir, "tiny_paper.bin", paper, paper.size());
