@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "bit_stream.hpp"
@@ -443,6 +444,7 @@ struct FrameChooser {
         const TemporalReference& ref = layout.references[t];
         const std::size_t row = 3 * mesh.first.size();
         const std::int64_t step = level_residual_step(m, layout.level_class[t], cascade);
+        std::array<std::optional<SpatialWeights>, kTemporalModes> fitted_for;
         int mode = -1;
         for (int candidate = 0; candidate < kFrameModes; ++candidate) {
             if (!frame_mode_allowed(ref, candidate, extended) || (forced_mode >= 0 && candidate != forced_mode))
@@ -455,8 +457,11 @@ struct FrameChooser {
             setting.lengths = decoded_frames[bracket(ref).first];
             predict_frame(ref, temporal_mode(candidate), t, decoded_frames.data(), row, largest, trial.temporal.data());
             const bool fit = extended && setting.spatial != SpatialMode::none;
-            const SpatialWeights fitted =
-                fit ? fit_spatial_weights(mesh.first, mesh.second, target, trial.temporal.data()) : setting.weights;
+            // The fit depends only on the temporal prediction: once per temporal mode.
+            auto& cached = fitted_for[static_cast<std::size_t>(temporal_mode(candidate))];
+            if (fit && !cached)
+                cached = fit_spatial_weights(mesh.first, mesh.second, target, trial.temporal.data());
+            const SpatialWeights fitted = fit ? *cached : setting.weights;
             for (int variant = 0; variant < (fit && fitted != kParallelogramWeights ? 2 : 1); ++variant) {
                 setting.weights = variant == 0 ? kParallelogramWeights : fitted;
                 run_frame(mesh, target, setting, trial);
