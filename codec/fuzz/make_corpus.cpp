@@ -16,16 +16,23 @@
 using namespace foldcast;
 
 namespace {
+// Two triangles per quad of a cols x rows vertex sheet, row by row.
+std::vector<Triangle> sheet_triangles(int cols, int rows) {
+    std::vector<Triangle> triangles;
+    for (int r = 0; r + 1 < rows; ++r)
+        for (int c = 0; c + 1 < cols; ++c) {
+            const auto v = static_cast<std::uint32_t>(r * cols + c), down = static_cast<std::uint32_t>(cols);
+            triangles.push_back({v, v + 1, v + down});
+            triangles.push_back({v + 1, v + down + 1, v + down});
+        }
+    return triangles;
+}
+
 // A 3 x 4 vertex sheet waving for 20 frames, with a jump halfway (a new fold appears).
 Animation tiny_animation() {
     Animation a;
     constexpr int kCols = 3, kRows = 4, kFrames = 20;
-    for (int r = 0; r + 1 < kRows; ++r)
-        for (int c = 0; c + 1 < kCols; ++c) {
-            const auto v = static_cast<std::uint32_t>(r * kCols + c);
-            a.topology.triangles.push_back({v, v + 1, v + kCols});
-            a.topology.triangles.push_back({v + 1, v + kCols + 1, v + kCols});
-        }
+    a.topology.triangles = sheet_triangles(kCols, kRows);
     for (int t = 0; t < kFrames; ++t) {
         std::vector<Vec3f> frame;
         for (int r = 0; r < kRows; ++r)
@@ -44,12 +51,7 @@ Animation tiny_animation() {
 Animation bending_animation() {
     Animation a;
     constexpr int kCols = 9, kRows = 7, kFrames = 24;
-    for (int r = 0; r + 1 < kRows; ++r)
-        for (int c = 0; c + 1 < kCols; ++c) {
-            const auto v = static_cast<std::uint32_t>(r * kCols + c);
-            a.topology.triangles.push_back({v, v + 1, v + kCols});
-            a.topology.triangles.push_back({v + 1, v + kCols + 1, v + kCols});
-        }
+    a.topology.triangles = sheet_triangles(kCols, kRows);
     for (int t = 0; t < kFrames; ++t) {
         const float curvature = 0.5f + 6.0f * std::fmod(0.618034f * float(t), 1.0f);  // per metre
         std::vector<Vec3f> frame;

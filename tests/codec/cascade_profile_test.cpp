@@ -8,7 +8,9 @@
 
 #include "foldcast/codec/codec.hpp"
 #include "foldcast/core/error.hpp"
+#include "foldcast/core/mesh_io.hpp"
 #include "grid_round_trip.hpp"
+#include "test_paths.hpp"
 
 namespace foldcast::codec {
 namespace cascade_test {
@@ -124,6 +126,18 @@ TEST(CascadeProfile, MeetsItsBoundAndHasLessErrorThanDefaultAtTheSameBound) {
     EXPECT_EQ(parse_profile("cascade"), Profile::cascade);
     EXPECT_EQ(profile_name(Profile::cascade), "cascade");
     EXPECT_THROW((void)parse_profile("motion"), InputError);
+}
+
+// A format 4 cascade file (finer references only, no weights or isometric modes; written by
+// that build, tests/data/fca with its decode then) decodes to the same frames.
+TEST(CascadeProfile, Format4FilesStillDecodeBitForBit) {
+    const std::string file = read_fca(test::test_data("fca/v4_cascade_drape16.fca"));
+    ASSERT_EQ(file[8 + 5], 4);  // the header's version (low byte), after the magic and the packet length and type
+    StreamingDecoder decoder("v4 cascade", file.size());
+    decoder.feed(file);
+    ASSERT_TRUE(decoder.status().complete);
+    EXPECT_EQ(decoder.profile(), Profile::cascade);
+    EXPECT_EQ(decoder.animation().frames, read_pc2(test::test_data("fca/v4_cascade_drape16.pc2")));
 }
 
 }  // namespace cascade_test
