@@ -153,32 +153,19 @@ const DecodeTable& uniform_decode_table() {
     return table;
 }
 
-// How a frame's residuals become coordinates: its spatial prediction and weights, its
-// residual step and, for an isometric frame, the decoded frame whose edge lengths it keeps.
-struct FrameCoding {
-    SpatialMode spatial;
-    SpatialWeights weights;
-    std::uint32_t step;
-    const std::int32_t* lengths;
-};
-
 class PredictiveDecoder final : public ProfileDecoder {
 public:
     PredictiveDecoder(const Header& h, std::string what)
         : header_(h),
           what_(std::move(what)),
           layout_(h.frames, static_cast<int>(h.profile_param)),
-          refs_(spatial_references(h.vertices, h.topology.triangles)),
-          neighbours_(context_neighbours(refs_)),
-          plan_(spatial_plan(refs_)),
+          taps_(spatial_taps(h.vertices, h.topology.triangles)),
+          neighbours_(context_neighbours(taps_.first)),
+          plan_(spatial_plan(taps_.first)),
           cascade_(h.profile == Profile::cascade),
-          extended_(cascade_ && h.version >= kExtendedVersion &&
-                    isometric_step(std::int64_t(h.threshold), std::int64_t(h.threshold)) >= 1),
-          second_(cascade_ ? second_spatial_references(h.vertices, h.topology.triangles)
-                           : std::vector<SpatialReference>(h.vertices)),
-          weighted_plan_(extended_ ? weighted_plan(refs_, second_) : WeightedPlan{}),
+          extended_(h.version >= kExtendedVersion && extended_modes(cascade_, std::int64_t(h.threshold))),
+          weighted_plan_(extended_ ? weighted_plan(taps_) : WeightedPlan{}),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
-          largest_residual_((kMaxGridValue + 2 * kMaxResidualStep) / residual_step_ + 1),
           grid_high_(grid_high(h)),
           positions_(h.frames),
           decoded_(h.frames, 0),
@@ -258,10 +245,10 @@ public:
             const std::size_t t = frames[i];
             const SpatialMode spatial = spatial_mode(modes[i]);
             const std::int64_t level_step = level_residual_step(residual_step_, layout_.level_class[t], cascade_);
-            const auto step = static_cast<std::uint32_t>(
-                spatial == SpatialMode::isometric ? isometric_step(level_step, residual_step_) : level_step);
-            largest_residual_ = largest_residual(step, spatial);  // per frame: its own step
-            decode_residuals(rans, raw, layout_.level_class[t], r);
+            const std::int64_t step =
+                spatial == SpatialMode::isometric ? isometric_step(level_step, residual_step_) : level_step;
+            // |q| above its bound cannot land on the grid; bounding it keeps the sums in int32.
+            decode_residuals(rans, raw, layout_.level_class[t], largest_residual(step, spatial), r);
             predict_frame(layout_.references[t], temporal_mode(modes[i]), t, frame_grid_.data(), row, grid_high_,
                           temporal_.data());
             std::int32_t* grid = scratch_.get();
@@ -318,14 +305,15 @@ public:
     }
 
 private:
-    // One frame's quantised residuals into q_.
-    void decode_residuals(RansDecoder& rans, PaddedBitReader& bits, int level_class, const ByteReader& r) {
+    // One frame's quantised residuals into q_; |q| above `largest` cannot land on the grid.
+    void decode_residuals(RansDecoder& rans, PaddedBitReader& bits, int level_class, std::int64_t largest,
+                          const ByteReader& r) {
         // Frames of up to 512 vertices renormalise by a branch, longer ones branch-free
         // (RansDecoder::decode; measured in docs/codec.md: 16x16 grids gain, 32x32 lose).
         constexpr std::size_t kShortFrame = 512;
         using enum RansDecoder::Renormalise;
-        const bool in_range = header_.vertices <= kShortFrame ? decode_symbols<branch>(rans, bits, level_class)
-                                                              : decode_symbols<branch_free>(rans, bits, level_class);
+        const bool in_range = header_.vertices <= kShortFrame ? decode_symbols<branch>(rans, bits, level_class, largest)
+                                                              : decode_symbols<branch_free>(rans, bits, level_class, largest);
         if (!in_range) r.fail("residual out of range (corrupt data)");
         if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
     }
@@ -333,12 +321,12 @@ private:
     // The frame's tokens, their values and its escapes into q_; false if an escape is out of
     // range.  Escape k of the frame goes to state (n + k) mod 4.
     template <RansDecoder::Renormalise R>
-    bool decode_symbols(RansDecoder& rans, PaddedBitReader& bits, int level_class) {
+    bool decode_symbols(RansDecoder& rans, PaddedBitReader& bits, int level_class, std::int64_t largest) {
         const std::size_t n = header_.vertices;
         decode_tokens<R>(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
         return decode_escapes<R>(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped,
-                                 largest_residual_, q_.data());
+                                 largest, q_.data());
     }
 
     // grid = temporal prediction + (spatial prediction) + q m, checked against the grid's
@@ -348,11 +336,11 @@ private:
     bool reconstruct_grid(const FrameCoding& coding, std::int32_t* grid, std::vector<Vec3f>& positions) {
         const std::size_t row = 3 * std::size_t(header_.vertices);
         const auto* q = reinterpret_cast<const std::uint32_t*>(q_.data());
-        const std::uint32_t m = coding.step;
+        const auto m = static_cast<std::uint32_t>(coding.step);
         std::uint32_t* r = residual_.data();
         if (coding.spatial == SpatialMode::isometric) {
             if (!isometric_residuals(coding, grid)) return false;
-        } else if (coding.spatial == SpatialMode::parallelogram && coding.weights == kParallelogramWeights) {
+        } else if (coding.spatial == SpatialMode::parallelogram && !own_weights(coding.weights)) {
             spatial_residuals(plan_, q, m, r);
         } else if (coding.spatial == SpatialMode::parallelogram) {
             weighted_residuals(coding);
@@ -372,14 +360,15 @@ private:
     bool isometric_residuals(const FrameCoding& coding, std::int32_t* grid) {
         const std::size_t n = header_.vertices;
         const std::int64_t low = -std::int64_t(kMaxResidualStep), high = grid_high_, s = coding.step;
+        const SpatialWeights* own = own_weights(coding.weights);
         wide_residual_.resize(3 * n + 3);
         for (std::size_t v = 0; v < n; ++v) {
-            const SpatialReference& ref = refs_[v];
+            const SpatialReference& ref = taps_.first[v];
             const std::int64_t q[3] = {q_[3 * v], q_[3 * v + 1], q_[3 * v + 2]};
             std::int64_t d[3];
             for (int c = 0; c < 3; ++c)
                 d[c] = temporal_[3 * v + c] +
-                       weighted_prediction(ref, second_[v], coding.weights, wide_residual_.data(), c);
+                       frame_spatial_prediction(ref, taps_.second[v], own, wide_residual_.data(), c);
             IsometricFrame frame;
             if (ref.c >= 0 && isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), d, grid,
                                                                coding.lengths),
@@ -404,25 +393,21 @@ private:
     void weighted_residuals(const FrameCoding& coding) {
         const std::size_t row = 3 * std::size_t(header_.vertices);
         wide_residual_.resize(row + 3);
-        codec::weighted_residuals(weighted_plan_, refs_, second_, coding.weights, q_.data(), coding.step,
-                                  wide_residual_.data());
+        codec::weighted_residuals(weighted_plan_, taps_, coding.weights, q_.data(), coding.step,
+                                  wide_residual_.data(), weighted_scratch_);
         for (std::size_t k = 0; k < row; ++k) residual_[k] = static_cast<std::uint32_t>(wide_residual_[k]);
     }
 
     Header header_;
     std::string what_;
     PredictiveLayout layout_;
-    std::vector<SpatialReference> refs_;
+    SpatialTaps taps_;  // the spatial references (first) and, for weighted frames, second parallelograms
     std::vector<ContextNeighbours> neighbours_;
     SpatialPlan plan_;
     bool cascade_;
     bool extended_;  // the file may use the isometric modes and its own weights
-    std::vector<SpatialReference> second_;  // profile cascade: the weighted prediction's other taps
     WeightedPlan weighted_plan_;
     std::int64_t residual_step_;
-    // For the frame being decoded (its own residual step): |q| above it cannot land on the
-    // grid; bounding it keeps the sums in int32.
-    std::int64_t largest_residual_;
     std::int32_t grid_high_;         // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
@@ -441,7 +426,8 @@ private:
     std::vector<std::int32_t> q_;
     std::vector<std::int32_t> temporal_;
     std::vector<std::uint32_t> residual_;
-    std::vector<std::int64_t> wide_residual_;  // an isometric frame's, exact
+    std::vector<std::int64_t> wide_residual_;     // a weighted or isometric frame's residuals, exact
+    std::vector<std::int64_t> weighted_scratch_;  // weighted_residuals' row sums
 };
 }  // namespace
 

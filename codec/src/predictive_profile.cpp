@@ -115,10 +115,8 @@ namespace {
 // the tokens given their activity bucket, of the escape symbols, and the raw bits.  It
 // needs nothing from the entropy coder and tracks the real choice closely.
 struct FrameTrial {
-    std::vector<std::int64_t> q, decoded, temporal_residual;
-    std::vector<std::int32_t> temporal;
+    std::vector<std::int64_t> q, decoded, temporal_residual;  // temporal_residual: decoded - temporal prediction
     std::vector<std::uint8_t> token, bucket;  // per vertex: its token and the token's activity bucket
-    SpatialWeights weights = kParallelogramWeights;
     double bits = 0.0;
 };
 
@@ -130,78 +128,80 @@ double entropy_bits(const std::uint32_t* histogram, int symbols) {
     return bits;
 }
 
-// What every frame's spatial prediction reads: per vertex its parallelogram, its second one
-// (weighted prediction; all missing for profile `default`) and its context neighbours.
+// What every frame's spatial prediction reads: per vertex its two parallelograms and its
+// context neighbours.
 struct MeshTaps {
-    const std::vector<SpatialReference>& first;
-    const std::vector<SpatialReference>& second;
+    const SpatialTaps& taps;
     const std::vector<ContextNeighbours>& neighbours;
 };
 
-// How a trial codes its frame: the spatial prediction, its weights (the parallelogram's
-// unless the frame sends its own), the residual step and, for an isometric frame, the
-// decoded frame whose edge lengths it keeps.
-struct FrameSetting {
-    SpatialMode spatial = SpatialMode::none;
-    SpatialWeights weights = kParallelogramWeights;
-    std::int64_t step = 1;
-    const std::int32_t* lengths = nullptr;
+// One trial of a frame: its target and temporal prediction (3 per vertex), how it is coded,
+// and its own weights (own_weights()).
+struct TrialFrame {
+    const std::int32_t* target;
+    const std::int32_t* temporal;
+    const FrameCoding& coding;
+    const SpatialWeights* own;
+
+    std::int64_t spatial(const MeshTaps& mesh, std::size_t v, const std::int64_t* residual, int c) const {
+        return frame_spatial_prediction(mesh.taps.first[v], mesh.taps.second[v], own, residual, c);
+    }
 };
 
 // Grid-axis quantisation of vertex v's coordinates c in [c0, c1).
-void quantise_grid_axes(const MeshTaps& mesh, const FrameSetting& setting, std::size_t v, int c0, int c1,
-                        const std::int32_t* target, const FloorDivider& divide, FrameTrial& f) {
-    const std::int64_t m = setting.step;
+void quantise_grid_axes(const MeshTaps& mesh, const TrialFrame& frame, std::size_t v, int c0, int c1,
+                        const FloorDivider& divide, FrameTrial& f) {
+    const std::int64_t m = frame.coding.step;
     for (int c = c0; c < c1; ++c) {
         const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-        const std::int64_t p = f.temporal[k] + (setting.spatial == SpatialMode::none
-                                                    ? 0
-                                                    : weighted_prediction(mesh.first[v], mesh.second[v], setting.weights,
-                                                                          f.temporal_residual.data(), c));
-        const std::int64_t q = divide(target[k] - p + m / 2);
+        const std::int64_t p = frame.temporal[k] + (frame.coding.spatial == SpatialMode::none
+                                                        ? 0
+                                                        : frame.spatial(mesh, v, f.temporal_residual.data(), c));
+        const std::int64_t q = divide(frame.target[k] - p + m / 2);
         f.q[k] = q;
         f.decoded[k] = p + q * m;
-        f.temporal_residual[k] = f.decoded[k] - f.temporal[k];
+        f.temporal_residual[k] = f.decoded[k] - frame.temporal[k];
     }
 }
 
 // Isometric quantisation (isometric_prediction.hpp) of vertex v; vertices without a
 // parallelogram, or whose circle is undefined, along the grid's axes.  Vertex by vertex, as
 // the decoder goes: the prediction reads the decoded corners.
-void quantise_isometric(const MeshTaps& mesh, const FrameSetting& setting, std::size_t v, const std::int32_t* target,
-                        const FloorDivider& divide, FrameTrial& f) {
-    const SpatialReference& ref = mesh.first[v];
+void quantise_isometric(const MeshTaps& mesh, const TrialFrame& frame, std::size_t v, const FloorDivider& divide,
+                        FrameTrial& f) {
+    const SpatialReference& ref = mesh.taps.first[v];
     if (ref.c >= 0) {
         std::int64_t p0[3];
         for (int c = 0; c < 3; ++c)
-            p0[c] = f.temporal[3 * v + static_cast<std::size_t>(c)] +
-                    weighted_prediction(ref, mesh.second[v], setting.weights, f.temporal_residual.data(), c);
-        IsometricFrame frame;
+            p0[c] = frame.temporal[3 * v + static_cast<std::size_t>(c)] +
+                    frame.spatial(mesh, v, f.temporal_residual.data(), c);
+        IsometricFrame circle;
         if (isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), p0, f.decoded.data(),
-                                             setting.lengths),
-                            frame)) {
+                                             frame.coding.lengths),
+                            circle)) {
             std::int64_t decoded[3];
-            isometric_quantise(frame, target + 3 * v, setting.step, &f.q[3 * v]);
-            isometric_reconstruct(frame, &f.q[3 * v], setting.step, decoded);
+            isometric_quantise(circle, frame.target + 3 * v, frame.coding.step, &f.q[3 * v]);
+            isometric_reconstruct(circle, &f.q[3 * v], frame.coding.step, decoded);
             for (int c = 0; c < 3; ++c) {
                 const std::size_t k = 3 * v + static_cast<std::size_t>(c);
                 f.decoded[k] = decoded[c];
-                f.temporal_residual[k] = decoded[c] - f.temporal[k];
+                f.temporal_residual[k] = decoded[c] - frame.temporal[k];
             }
             return;
         }
     }
-    quantise_grid_axes(mesh, setting, v, 0, 3, target, divide, f);
+    quantise_grid_axes(mesh, frame, v, 0, 3, divide, f);
 }
 
-void run_frame(const MeshTaps& mesh, const std::int32_t* target, const FrameSetting& setting, FrameTrial& f) {
-    const std::size_t n = mesh.first.size();
-    const FloorDivider divide(setting.step);
-    f.weights = setting.weights;
-    if (setting.spatial == SpatialMode::isometric) {
-        for (std::size_t v = 0; v < n; ++v) quantise_isometric(mesh, setting, v, target, divide, f);
+void run_frame(const MeshTaps& mesh, const std::int32_t* target, const std::int32_t* temporal,
+               const FrameCoding& coding, FrameTrial& f) {
+    const std::size_t n = mesh.taps.first.size();
+    const FloorDivider divide(coding.step);
+    const TrialFrame frame{target, temporal, coding, own_weights(coding.weights)};
+    if (coding.spatial == SpatialMode::isometric) {
+        for (std::size_t v = 0; v < n; ++v) quantise_isometric(mesh, frame, v, divide, f);
         // A residual the decoder would refuse (possible only far off the grid): not this mode.
-        const std::int64_t limit = largest_residual(setting.step, setting.spatial);
+        const std::int64_t limit = largest_residual(coding.step, coding.spatial);
         for (std::int64_t q : f.q)
             if (q > limit || q < -limit) {
                 f.bits = std::numeric_limits<double>::infinity();
@@ -210,7 +210,7 @@ void run_frame(const MeshTaps& mesh, const std::int32_t* target, const FrameSett
     } else {
         // Coordinate-major: each pass reads one coordinate of earlier vertices.
         for (int c = 0; c < 3; ++c)
-            for (std::size_t v = 0; v < n; ++v) quantise_grid_axes(mesh, setting, v, c, c + 1, target, divide, f);
+            for (std::size_t v = 0; v < n; ++v) quantise_grid_axes(mesh, frame, v, c, c + 1, divide, f);
     }
     const std::vector<ContextNeighbours>& neighbours = mesh.neighbours;
     std::array<std::uint32_t, kActivityBuckets * kRansAlphabet> tokens{};
@@ -235,8 +235,8 @@ void run_frame(const MeshTaps& mesh, const std::int32_t* target, const FrameSett
 }
 }  // namespace
 
-bool frame_mode_allowed(const TemporalReference& reference, int mode, bool isometric) {
-    if (mode < 0 || mode >= (isometric ? kFrameModes : kIsometricModes)) return false;
+bool frame_mode_allowed(const TemporalReference& reference, int mode, bool extended) {
+    if (mode < 0 || mode >= (extended ? kFrameModes : kIsometricModes)) return false;
     const TemporalMode temporal = temporal_mode(mode);
     if (spatial_mode(mode) == SpatialMode::isometric && reference.kind == TemporalReference::Kind::none)
         return false;  // no decoded frame to keep the lengths of
@@ -309,16 +309,7 @@ PredictiveLayout::PredictiveLayout(std::size_t t, int stride_log2) : frames(t), 
         }
 }
 
-namespace {
-// Per vertex, the first two parallelograms (a, b, c) of its triangles in triangle order whose
-// corners all come before it, on different edges ((-1, -1, -1) where there are fewer), and
-// its highest earlier neighbour.
-struct Parallelograms {
-    std::vector<std::array<SpatialReference, 2>> found;
-    std::vector<std::int32_t> best_neighbour;
-};
-
-Parallelograms find_parallelograms(std::size_t n, const std::vector<Triangle>& triangles) {
+SpatialTaps spatial_taps(std::size_t n, const std::vector<Triangle>& triangles) {
     // Triangles around each vertex, in triangle order (compressed rows): the parallelogram's
     // fourth corner is the third vertex of another triangle on the same edge.
     std::vector<std::uint32_t> first(n + 1, 0), around(3 * triangles.size());
@@ -338,38 +329,32 @@ Parallelograms find_parallelograms(std::size_t n, const std::vector<Triangle>& t
         }
         return -1;
     };
-    Parallelograms p{std::vector<std::array<SpatialReference, 2>>(n), std::vector<std::int32_t>(n, -1)};
+    // The first two parallelograms of each vertex's triangles in triangle order whose corners
+    // all come before it, on different edges.
+    SpatialTaps taps{std::vector<SpatialReference>(n), std::vector<SpatialReference>(n)};
+    std::vector<std::int32_t> best_neighbour(n, -1);
     for (const auto& tri : triangles)
         for (int e = 0; e < 3; ++e) {
             const std::uint32_t v = tri[e];
             for (int o = 1; o < 3; ++o) {
                 const std::uint32_t u = tri[(e + o) % 3];
-                if (u < v) p.best_neighbour[v] = std::max(p.best_neighbour[v], static_cast<std::int32_t>(u));
+                if (u < v) best_neighbour[v] = std::max(best_neighbour[v], static_cast<std::int32_t>(u));
             }
             const auto a = static_cast<std::int32_t>(tri[(e + 1) % 3]), b = static_cast<std::int32_t>(tri[(e + 2) % 3]);
-            auto& [one, two] = p.found[v];
+            SpatialReference &one = taps.first[v], &two = taps.second[v];
             const bool same_edge = (one.a == a && one.b == b) || (one.a == b && one.b == a);
             if (a >= std::int32_t(v) || b >= std::int32_t(v) || two.c >= 0 || same_edge) continue;
             if (const std::int32_t c = opposite(std::uint32_t(a), std::uint32_t(b), v); c >= 0)
                 (one.c < 0 ? one : two) = {a, b, c};
         }
-    return p;
+    // Without a parallelogram: the highest earlier neighbour alone.
+    for (std::size_t v = 0; v < n; ++v)
+        if (taps.first[v].c < 0) taps.first[v] = {best_neighbour[v], -1, -1};
+    return taps;
 }
-}  // namespace
 
 std::vector<SpatialReference> spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {
-    const Parallelograms p = find_parallelograms(n, triangles);
-    std::vector<SpatialReference> refs(n);
-    for (std::size_t v = 0; v < n; ++v)
-        refs[v] = p.found[v][0].c >= 0 ? p.found[v][0] : SpatialReference{p.best_neighbour[v], -1, -1};
-    return refs;
-}
-
-std::vector<SpatialReference> second_spatial_references(std::size_t n, const std::vector<Triangle>& triangles) {
-    const Parallelograms p = find_parallelograms(n, triangles);
-    std::vector<SpatialReference> refs(n);
-    for (std::size_t v = 0; v < n; ++v) refs[v] = p.found[v][1];
-    return refs;
+    return spatial_taps(n, triangles).first;
 }
 
 std::vector<ContextNeighbours> context_neighbours(const std::vector<SpatialReference>& refs) {
@@ -426,6 +411,12 @@ std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vec
 }
 
 namespace {
+// A frame's mode and the weights it sends (the parallelogram's where it sends none).
+struct FrameChoice {
+    int mode = -1;
+    SpatialWeights weights = kParallelogramWeights;
+};
+
 // Chooses how each frame is coded, through the closed loop over decoded frames.
 struct FrameChooser {
     const PredictiveLayout& layout;
@@ -434,51 +425,50 @@ struct FrameChooser {
     std::int64_t largest;  // bounds every decoded coordinate (predict_frame)
     std::int64_t m;
     bool cascade;
-    bool extended;    // isometric modes and fitted weights allowed (profile cascade, format 5)
+    bool extended;    // isometric modes and fitted weights allowed (extended_modes)
     int forced_mode;  // >= 0: that mode wherever allowed (tests)
 
     // The cheapest of the allowed modes for frame t (the forced one, else the layout's
     // reference with the parallelogram), spatial ones of an extended file both with the
     // parallelogram's weights and with weights fitted to the frame; `best` holds its trial.
-    int choose(std::size_t t, const std::int32_t* target, FrameTrial& trial, FrameTrial& best) const {
+    // `temporal`: room for a temporal prediction (3 per vertex).
+    FrameChoice choose(std::size_t t, const std::int32_t* target, std::vector<std::int32_t>& temporal,
+                       FrameTrial& trial, FrameTrial& best) const {
         const TemporalReference& ref = layout.references[t];
-        const std::size_t row = 3 * mesh.first.size();
+        const std::size_t row = temporal.size();
         const std::int64_t step = level_residual_step(m, layout.level_class[t], cascade);
+        FrameChoice choice;
+        // The fit depends only on the temporal prediction: once per temporal mode.
         std::array<std::optional<SpatialWeights>, kTemporalModes> fitted_for;
-        int mode = -1;
         for (int candidate = 0; candidate < kFrameModes; ++candidate) {
             if (!frame_mode_allowed(ref, candidate, extended) || (forced_mode >= 0 && candidate != forced_mode))
                 continue;
-            if (temporal_mode(candidate) == TemporalMode::linear && ref.kind == TemporalReference::Kind::linear)
-                continue;
-            FrameSetting setting;
-            setting.spatial = spatial_mode(candidate);
-            setting.step = setting.spatial == SpatialMode::isometric ? isometric_step(step, m) : step;
-            setting.lengths = decoded_frames[bracket(ref).first];
-            predict_frame(ref, temporal_mode(candidate), t, decoded_frames.data(), row, largest, trial.temporal.data());
-            const bool fit = extended && setting.spatial != SpatialMode::none;
-            // The fit depends only on the temporal prediction: once per temporal mode.
-            auto& cached = fitted_for[static_cast<std::size_t>(temporal_mode(candidate))];
-            if (fit && !cached)
-                cached = fit_spatial_weights(mesh.first, mesh.second, target, trial.temporal.data());
-            const SpatialWeights fitted = fit ? *cached : setting.weights;
-            for (int variant = 0; variant < (fit && fitted != kParallelogramWeights ? 2 : 1); ++variant) {
-                setting.weights = variant == 0 ? kParallelogramWeights : fitted;
-                run_frame(mesh, target, setting, trial);
-                if (mode < 0 || trial.bits < best.bits) {
+            const TemporalMode temporal_kind = temporal_mode(candidate);
+            if (temporal_kind == TemporalMode::linear && ref.kind == TemporalReference::Kind::linear) continue;
+            FrameCoding coding;
+            coding.spatial = spatial_mode(candidate);
+            coding.step = coding.spatial == SpatialMode::isometric ? isometric_step(step, m) : step;
+            coding.lengths = decoded_frames[bracket(ref).first];
+            predict_frame(ref, temporal_kind, t, decoded_frames.data(), row, largest, temporal.data());
+            const bool fit = extended && coding.spatial != SpatialMode::none;
+            auto& fitted = fitted_for[static_cast<std::size_t>(temporal_kind)];
+            if (fit && !fitted) fitted = fit_spatial_weights(mesh.taps.first, mesh.taps.second, target, temporal.data());
+            for (int variant = 0; variant < (fit && *fitted != kParallelogramWeights ? 2 : 1); ++variant) {
+                coding.weights = variant == 0 ? kParallelogramWeights : *fitted;
+                run_frame(mesh, target, temporal.data(), coding, trial);
+                if (choice.mode < 0 || trial.bits < best.bits) {
                     std::swap(trial, best);
-                    mode = candidate;
-                    // The next trial starts from the same temporal prediction.
-                    trial.temporal = best.temporal;
+                    choice = {candidate, coding.weights};
                 }
             }
         }
-        if (mode < 0) {  // forced mode not allowed here
-            mode = 1;
-            predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, best.temporal.data());
-            run_frame(mesh, target, FrameSetting{SpatialMode::parallelogram, kParallelogramWeights, step, nullptr}, best);
+        if (choice.mode < 0) {  // forced mode not allowed here
+            choice = {1, kParallelogramWeights};
+            predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, temporal.data());
+            run_frame(mesh, target, temporal.data(), FrameCoding{SpatialMode::parallelogram, kParallelogramWeights, step},
+                      best);
         }
-        return mode;
+        return choice;
     }
 };
 }  // namespace
@@ -488,11 +478,8 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
                                             std::uint32_t residual_step, int forced_mode, bool cascade) {
     const std::size_t row = 3 * n;
     const auto m = static_cast<std::int64_t>(residual_step);
-    const std::vector<SpatialReference> refs = spatial_references(n, triangles);
-    const bool extended = cascade && isometric_step(m, m) >= 1;
-    const std::vector<SpatialReference> second =
-        extended ? second_spatial_references(n, triangles) : std::vector<SpatialReference>(n);
-    const std::vector<ContextNeighbours> neighbours = context_neighbours(refs);
+    const SpatialTaps taps = spatial_taps(n, triangles);
+    const std::vector<ContextNeighbours> neighbours = context_neighbours(taps.first);
     // Decoded coordinates lie within m / 2 of the grid's.
     std::int64_t largest = 0;
     for (std::int32_t g : grid) largest = std::max<std::int64_t>(largest, g < 0 ? -std::int64_t(g) : g);
@@ -501,12 +488,13 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     std::vector<std::int32_t> decoded(grid.size(), 0);
     std::vector<const std::int32_t*> decoded_frames(layout.frames);
     for (std::size_t t = 0; t < layout.frames; ++t) decoded_frames[t] = decoded.data() + t * row;
-    const FrameChooser chooser{layout, MeshTaps{refs, second, neighbours}, decoded_frames, largest, m, cascade,
-                               extended, forced_mode};
+    const bool extended = extended_modes(cascade, m);
+    const FrameChooser chooser{layout, MeshTaps{taps, neighbours}, decoded_frames, largest, m, cascade, extended,
+                               forced_mode};
+    std::vector<std::int32_t> temporal(row);
     FrameTrial trial, best;
     for (FrameTrial* f : {&trial, &best}) {
         f->q = f->decoded = f->temporal_residual = std::vector<std::int64_t>(row);
-        f->temporal.assign(row, 0);
         f->token.assign(n, 0);
         f->bucket.assign(n, 0);
     }
@@ -516,16 +504,13 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
         std::uint8_t table, symbol, lane;
     };
     for (const auto& frames : layout.packets) {
-        std::vector<int> modes;
-        std::vector<SpatialWeights> weights;
+        std::vector<FrameChoice> choices;
         std::vector<Symbol> symbols;
         std::vector<std::pair<std::uint32_t, int>> raw;  // mantissas: value, bits
         std::vector<SymbolCounts> counts(kTables, SymbolCounts{});
         for (std::size_t t : frames) {
             const std::int32_t* target = grid.data() + t * row;
-            const int mode = chooser.choose(t, target, trial, best);
-            weights.push_back(best.weights);
-            modes.push_back(mode);
+            choices.push_back(chooser.choose(t, target, temporal, trial, best));
             // Symbol k of a frame (tokens, then escapes) goes to rANS state k mod kRansLanes.
             std::size_t k = 0;
             const int base = level_table_base(layout.level_class[t]);
@@ -550,9 +535,9 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
         }
         // Side information first (modes, tables), then the raw mantissas in decoding order.
         BitWriter bits;
-        for (std::size_t i = 0; i < modes.size(); ++i) {
-            bits.put(static_cast<std::uint32_t>(modes[i]), kModeBits);
-            if (extended) write_spatial_weights(bits, spatial_mode(modes[i]), weights[i]);
+        for (const FrameChoice& choice : choices) {
+            bits.put(static_cast<std::uint32_t>(choice.mode), kModeBits);
+            if (extended) write_spatial_weights(bits, spatial_mode(choice.mode), choice.weights);
         }
         for (int id : packet_table_ids(layout, frames)) {
             const TableChoice choice =

@@ -48,10 +48,13 @@ struct SpatialReference {
     std::int32_t a = -1, b = -1, c = -1;
 };
 std::vector<SpatialReference> spatial_references(std::size_t vertices, const std::vector<Triangle>& triangles);
-// Per vertex, a second parallelogram on another edge whose corners all come before it
-// ((-1, -1, -1) where it has none): the weighted spatial prediction's other three taps
-// (spatial_weights.hpp).
-std::vector<SpatialReference> second_spatial_references(std::size_t vertices, const std::vector<Triangle>& triangles);
+// Per vertex, its spatial references (`first`, as above) and a second parallelogram on
+// another edge whose corners all come before it (`second`; (-1, -1, -1) where it has none):
+// the six taps of the weighted spatial prediction (spatial_weights.hpp), found in one pass.
+struct SpatialTaps {
+    std::vector<SpatialReference> first, second;
+};
+SpatialTaps spatial_taps(std::size_t vertices, const std::vector<Triangle>& triangles);
 
 // Log2 of the keyframe stride the encoder uses for T frames of N vertices.  Each group (the
 // frames between two keyframes) is one packet with frequency tables of its own (about
@@ -90,9 +93,9 @@ constexpr SpatialMode spatial_mode(int mode) {
     return mode >= kIsometricModes ? SpatialMode::isometric
                                    : mode % 2 == 1 ? SpatialMode::parallelogram : SpatialMode::none;
 }
-// `isometric`: whether the file may use the isometric modes (not where nothing is decoded
-// before the frame).
-bool frame_mode_allowed(const TemporalReference& reference, int mode, bool isometric);
+// `extended`: whether the file may use the isometric modes (extended_modes; never where
+// nothing is decoded before the frame).
+bool frame_mode_allowed(const TemporalReference& reference, int mode, bool extended);
 // The two decoded frames a midpoint lies between (left < t < right); keyframes: the
 // previous keyframe twice.  An isometric frame keeps the edge lengths of the left one.
 std::pair<std::size_t, std::size_t> bracket(const TemporalReference& reference);
@@ -105,8 +108,29 @@ std::pair<std::size_t, std::size_t> bracket(const TemporalReference& reference);
 constexpr std::int64_t isometric_step(std::int64_t step, std::int64_t m) { return step < m - 1 ? step : m - 1; }
 
 // The first format version whose `cascade` files may use the isometric modes and weights of
-// their own (spatial_weights.hpp): "extended" files.
+// their own (spatial_weights.hpp): "extended" files, where the residual step m leaves room
+// for an isometric step (m >= 2).
 constexpr std::uint16_t kExtendedVersion = 5;
+constexpr bool extended_modes(bool cascade, std::int64_t m) { return cascade && isometric_step(m, m) >= 1; }
+
+// A frame's spatial weights, sent by extended files (spatial_weights.hpp): six taps in
+// 64ths; the parallelogram r_a + r_b - r_c is (64, 64, -64, 0, 0, 0).
+constexpr int kSpatialTaps = 6;
+constexpr int kWeightBits = 8;   // two's complement: weights in [-2, 2) at kWeightShift
+constexpr int kWeightShift = 6;  // weights in 64ths
+using SpatialWeights = std::array<std::int32_t, kSpatialTaps>;
+constexpr SpatialWeights kParallelogramWeights = {1 << kWeightShift, 1 << kWeightShift, -(1 << kWeightShift), 0, 0, 0};
+
+// How a frame's residuals become coordinates, the same for the encoder's trials and the
+// decoder: its spatial prediction and weights (the parallelogram's unless the frame sends its
+// own), its residual step and, for an isometric frame, the decoded frame whose edge lengths
+// it keeps.
+struct FrameCoding {
+    SpatialMode spatial = SpatialMode::none;
+    SpatialWeights weights = kParallelogramWeights;
+    std::int64_t step = 1;
+    const std::int32_t* lengths = nullptr;
+};
 
 // The largest |q| a frame of step s can carry: more cannot land on the grid.  Along the
 // isometric axes a residual can be sqrt(3) times a grid-axis one.
@@ -126,7 +150,6 @@ constexpr std::int64_t level_residual_step(std::int64_t m, int level_class, bool
     const std::int64_t step = level_class == 2 ? 3 * m / 4 : m / 2;
     return step < 1 ? 1 : step;
 }
-
 
 constexpr int kModeBits = 4;  // per frame, in the packet's side information
 

@@ -16,14 +16,8 @@
 
 namespace foldcast::codec {
 
-constexpr int kSpatialTaps = 6;
-constexpr int kWeightBits = 8;   // two's complement: weights in [-2, 2) at kWeightShift
-constexpr int kWeightShift = 6;  // weights in 64ths
-using SpatialWeights = std::array<std::int32_t, kSpatialTaps>;
-constexpr SpatialWeights kParallelogramWeights = {1 << kWeightShift, 1 << kWeightShift, -(1 << kWeightShift), 0, 0, 0};
-
 // Coordinate c of the weighted prediction of a vertex with parallelograms s and s2
-// (second_spatial_references) from the residuals r (3 per vertex); where s2 is missing, the
+// (spatial_taps) from the residuals r (3 per vertex); where s2 is missing, the
 // parallelogram of s whatever the weights.
 template <typename Residual>
 inline std::int64_t weighted_prediction(const SpatialReference& s, const SpatialReference& s2, const SpatialWeights& w,
@@ -34,6 +28,17 @@ inline std::int64_t weighted_prediction(const SpatialReference& s, const Spatial
                              w[5] * at(s2.c);
     return (sum + (std::int64_t(1) << (kWeightShift - 1))) >> kWeightShift;
 }
+
+// A frame's spatial prediction of coordinate c: with the frame's own weights where it has
+// them, else (own null) the parallelogram, the same value as its weights give in fewer steps.
+template <typename Residual>
+inline std::int64_t frame_spatial_prediction(const SpatialReference& s, const SpatialReference& s2,
+                                             const SpatialWeights* own, const Residual* r, int c) {
+    return own ? weighted_prediction(s, s2, *own, r, c) : spatial_prediction(s, r, c);
+}
+
+// The frame's own weights, or null where they are the parallelogram's.
+inline const SpatialWeights* own_weights(const SpatialWeights& w) { return w == kParallelogramWeights ? nullptr : &w; }
 
 // The weights that best predict the frame's temporal residuals target - temporal (3 per
 // vertex) from its neighbours' true residuals, rounded and clamped to what the file can

@@ -28,10 +28,10 @@ std::uint32_t longest_row(const WeightedRun& run) {
 }
 }  // namespace
 
-WeightedPlan weighted_plan(const std::vector<SpatialReference>& first, const std::vector<SpatialReference>& second) {
+WeightedPlan weighted_plan(const SpatialTaps& taps) {
     WeightedPlan plan;
-    for (std::uint32_t v = 0; v < first.size(); ++v) {
-        const WeightedRun next = classify(first[v], second[v], v);
+    for (std::uint32_t v = 0; v < taps.first.size(); ++v) {
+        const WeightedRun next = classify(taps.first[v], taps.second[v], v);
         if (!plan.runs.empty()) {
             WeightedRun& run = plan.runs.back();
             const bool extends = next.row == run.row && next.offset == run.offset &&
@@ -82,20 +82,19 @@ void row_run(const WeightedRun& run, const SpatialWeights& w, const std::int32_t
 }
 }  // namespace
 
-void weighted_residuals(const WeightedPlan& plan, const std::vector<SpatialReference>& first,
-                        const std::vector<SpatialReference>& second, const SpatialWeights& w, const std::int32_t* q,
-                        std::int64_t m, std::int64_t* r) {
-    std::vector<std::int64_t> pre;
+void weighted_residuals(const WeightedPlan& plan, const SpatialTaps& taps, const SpatialWeights& w,
+                        const std::int32_t* q, std::int64_t m, std::int64_t* r, std::vector<std::int64_t>& scratch) {
     for (const WeightedRun& run : plan.runs) {
         if (run.row) {
-            row_run(run, w, q, m, r, pre);
+            row_run(run, w, q, m, r, scratch);
             continue;
         }
         for (std::size_t v = run.begin; v < run.end; ++v)
             for (int c = 0; c < 3; ++c) {
                 const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                r[k] = std::clamp(std::int64_t(q[k]) * m + weighted_prediction(first[v], second[v], w, r, c), -kClamp,
-                                  kClamp);
+                r[k] = std::clamp(
+                    std::int64_t(q[k]) * m + weighted_prediction(taps.first[v], taps.second[v], w, r, c), -kClamp,
+                    kClamp);
             }
     }
 }

@@ -23,13 +23,13 @@ struct WeightedRun {
 struct WeightedPlan {
     std::vector<WeightedRun> runs;  // covering every vertex in order
 };
-WeightedPlan weighted_plan(const std::vector<SpatialReference>& first, const std::vector<SpatialReference>& second);
+WeightedPlan weighted_plan(const SpatialTaps& taps);
 
 // A frame's residuals r (3 per vertex) from its quantised values q, step m and weights w:
 // r_v = q_v m + weighted_prediction(...).  Every r is clamped to +-2^40, far beyond any
-// valid residual (|r| < 2^32), so corrupt weights cannot make the sums overflow.
-void weighted_residuals(const WeightedPlan& plan, const std::vector<SpatialReference>& first,
-                        const std::vector<SpatialReference>& second, const SpatialWeights& w, const std::int32_t* q,
-                        std::int64_t m, std::int64_t* r);
+// valid residual (|r| < 2^32), so corrupt weights cannot make the sums overflow.  `scratch`
+// is reused from frame to frame.
+void weighted_residuals(const WeightedPlan& plan, const SpatialTaps& taps, const SpatialWeights& w,
+                        const std::int32_t* q, std::int64_t m, std::int64_t* r, std::vector<std::int64_t>& scratch);
 
 }  // namespace foldcast::codec

@@ -17,7 +17,8 @@ constexpr std::size_t kCols = 30, kRows = 20, kN = kCols * kRows;
 
 TEST(SpatialWeights, SecondParallelogramsOfAGridLieOnAnotherEdge) {
     const auto triangles = test::grid_triangles(kCols, kRows);
-    const auto first = spatial_references(kN, triangles), second = second_spatial_references(kN, triangles);
+    const SpatialTaps taps = spatial_taps(kN, triangles);
+    const auto &first = taps.first, &second = taps.second;
     std::size_t with_second = 0;
     for (std::size_t v = 0; v < kN; ++v) {
         const SpatialReference &s = first[v], &s2 = second[v];
@@ -40,7 +41,8 @@ TEST(SpatialWeights, SecondParallelogramsOfAGridLieOnAnotherEdge) {
 
 TEST(SpatialWeights, ParallelogramWeightsAreTheParallelogram) {
     const auto triangles = test::grid_triangles(kCols, kRows);
-    const auto first = spatial_references(kN, triangles), second = second_spatial_references(kN, triangles);
+    const SpatialTaps taps = spatial_taps(kN, triangles);
+    const auto &first = taps.first, &second = taps.second;
     std::mt19937 rng(3);
     std::uniform_int_distribution<std::int64_t> value(-(std::int64_t(1) << 31), std::int64_t(1) << 31);
     std::vector<std::int64_t> r(3 * kN);
@@ -53,7 +55,8 @@ TEST(SpatialWeights, ParallelogramWeightsAreTheParallelogram) {
 
 TEST(SpatialWeights, FittedWeightsPredictANoisyFieldBetter) {
     const auto triangles = test::grid_triangles(kCols, kRows);
-    const auto first = spatial_references(kN, triangles), second = second_spatial_references(kN, triangles);
+    const SpatialTaps taps = spatial_taps(kN, triangles);
+    const auto &first = taps.first, &second = taps.second;
     // A smooth residual field plus independent noise of the size of the closed loop's.
     std::mt19937 rng(5);
     std::normal_distribution<double> noise(0.0, 40.0);
