@@ -1,7 +1,8 @@
 // Writes the seed corpus of fuzz_fca_decode (codec/fuzz/corpus) from a tiny synthetic
 // animation: the seeds are tied to the .fca format version, so rerun this whenever the
 // bitstream changes:  fuzz_make_corpus codec/fuzz/corpus
-// (The v3_*.bin seeds were written by it in format version 3, which is still read.)
+// (The v3_*.bin seeds were written by it in format version 3, v5_bending_cascade.bin in
+// format 5 (one escape table); both are still read.)
 // Each seed is one split byte (where the fuzz target cuts the input into two feeds)
 // followed by an .fca file, or a prefix of one.
 #include <cmath>

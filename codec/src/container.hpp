@@ -15,9 +15,10 @@ namespace foldcast::codec {
 
 inline constexpr char kMagic[8] = {'\x89', 'F', 'C', 'A', '\r', '\n', '\x1a', '\n'};
 // Version 4 added the coarse first frame (the preview packet), the metadata and the
-// header's first_frame_bytes; version 5 the isometric modes of profile cascade
-// (predictive_profile.hpp); versions 3 and 4 are still read.
-inline constexpr std::uint16_t kFormatVersion = 5;
+// header's first_frame_bytes; version 5 the isometric modes and weights of profile
+// cascade, version 6 its escapes coded in context (predictive_profile.hpp); versions 3 to 5
+// are still read.
+inline constexpr std::uint16_t kFormatVersion = 6;
 inline constexpr std::uint16_t kOldestReadableVersion = 3;
 inline constexpr std::size_t kPacketOverhead = 4 + 1 + 4;
 inline constexpr std::uint32_t kMaxPayloadBytes = 1u << 30;

@@ -61,11 +61,11 @@ template <RansDecoder::Renormalise R>
 }
 
 // The values of the frame's escaped coordinates (indices into q in `escaped`, `count` of
-// them): escape k is a symbol of `table` from state (first_lane + k) mod 4, then its raw
-// bits.  False if a magnitude exceeds `largest` (it cannot land on the grid; q gets the
-// clamped value).
-template <RansDecoder::Renormalise R>
-[[gnu::noinline]] bool decode_escapes(RansDecoder& rans, std::size_t first_lane, const DecodeTable& table,
+// them): escape k is a symbol of table_of(index into q) from state (first_lane + k) mod 4,
+// then its raw bits.  False if a magnitude exceeds `largest` (it cannot land on the grid; q
+// gets the clamped value).
+template <RansDecoder::Renormalise R, typename TableOf>
+[[gnu::noinline]] bool decode_escapes(RansDecoder& rans, std::size_t first_lane, TableOf table_of,
                                       PaddedBitReader& raw, const std::uint32_t* escaped, std::size_t count,
                                       std::int64_t largest, std::int32_t* q) {
     PaddedBitReader bits = raw;
@@ -74,7 +74,7 @@ template <RansDecoder::Renormalise R>
     std::array<std::uint32_t, kRansLanes> states;  // from first_lane on
     for (std::size_t j = 0; j < kRansLanes; ++j) states[j] = rans.state[(first_lane + j) % kRansLanes];
     on_four_states(states, count, [&](std::size_t i, std::uint32_t x) {
-        const int symbol = RansDecoder::decode<R>(table, x, pos);
+        const int symbol = RansDecoder::decode<R>(table_of(escaped[i]), x, pos);
         const int length = symbol / 2 + 2;
         const std::int64_t magnitude =
             length > kMaxEscapeLength ? largest + 1 : (std::int64_t(1) << (length - 1)) | bits.get(length - 1);
@@ -164,6 +164,7 @@ public:
           plan_(spatial_plan(taps_.first)),
           cascade_(h.profile == Profile::cascade),
           extended_(h.version >= kExtendedVersion && extended_modes(cascade_, std::int64_t(h.threshold))),
+          escapes_in_context_(extended_ && h.version >= kEscapeContextVersion),
           weighted_plan_(extended_ ? weighted_plan(taps_) : WeightedPlan{}),
           residual_step_(static_cast<std::int64_t>(h.threshold)),
           grid_high_(grid_high(h)),
@@ -211,7 +212,8 @@ public:
             modes.push_back(mode);
             weights.push_back(extended_ ? read_spatial_weights(bits, spatial_mode(mode)) : kParallelogramWeights);
         }
-        for (int id : packet_table_ids(layout_, frames)) {
+        const bool in_context = escapes_in_context_ && bits.get(1);
+        for (int id : packet_table_ids(layout_, frames, in_context)) {
             if (!bits.get(1)) continue;
             const QuantisedTable table = read_table(bits);
             if (std::all_of(table.code.begin(), table.code.end(), [](std::uint8_t c) { return c == 0; }))
@@ -228,7 +230,7 @@ public:
         const std::size_t n = header_.vertices, row = 3 * n;
         token_.assign(n + 1, 0);
         escaped_.resize(3 * n + 4);
-        q_.resize(row + 1);
+        q_.assign(row + 3, 0);  // then a missing context neighbour's (escape_context)
         temporal_.resize(row);
         residual_.resize(row + 3);  // then the zeros that stand for a missing spatial reference
         // Integer frames: kept in grids_ if a later packet predicts from them, in scratch_
@@ -248,7 +250,7 @@ public:
             const std::int64_t step =
                 spatial == SpatialMode::isometric ? isometric_step(level_step, residual_step_) : level_step;
             // |q| above its bound cannot land on the grid; bounding it keeps the sums in int32.
-            decode_residuals(rans, raw, layout_.level_class[t], largest_residual(step, spatial), r);
+            decode_residuals(rans, raw, layout_.level_class[t], largest_residual(step, spatial), in_context, r);
             predict_frame(layout_.references[t], temporal_mode(modes[i]), t, frame_grid_.data(), row, grid_high_,
                           temporal_.data());
             std::int32_t* grid = scratch_.get();
@@ -307,26 +309,41 @@ public:
 private:
     // One frame's quantised residuals into q_; |q| above `largest` cannot land on the grid.
     void decode_residuals(RansDecoder& rans, PaddedBitReader& bits, int level_class, std::int64_t largest,
-                          const ByteReader& r) {
+                          bool in_context, const ByteReader& r) {
         // Frames of up to 512 vertices renormalise by a branch, longer ones branch-free
         // (RansDecoder::decode; measured in docs/codec.md: 16x16 grids gain, 32x32 lose).
         constexpr std::size_t kShortFrame = 512;
         using enum RansDecoder::Renormalise;
-        const bool in_range = header_.vertices <= kShortFrame ? decode_symbols<branch>(rans, bits, level_class, largest)
-                                                              : decode_symbols<branch_free>(rans, bits, level_class, largest);
+        const bool in_range = header_.vertices <= kShortFrame
+                                  ? decode_symbols<branch>(rans, bits, level_class, largest, in_context)
+                                  : decode_symbols<branch_free>(rans, bits, level_class, largest, in_context);
         if (!in_range) r.fail("residual out of range (corrupt data)");
         if (rans.overrun() || bits.overrun()) r.fail("residual data is truncated");
     }
 
-    // The frame's tokens, their values and its escapes into q_; false if an escape is out of
-    // range.  Escape k of the frame goes to state (n + k) mod 4.
+    // The frame's tokens, their values and its escapes (`in_context`: with the tables of
+    // their contexts) into q_; false if an escape is out of range.  Escape k of the frame
+    // goes to state (n + k) mod 4.
     template <RansDecoder::Renormalise R>
-    bool decode_symbols(RansDecoder& rans, PaddedBitReader& bits, int level_class, std::int64_t largest) {
+    bool decode_symbols(RansDecoder& rans, PaddedBitReader& bits, int level_class, std::int64_t largest,
+                        bool in_context) {
         const std::size_t n = header_.vertices;
         decode_tokens<R>(rans, table_of_.data() + level_table_base(level_class), neighbours_.data(), token_.data(), n);
         const std::size_t escaped = token_values(token_.data(), n, q_.data(), escaped_.data());
-        return decode_escapes<R>(rans, n % kRansLanes, *table_of_[kEscapeTable], bits, escaped_.data(), escaped,
-                                 largest, q_.data());
+        std::int32_t* q = q_.data();
+        if (!in_context) {
+            const DecodeTable& table = *table_of_[kEscapeTable];
+            return decode_escapes<R>(rans, n % kRansLanes, [&](std::uint32_t) -> const DecodeTable& { return table; },
+                                     bits, escaped_.data(), escaped, largest, q);
+        }
+        q[3 * n] = 0;  // token_values wrote past the last vertex
+        const DecodeTable* const* tables = table_of_.data() + kEscapeTable;
+        const ContextNeighbours* neighbours = neighbours_.data();
+        const auto table_of = [=](std::uint32_t k) -> const DecodeTable& {
+            const std::uint32_t v = k / 3;
+            return *tables[escape_context(q, neighbours[v], k - 3 * v)];
+        };
+        return decode_escapes<R>(rans, n % kRansLanes, table_of, bits, escaped_.data(), escaped, largest, q);
     }
 
     // grid = temporal prediction + (spatial prediction) + q m, checked against the grid's
@@ -406,6 +423,7 @@ private:
     SpatialPlan plan_;
     bool cascade_;
     bool extended_;  // the file may use the isometric modes and its own weights
+    bool escapes_in_context_;  // each packet says whether it codes its escapes in context
     WeightedPlan weighted_plan_;
     std::int64_t residual_step_;
     std::int32_t grid_high_;         // decoded coordinates lie in [-kMaxResidualStep, grid_high_]

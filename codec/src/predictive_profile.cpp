@@ -380,8 +380,9 @@ struct TableChoice {
     QuantisedTable table;
 };
 
-TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current) {
+TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current, double* bits = nullptr) {
     TableChoice choice;
+    if (bits) *bits = 1.0;  // the keep-or-replace flag
     std::uint64_t total = 0;
     for (std::uint64_t c : counts) total += c;
     if (total == 0) return choice;
@@ -389,7 +390,25 @@ TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current)
     const double fresh = table_bits(choice.table) + coded_bits(counts, make_table(choice.table));
     const double kept = coded_bits(counts, current);
     choice.send = kept < 0.0 || fresh < kept;
+    if (bits) *bits += choice.send ? fresh : kept;
     return choice;
+}
+
+// Whether a packet of an extended file codes its escapes in context: the frames' escapes
+// in the tables of their contexts, counted in `counts`, against all in one table, with the
+// tables each way's packet would send.  A small mesh's few escapes may not pay for eight
+// tables.
+bool escapes_pay_for_context(const std::vector<SymbolCounts>& counts, const std::vector<SymbolTable>& held) {
+    double in_context = 0.0, pooled = 0.0, bits = 0.0;
+    SymbolCounts all{};
+    for (int context = 0; context < kEscapeContexts; ++context) {
+        const auto id = static_cast<std::size_t>(kEscapeTable + context);
+        choose_table(counts[id], held[id], &bits);
+        in_context += bits;
+        for (std::size_t s = 0; s < kRansAlphabet; ++s) all[s] += counts[id][s];
+    }
+    choose_table(all, held[kEscapeTable], &pooled);
+    return in_context < pooled;
 }
 
 // The level classes of a packet's frames, ascending: which table groups it may update.
@@ -402,11 +421,12 @@ std::vector<int> packet_levels(const PredictiveLayout& layout, const std::vector
 }
 }  // namespace
 
-std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vector<std::size_t>& frames) {
+std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vector<std::size_t>& frames,
+                                  bool escapes_in_context) {
     std::vector<int> ids;
     for (int level : packet_levels(layout, frames))
         for (int b = 0; b < kActivityBuckets; ++b) ids.push_back(level * kActivityBuckets + b);
-    ids.push_back(kEscapeTable);
+    for (int context = 0; context < escape_tables(escapes_in_context); ++context) ids.push_back(kEscapeTable + context);
     return ids;
 }
 
@@ -456,6 +476,7 @@ struct FrameChooser {
             for (int variant = 0; variant < (fit && *fitted != kParallelogramWeights ? 2 : 1); ++variant) {
                 coding.weights = variant == 0 ? kParallelogramWeights : *fitted;
                 run_frame(mesh, target, temporal.data(), coding, trial);
+                if (variant == 1) trial.bits += kSpatialTaps * kWeightBits;  // the weights sent
                 if (choice.mode < 0 || trial.bits < best.bits) {
                     std::swap(trial, best);
                     choice = {candidate, coding.weights};
@@ -471,6 +492,22 @@ struct FrameChooser {
         return choice;
     }
 };
+
+// A rANS symbol of a packet: its table, value and state.
+struct PacketSymbol {
+    std::uint8_t table, symbol, lane;
+};
+
+// The escapes of a packet that does not code them in context, all in the first escape table.
+void pool_escapes(std::vector<PacketSymbol>& symbols, std::vector<SymbolCounts>& counts) {
+    for (PacketSymbol& s : symbols)
+        if (s.table > kEscapeTable) s.table = static_cast<std::uint8_t>(kEscapeTable);
+    for (int context = 1; context < kEscapeContexts; ++context) {
+        auto& from = counts[static_cast<std::size_t>(kEscapeTable + context)];
+        for (std::size_t s = 0; s < kRansAlphabet; ++s) counts[kEscapeTable][s] += from[s];
+        from = SymbolCounts{};
+    }
+}
 }  // namespace
 
 std::vector<std::string> predictive_packets(const PredictiveLayout& layout, const std::vector<Triangle>& triangles,
@@ -489,23 +526,23 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     std::vector<const std::int32_t*> decoded_frames(layout.frames);
     for (std::size_t t = 0; t < layout.frames; ++t) decoded_frames[t] = decoded.data() + t * row;
     const bool extended = extended_modes(cascade, m);
+    // Every file written now has the current version: extended ones code escapes in context.
+    const bool escapes_in_context = extended;
     const FrameChooser chooser{layout, MeshTaps{taps, neighbours}, decoded_frames, largest, m, cascade, extended,
                                forced_mode};
     std::vector<std::int32_t> temporal(row);
     FrameTrial trial, best;
     for (FrameTrial* f : {&trial, &best}) {
-        f->q = f->decoded = f->temporal_residual = std::vector<std::int64_t>(row);
+        f->decoded = f->temporal_residual = std::vector<std::int64_t>(row);
+        f->q.assign(row + 3, 0);  // then a missing context neighbour's (escape_context)
         f->token.assign(n, 0);
         f->bucket.assign(n, 0);
     }
     std::vector<SymbolTable> tables(kTables, uniform_table());
     std::vector<std::string> out;
-    struct Symbol {
-        std::uint8_t table, symbol, lane;
-    };
     for (const auto& frames : layout.packets) {
         std::vector<FrameChoice> choices;
-        std::vector<Symbol> symbols;
+        std::vector<PacketSymbol> symbols;  // an extended file's escapes in the tables of their contexts
         std::vector<std::pair<std::uint32_t, int>> raw;  // mantissas: value, bits
         std::vector<SymbolCounts> counts(kTables, SymbolCounts{});
         for (std::size_t t : frames) {
@@ -522,11 +559,14 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             }
             for (std::size_t v = 0; v < n; ++v)
                 for (std::size_t j = 0; j < kTokens.escapes[best.token[v]]; ++j) {
-                    const std::int64_t q = best.q[3 * v + kTokens.escaped_coordinates[best.token[v]][j]];
+                    const std::size_t c = kTokens.escaped_coordinates[best.token[v]][j];
+                    const std::int64_t q = best.q[3 * v + c];
                     const int symbol = escape_symbol(q);
-                    symbols.push_back({static_cast<std::uint8_t>(kEscapeTable), static_cast<std::uint8_t>(symbol),
+                    const int table =
+                        kEscapeTable + (escapes_in_context ? escape_context(best.q.data(), neighbours[v], c) : 0);
+                    symbols.push_back({static_cast<std::uint8_t>(table), static_cast<std::uint8_t>(symbol),
                                        static_cast<std::uint8_t>(k++ % kRansLanes)});
-                    ++counts[kEscapeTable][static_cast<std::size_t>(symbol)];
+                    ++counts[static_cast<std::size_t>(table)][static_cast<std::size_t>(symbol)];
                     const int length = escape_length(q);
                     const std::uint64_t mag = static_cast<std::uint64_t>(q < 0 ? -q : q);
                     raw.push_back({static_cast<std::uint32_t>(mag - (std::uint64_t(1) << (length - 1))), length - 1});
@@ -539,7 +579,10 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
             bits.put(static_cast<std::uint32_t>(choice.mode), kModeBits);
             if (extended) write_spatial_weights(bits, spatial_mode(choice.mode), choice.weights);
         }
-        for (int id : packet_table_ids(layout, frames)) {
+        const bool in_context = escapes_in_context && escapes_pay_for_context(counts, tables);
+        if (escapes_in_context) bits.put(in_context, 1);
+        if (escapes_in_context && !in_context) pool_escapes(symbols, counts);
+        for (int id : packet_table_ids(layout, frames, in_context)) {
             const TableChoice choice =
                 choose_table(counts[static_cast<std::size_t>(id)], tables[static_cast<std::size_t>(id)]);
             bits.put(choice.send, 1);
@@ -549,7 +592,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
         }
         for (const auto& [value, count] : raw) bits.put(value, count);
         RansEncoder rans;
-        for (const Symbol& s : symbols) rans.push(tables[s.table], s.symbol, s.lane);
+        for (const PacketSymbol& s : symbols) rans.push(tables[s.table], s.symbol, s.lane);
         ByteWriter payload;
         const std::string side = bits.finish();
         payload.put_varint(side.size());

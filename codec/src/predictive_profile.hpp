@@ -113,6 +113,11 @@ constexpr std::int64_t isometric_step(std::int64_t step, std::int64_t m) { retur
 constexpr std::uint16_t kExtendedVersion = 5;
 constexpr bool extended_modes(bool cascade, std::int64_t m) { return cascade && isometric_step(m, m) >= 1; }
 
+// From this format version on, extended files code each escape with the table of its
+// context (residual_tokens.hpp: escape_context); earlier files and the other profiles with
+// one escape table.
+constexpr std::uint16_t kEscapeContextVersion = 6;
+
 // A frame's spatial weights, sent by extended files (spatial_weights.hpp): six taps in
 // 64ths; the parallelogram r_a + r_b - r_c is (64, 64, -64, 0, 0, 0).
 constexpr int kSpatialTaps = 6;
@@ -174,8 +179,9 @@ inline std::int64_t spatial_prediction(const SpatialReference& s, const Residual
 }
 
 // The frequency tables a packet carries a keep-or-replace flag for, in order: the token
-// tables of each level class its frames have (ascending), then the escape table.
-std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vector<std::size_t>& frames);
+// tables of each level class its frames have (ascending), then the file's escape tables.
+std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vector<std::size_t>& frames,
+                                  bool escapes_in_context);
 
 // Packet payloads in streaming order; `grid` holds T x 3N fine-grid coordinates
 // (frame-major), `residual_step` is m.  `forced_mode` >= 0 codes every frame in that mode

@@ -19,8 +19,12 @@ namespace foldcast::codec {
 constexpr int kTokenLevels = 8;  // level classes 0..6, then 7 and above together
 constexpr int kActivityBuckets = 5;
 constexpr int kTokenTables = kTokenLevels * kActivityBuckets;
-constexpr int kEscapeTable = kTokenTables;  // one table for every escape
-constexpr int kTables = kTokenTables + 1;
+// Escapes take one table, or in files that code them in context (escapes_in_context) one
+// per context (escape_context): kEscapeTable + context.
+constexpr int kEscapeContexts = 8;
+constexpr int kEscapeTable = kTokenTables;
+constexpr int kTables = kTokenTables + kEscapeContexts;
+constexpr int escape_tables(bool in_context) { return in_context ? kEscapeContexts : 1; }
 constexpr int kMaxEscapeLength = 31;  // |q| < 2^31: more than any grid coordinate allows
 
 constexpr int residual_class(std::int64_t q) { return q == 0 ? 0 : q == 1 ? 1 : q == -1 ? 2 : 3; }
@@ -73,5 +77,19 @@ struct ContextNeighbours {
     std::uint32_t far, opposite;
 };
 std::vector<ContextNeighbours> context_neighbours(const std::vector<SpatialReference>& refs);
+
+// The context of vertex v's escaped coordinate c: the bit length of the larger |q| of the
+// same coordinate at its two context neighbours, capped at kEscapeContexts - 1.  A
+// residual's size follows its neighbours' (the motion's error is large where the cloth
+// moves unpredictably, small where it rests), which the tokens' classes no longer tell
+// once every neighbour escapes.  q holds the frame's residuals so far (the neighbours come
+// earlier in the frame) and three zeros after the last vertex for a missing neighbour.
+template <typename Int>
+int escape_context(const Int* q, const ContextNeighbours& neighbours, std::size_t c) {
+    const auto magnitude = [](Int x) { return static_cast<std::uint64_t>(x < 0 ? -std::int64_t(x) : std::int64_t(x)); };
+    const std::uint64_t either = magnitude(q[3 * std::size_t(neighbours.far) + c]) |
+                                 magnitude(q[3 * std::size_t(neighbours.opposite) + c]);
+    return std::min(static_cast<int>(std::bit_width(either)), kEscapeContexts - 1);
+}
 
 }  // namespace foldcast::codec

@@ -10,6 +10,7 @@
 #include "foldcast/core/error.hpp"
 #include "foldcast/core/mesh_io.hpp"
 #include "grid_round_trip.hpp"
+#include "residual_tokens.hpp"
 #include "test_paths.hpp"
 
 namespace foldcast::codec {
@@ -128,16 +129,35 @@ TEST(CascadeProfile, MeetsItsBoundAndHasLessErrorThanDefaultAtTheSameBound) {
     EXPECT_THROW((void)parse_profile("motion"), InputError);
 }
 
-// A format 4 cascade file (finer references only, no weights or isometric modes; written by
-// that build, tests/data/fca with its decode then) decodes to the same frames.
-TEST(CascadeProfile, Format4FilesStillDecodeBitForBit) {
-    const std::string file = read_fca(test::test_data("fca/v4_cascade_drape16.fca"));
-    ASSERT_EQ(file[8 + 5], 4);  // the header's version (low byte), after the magic and the packet length and type
-    StreamingDecoder decoder("v4 cascade", file.size());
-    decoder.feed(file);
-    ASSERT_TRUE(decoder.status().complete);
-    EXPECT_EQ(decoder.profile(), Profile::cascade);
-    EXPECT_EQ(decoder.animation().frames, read_pc2(test::test_data("fca/v4_cascade_drape16.pc2")));
+// Cascade files of earlier formats decode to the same frames: format 4 (finer references
+// only) and format 5 (weights and isometric modes, one escape table), each written by that
+// build with its decode then (tests/data/fca).
+TEST(CascadeProfile, Format4And5FilesStillDecodeBitForBit) {
+    for (const int version : {4, 5}) {
+        const std::string name = "fca/v" + std::to_string(version) + "_cascade_drape16";
+        const std::string file = read_fca(test::test_data(name + ".fca"));
+        ASSERT_EQ(file[8 + 5], version);  // the header's version (low byte), after the magic and the packet length and type
+        StreamingDecoder decoder(name, file.size());
+        decoder.feed(file);
+        ASSERT_TRUE(decoder.status().complete) << name;
+        EXPECT_EQ(decoder.profile(), Profile::cascade);
+        EXPECT_EQ(decoder.animation().frames, read_pc2(test::test_data(name + ".pc2"))) << name;
+    }
+}
+
+// An escape's context is the larger bit length of the same coordinate's |q| at the vertex's
+// two context neighbours; a missing neighbour reads the zeros after the last vertex.
+TEST(CascadeProfile, EscapeContextIsTheNeighboursLargerBitLength) {
+    // Three vertices, then the three zeros of a missing neighbour (index 3).
+    const std::vector<std::int32_t> q = {5, -1, 0, -9, 2, 0, 1000, 0, -3, 0, 0, 0};
+    const ContextNeighbours both{0, 1}, far_only{2, 3};
+    EXPECT_EQ(escape_context(q.data(), both, 0), 4);  // |5| | |-9|: 4 bits
+    EXPECT_EQ(escape_context(q.data(), both, 1), 2);  // 1 and 2
+    EXPECT_EQ(escape_context(q.data(), both, 2), 0);
+    EXPECT_EQ(escape_context(q.data(), far_only, 0), kEscapeContexts - 1);  // 1000: 10 bits, capped
+    EXPECT_EQ(escape_context(q.data(), far_only, 2), 2);
+    const std::vector<std::int64_t> wide(q.begin(), q.end());  // the encoder's residuals
+    EXPECT_EQ(escape_context(wide.data(), both, 0), 4);
 }
 
 }  // namespace cascade_test
