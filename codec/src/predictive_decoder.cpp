@@ -230,7 +230,7 @@ public:
         const std::size_t n = header_.vertices, row = 3 * n;
         token_.assign(n + 1, 0);
         escaped_.resize(3 * n + 4);
-        q_.assign(row + 3, 0);  // then a missing context neighbour's (escape_context)
+        q_.assign(row + 3, 0);  // then a missing context neighbour's zeros (escape_context; token_values pads with 0)
         temporal_.resize(row);
         residual_.resize(row + 3);  // then the zeros that stand for a missing spatial reference
         // Integer frames: kept in grids_ if a later packet predicts from them, in scratch_
@@ -336,7 +336,6 @@ private:
             return decode_escapes<R>(rans, n % kRansLanes, [&](std::uint32_t) -> const DecodeTable& { return table; },
                                      bits, escaped_.data(), escaped, largest, q);
         }
-        q[3 * n] = 0;  // token_values wrote past the last vertex
         const DecodeTable* const* tables = table_of_.data() + kEscapeTable;
         const ContextNeighbours* neighbours = neighbours_.data();
         const auto table_of = [=](std::uint32_t k) -> const DecodeTable& {

@@ -378,11 +378,11 @@ namespace {
 struct TableChoice {
     bool send = false;
     QuantisedTable table;
+    double bits = 1.0;  // the keep-or-replace flag, the new table if sent, and the symbols
 };
 
-TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current, double* bits = nullptr) {
+TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current) {
     TableChoice choice;
-    if (bits) *bits = 1.0;  // the keep-or-replace flag
     std::uint64_t total = 0;
     for (std::uint64_t c : counts) total += c;
     if (total == 0) return choice;
@@ -390,7 +390,7 @@ TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current,
     const double fresh = table_bits(choice.table) + coded_bits(counts, make_table(choice.table));
     const double kept = coded_bits(counts, current);
     choice.send = kept < 0.0 || fresh < kept;
-    if (bits) *bits += choice.send ? fresh : kept;
+    choice.bits += choice.send ? fresh : kept;
     return choice;
 }
 
@@ -399,16 +399,14 @@ TableChoice choose_table(const SymbolCounts& counts, const SymbolTable& current,
 // tables each way's packet would send.  A small mesh's few escapes may not pay for eight
 // tables.
 bool escapes_pay_for_context(const std::vector<SymbolCounts>& counts, const std::vector<SymbolTable>& held) {
-    double in_context = 0.0, pooled = 0.0, bits = 0.0;
+    double in_context = 0.0;
     SymbolCounts all{};
     for (int context = 0; context < kEscapeContexts; ++context) {
         const auto id = static_cast<std::size_t>(kEscapeTable + context);
-        choose_table(counts[id], held[id], &bits);
-        in_context += bits;
+        in_context += choose_table(counts[id], held[id]).bits;
         for (std::size_t s = 0; s < kRansAlphabet; ++s) all[s] += counts[id][s];
     }
-    choose_table(all, held[kEscapeTable], &pooled);
-    return in_context < pooled;
+    return in_context < choose_table(all, held[kEscapeTable]).bits;
 }
 
 // The level classes of a packet's frames, ascending: which table groups it may update.

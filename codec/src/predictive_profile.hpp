@@ -179,7 +179,8 @@ inline std::int64_t spatial_prediction(const SpatialReference& s, const Residual
 }
 
 // The frequency tables a packet carries a keep-or-replace flag for, in order: the token
-// tables of each level class its frames have (ascending), then the file's escape tables.
+// tables of each level class its frames have (ascending), then its escape tables: one, or
+// one per context where the packet codes its escapes in context.
 std::vector<int> packet_table_ids(const PredictiveLayout& layout, const std::vector<std::size_t>& frames,
                                   bool escapes_in_context);
 

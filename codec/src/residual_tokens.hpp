@@ -86,10 +86,9 @@ std::vector<ContextNeighbours> context_neighbours(const std::vector<SpatialRefer
 // earlier in the frame) and three zeros after the last vertex for a missing neighbour.
 template <typename Int>
 int escape_context(const Int* q, const ContextNeighbours& neighbours, std::size_t c) {
-    const auto magnitude = [](Int x) { return static_cast<std::uint64_t>(x < 0 ? -std::int64_t(x) : std::int64_t(x)); };
-    const std::uint64_t either = magnitude(q[3 * std::size_t(neighbours.far) + c]) |
-                                 magnitude(q[3 * std::size_t(neighbours.opposite) + c]);
-    return std::min(static_cast<int>(std::bit_width(either)), kEscapeContexts - 1);
+    const int larger = std::max(escape_length(q[3 * std::size_t(neighbours.far) + c]),
+                                escape_length(q[3 * std::size_t(neighbours.opposite) + c]));
+    return std::min(larger, kEscapeContexts - 1);
 }
 
 }  // namespace foldcast::codec
