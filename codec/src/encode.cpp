@@ -145,8 +145,8 @@ std::string encode(const Animation& anim, const EncodeOptions& options, const Pr
                     grid[(t * n + v) * 3 + static_cast<std::size_t>(c)] = static_cast<std::int32_t>(
                         std::llround((double(anim.frames[t][v][c]) - double(header.bounds.min[c])) / header.step));
         const PredictiveLayout layout(anim.frame_count(), static_cast<int>(header.profile_param));
-        packets = predictive_packets(layout, anim.topology.triangles, n, grid, m, -1,
-                                     options.profile == Profile::cascade);
+        packets =
+            predictive_packets(layout, anim.topology.triangles, n, grid, m, -1, options.profile == Profile::cascade);
     }
     if (progress) progress("encode", 1.0);
     return assemble(header, anim.frames.front(), packets);

@@ -65,9 +65,9 @@ template <RansDecoder::Renormalise R>
 // then its raw bits.  False if a magnitude exceeds `largest` (it cannot land on the grid; q
 // gets the clamped value).
 template <RansDecoder::Renormalise R, typename TableOf>
-[[gnu::noinline]] bool decode_escapes(RansDecoder& rans, std::size_t first_lane, TableOf table_of,
-                                      PaddedBitReader& raw, const std::uint32_t* escaped, std::size_t count,
-                                      std::int64_t largest, std::int32_t* q) {
+[[gnu::noinline]] bool decode_escapes(RansDecoder& rans, std::size_t first_lane, TableOf table_of, PaddedBitReader& raw,
+                                      const std::uint32_t* escaped, std::size_t count, std::int64_t largest,
+                                      std::int32_t* q) {
     PaddedBitReader bits = raw;
     const std::uint8_t* pos = rans.position();
     bool in_range = true;
@@ -333,8 +333,9 @@ private:
         std::int32_t* q = q_.data();
         if (!in_context) {
             const DecodeTable& table = *table_of_[kEscapeTable];
-            return decode_escapes<R>(rans, n % kRansLanes, [&](std::uint32_t) -> const DecodeTable& { return table; },
-                                     bits, escaped_.data(), escaped, largest, q);
+            return decode_escapes<R>(
+                rans, n % kRansLanes, [&](std::uint32_t) -> const DecodeTable& { return table; }, bits, escaped_.data(),
+                escaped, largest, q);
         }
         const DecodeTable* const* tables = table_of_.data() + kEscapeTable;
         const ContextNeighbours* neighbours = neighbours_.data();
@@ -386,9 +387,9 @@ private:
                 d[c] = temporal_[3 * v + c] +
                        frame_spatial_prediction(ref, taps_.second[v], own, wide_residual_.data(), c);
             IsometricFrame frame;
-            if (ref.c >= 0 && isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), d, grid,
-                                                               coding.lengths),
-                                              frame)) {
+            if (ref.c >= 0 &&
+                isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), d, grid, coding.lengths),
+                                frame)) {
                 isometric_reconstruct(frame, q, s, d);
             } else {
                 for (int c = 0; c < 3; ++c) d[c] += q[c] * s;
@@ -409,8 +410,8 @@ private:
     void weighted_residuals(const FrameCoding& coding) {
         const std::size_t row = 3 * std::size_t(header_.vertices);
         wide_residual_.resize(row + 3);
-        codec::weighted_residuals(weighted_plan_, taps_, coding.weights, q_.data(), coding.step,
-                                  wide_residual_.data(), weighted_scratch_);
+        codec::weighted_residuals(weighted_plan_, taps_, coding.weights, q_.data(), coding.step, wide_residual_.data(),
+                                  weighted_scratch_);
         for (std::size_t k = 0; k < row; ++k) residual_[k] = static_cast<std::uint32_t>(wide_residual_[k]);
     }
 
@@ -421,11 +422,11 @@ private:
     std::vector<ContextNeighbours> neighbours_;
     SpatialPlan plan_;
     bool cascade_;
-    bool extended_;  // the file may use the isometric modes and its own weights
+    bool extended_;            // the file may use the isometric modes and its own weights
     bool escapes_in_context_;  // each packet says whether it codes its escapes in context
     WeightedPlan weighted_plan_;
     std::int64_t residual_step_;
-    std::int32_t grid_high_;         // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
+    std::int32_t grid_high_;                     // decoded coordinates lie in [-kMaxResidualStep, grid_high_]
     std::vector<std::vector<Vec3f>> positions_;  // per decoded frame
     std::vector<char> decoded_;
     std::vector<std::unique_ptr<std::int32_t[]>> grids_;  // integer frames kept for later packets

@@ -116,7 +116,7 @@ namespace {
 // needs nothing from the entropy coder and tracks the real choice closely.
 struct FrameTrial {
     std::vector<std::int64_t> q, decoded, temporal_residual;  // temporal_residual: decoded - temporal prediction
-    std::vector<std::uint8_t> token, bucket;  // per vertex: its token and the token's activity bucket
+    std::vector<std::uint8_t> token, bucket;                  // per vertex: its token and the token's activity bucket
     double bits = 0.0;
 };
 
@@ -154,9 +154,9 @@ void quantise_grid_axes(const MeshTaps& mesh, const TrialFrame& frame, std::size
     const std::int64_t m = frame.coding.step;
     for (int c = c0; c < c1; ++c) {
         const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-        const std::int64_t p = frame.temporal[k] + (frame.coding.spatial == SpatialMode::none
-                                                        ? 0
-                                                        : frame.spatial(mesh, v, f.temporal_residual.data(), c));
+        const std::int64_t p =
+            frame.temporal[k] +
+            (frame.coding.spatial == SpatialMode::none ? 0 : frame.spatial(mesh, v, f.temporal_residual.data(), c));
         const std::int64_t q = divide(frame.target[k] - p + m / 2);
         f.q[k] = q;
         f.decoded[k] = p + q * m;
@@ -176,9 +176,9 @@ void quantise_isometric(const MeshTaps& mesh, const TrialFrame& frame, std::size
             p0[c] = frame.temporal[3 * v + static_cast<std::size_t>(c)] +
                     frame.spatial(mesh, v, f.temporal_residual.data(), c);
         IsometricFrame circle;
-        if (isometric_frame(isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), p0, f.decoded.data(),
-                                             frame.coding.lengths),
-                            circle)) {
+        if (isometric_frame(
+                isometric_inputs(v, std::size_t(ref.a), std::size_t(ref.b), p0, f.decoded.data(), frame.coding.lengths),
+                circle)) {
             std::int64_t decoded[3];
             isometric_quantise(circle, frame.target + 3 * v, frame.coding.step, &f.q[3 * v]);
             isometric_reconstruct(circle, &f.q[3 * v], frame.coding.step, decoded);
@@ -470,7 +470,8 @@ struct FrameChooser {
             predict_frame(ref, temporal_kind, t, decoded_frames.data(), row, largest, temporal.data());
             const bool fit = extended && coding.spatial != SpatialMode::none;
             auto& fitted = fitted_for[static_cast<std::size_t>(temporal_kind)];
-            if (fit && !fitted) fitted = fit_spatial_weights(mesh.taps.first, mesh.taps.second, target, temporal.data());
+            if (fit && !fitted)
+                fitted = fit_spatial_weights(mesh.taps.first, mesh.taps.second, target, temporal.data());
             for (int variant = 0; variant < (fit && *fitted != kParallelogramWeights ? 2 : 1); ++variant) {
                 coding.weights = variant == 0 ? kParallelogramWeights : *fitted;
                 run_frame(mesh, target, temporal.data(), coding, trial);
@@ -484,8 +485,8 @@ struct FrameChooser {
         if (choice.mode < 0) {  // forced mode not allowed here
             choice = {1, kParallelogramWeights};
             predict_frame(ref, TemporalMode::layout, t, decoded_frames.data(), row, largest, temporal.data());
-            run_frame(mesh, target, temporal.data(), FrameCoding{SpatialMode::parallelogram, kParallelogramWeights, step},
-                      best);
+            run_frame(mesh, target, temporal.data(),
+                      FrameCoding{SpatialMode::parallelogram, kParallelogramWeights, step}, best);
         }
         return choice;
     }
@@ -526,7 +527,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     const bool extended = extended_modes(cascade, m);
     // Every file written now has the current version: extended ones code escapes in context.
     const bool escapes_in_context = extended;
-    const FrameChooser chooser{layout, MeshTaps{taps, neighbours}, decoded_frames, largest, m, cascade, extended,
+    const FrameChooser chooser{layout,     MeshTaps{taps, neighbours}, decoded_frames, largest, m, cascade, extended,
                                forced_mode};
     std::vector<std::int32_t> temporal(row);
     FrameTrial trial, best;
@@ -540,7 +541,7 @@ std::vector<std::string> predictive_packets(const PredictiveLayout& layout, cons
     std::vector<std::string> out;
     for (const auto& frames : layout.packets) {
         std::vector<FrameChoice> choices;
-        std::vector<PacketSymbol> symbols;  // an extended file's escapes in the tables of their contexts
+        std::vector<PacketSymbol> symbols;               // an extended file's escapes in the tables of their contexts
         std::vector<std::pair<std::uint32_t, int>> raw;  // mantissas: value, bits
         std::vector<SymbolCounts> counts(kTables, SymbolCounts{});
         for (std::size_t t : frames) {

@@ -91,7 +91,8 @@ constexpr TemporalMode temporal_mode(int mode) {
 }
 constexpr SpatialMode spatial_mode(int mode) {
     return mode >= kIsometricModes ? SpatialMode::isometric
-                                   : mode % 2 == 1 ? SpatialMode::parallelogram : SpatialMode::none;
+           : mode % 2 == 1         ? SpatialMode::parallelogram
+                                   : SpatialMode::none;
 }
 // `extended`: whether the file may use the isometric modes (extended_modes; never where
 // nothing is decoded before the frame).

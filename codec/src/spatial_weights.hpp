@@ -23,9 +23,11 @@ template <typename Residual>
 inline std::int64_t weighted_prediction(const SpatialReference& s, const SpatialReference& s2, const SpatialWeights& w,
                                         const Residual* r, int c) {
     if (s.c < 0 || s2.c < 0) return spatial_prediction(s, r, c);
-    auto at = [&](std::int32_t u) { return std::int64_t(r[3 * static_cast<std::size_t>(u) + static_cast<std::size_t>(c)]); };
-    const std::int64_t sum = w[0] * at(s.a) + w[1] * at(s.b) + w[2] * at(s.c) + w[3] * at(s2.a) + w[4] * at(s2.b) +
-                             w[5] * at(s2.c);
+    auto at = [&](std::int32_t u) {
+        return std::int64_t(r[3 * static_cast<std::size_t>(u) + static_cast<std::size_t>(c)]);
+    };
+    const std::int64_t sum =
+        w[0] * at(s.a) + w[1] * at(s.b) + w[2] * at(s.c) + w[3] * at(s2.a) + w[4] * at(s2.b) + w[5] * at(s2.c);
     return (sum + (std::int64_t(1) << (kWeightShift - 1))) >> kWeightShift;
 }
 

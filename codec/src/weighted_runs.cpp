@@ -34,8 +34,8 @@ WeightedPlan weighted_plan(const SpatialTaps& taps) {
         const WeightedRun next = classify(taps.first[v], taps.second[v], v);
         if (!plan.runs.empty()) {
             WeightedRun& run = plan.runs.back();
-            const bool extends = next.row == run.row && next.offset == run.offset &&
-                                 (!run.row || v - run.begin < longest_row(run));
+            const bool extends =
+                next.row == run.row && next.offset == run.offset && (!run.row || v - run.begin < longest_row(run));
             if (extends) {
                 run.end = v + 1;
                 continue;
@@ -92,9 +92,8 @@ void weighted_residuals(const WeightedPlan& plan, const SpatialTaps& taps, const
         for (std::size_t v = run.begin; v < run.end; ++v)
             for (int c = 0; c < 3; ++c) {
                 const std::size_t k = 3 * v + static_cast<std::size_t>(c);
-                r[k] = std::clamp(
-                    std::int64_t(q[k]) * m + weighted_prediction(taps.first[v], taps.second[v], w, r, c), -kClamp,
-                    kClamp);
+                r[k] = std::clamp(std::int64_t(q[k]) * m + weighted_prediction(taps.first[v], taps.second[v], w, r, c),
+                                  -kClamp, kClamp);
             }
     }
 }

@@ -15,8 +15,8 @@
 namespace foldcast::codec {
 
 struct WeightedRun {
-    bool row = false;                          // else vertex by vertex
-    std::uint32_t begin = 0, end = 0;          // vertices [begin, end)
+    bool row = false;                                  // else vertex by vertex
+    std::uint32_t begin = 0, end = 0;                  // vertices [begin, end)
     std::array<std::uint32_t, kSpatialTaps> offset{};  // row runs: tap i is vertex v - offset[i]
 };
 

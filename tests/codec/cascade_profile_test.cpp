@@ -136,7 +136,8 @@ TEST(CascadeProfile, Format4And5FilesStillDecodeBitForBit) {
     for (const int version : {4, 5}) {
         const std::string name = "fca/v" + std::to_string(version) + "_cascade_drape16";
         const std::string file = read_fca(test::test_data(name + ".fca"));
-        ASSERT_EQ(file[8 + 5], version);  // the header's version (low byte), after the magic and the packet length and type
+        ASSERT_EQ(file[8 + 5],
+                  version);  // the header's version (low byte), after the magic and the packet length and type
         StreamingDecoder decoder(name, file.size());
         decoder.feed(file);
         ASSERT_TRUE(decoder.status().complete) << name;

@@ -46,8 +46,8 @@ inline Coded round_trip(const GridSequence& s, codec::Profile profile, std::uint
     h.profile_param = static_cast<std::uint32_t>(stride_log2);
     const codec::PredictiveLayout layout(s.frames, stride_log2);
     Coded out;
-    out.packets = codec::predictive_packets(layout, h.topology.triangles, n, s.grid, m,
-                                            mode, profile == codec::Profile::cascade);
+    out.packets =
+        codec::predictive_packets(layout, h.topology.triangles, n, s.grid, m, mode, profile == codec::Profile::cascade);
     auto decoder = codec::make_predictive_decoder(h, "test");
     for (std::size_t i = 0; i < out.packets.size(); ++i) {
         decoder->accept(i, out.packets[i]);

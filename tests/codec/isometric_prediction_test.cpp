@@ -126,7 +126,8 @@ std::vector<std::int32_t> curling_sheet(std::size_t frames) {
             // Rolled across the grid's diagonal, so no parallelogram of the grid is flat.
             const double i = 700.0 * double(v % kCols), j = 700.0 * double(v / kCols);
             const double arc = 0.8 * i + 0.6 * j, along = -0.6 * i + 0.8 * j;
-            const double bent = std::sin(arc * curvature) / curvature, z = (1.0 - std::cos(arc * curvature)) / curvature;
+            const double bent = std::sin(arc * curvature) / curvature,
+                         z = (1.0 - std::cos(arc * curvature)) / curvature;
             const double x = 0.8 * bent - 0.6 * along, y = 0.6 * bent + 0.8 * along;
             for (double p : {60000.0 + ct * x - st * y, 60000.0 + st * x + ct * y, 60000.0 + z})
                 g.push_back(static_cast<std::int32_t>(std::lround(p)));
@@ -140,7 +141,8 @@ TEST(IsometricPrediction, BendingClothCostsLessThanWithTheParallelogram) {
     const std::vector<std::int32_t> grid = curling_sheet(frames);
     const test::GridSequence sheet{grid, kCols, kRows, frames};
     // Each forced mode still chooses per frame between the parallelogram's weights and fitted ones.
-    const int parallelogram = 2 * int(TemporalMode::layout) + 1, isometric = kIsometricModes + int(TemporalMode::layout);
+    const int parallelogram = 2 * int(TemporalMode::layout) + 1,
+              isometric = kIsometricModes + int(TemporalMode::layout);
     const test::Coded plain = test::round_trip(sheet, Profile::cascade, 32, parallelogram, 4);
     const test::Coded bent = test::round_trip(sheet, Profile::cascade, 32, isometric, 4);
     const test::Coded chosen = test::round_trip(sheet, Profile::cascade, 32, -1, 4);

@@ -67,7 +67,8 @@ TEST(PredictionModes, ModesAreAllowedOnlyWhereTheirReferencesExist) {
         EXPECT_FALSE(frame_mode_allowed(layout.references[8], kFrameModes, isometric));
         EXPECT_FALSE(frame_mode_allowed(layout.references[8], -1, isometric));
     }
-    for (int mode = 0; mode < kIsometricModes; ++mode) EXPECT_TRUE(frame_mode_allowed(layout.references[8], mode, false));
+    for (int mode = 0; mode < kIsometricModes; ++mode)
+        EXPECT_TRUE(frame_mode_allowed(layout.references[8], mode, false));
     // The isometric modes: only where the file allows them, with the same temporal references.
     for (int mode = kIsometricModes; mode < kFrameModes; ++mode) {
         EXPECT_FALSE(frame_mode_allowed(layout.references[8], mode, false));
