@@ -333,9 +333,8 @@ private:
         std::int32_t* q = q_.data();
         if (!in_context) {
             const DecodeTable& table = *table_of_[kEscapeTable];
-            return decode_escapes<R>(
-                rans, n % kRansLanes, [&](std::uint32_t) -> const DecodeTable& { return table; }, bits, escaped_.data(),
-                escaped, largest, q);
+            const auto one_table = [&](std::uint32_t) -> const DecodeTable& { return table; };
+            return decode_escapes<R>(rans, n % kRansLanes, one_table, bits, escaped_.data(), escaped, largest, q);
         }
         const DecodeTable* const* tables = table_of_.data() + kEscapeTable;
         const ContextNeighbours* neighbours = neighbours_.data();
